@@ -1,0 +1,20 @@
+# Every external dependency, each a Debian 12 package (scripts/install-deps.sh installs them).
+find_package(Threads REQUIRED)
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)             # libeigen3-dev
+find_package(Boost 1.74 REQUIRED)                       # libboost-dev (Asio is header-only)
+find_package(spdlog REQUIRED)                           # libspdlog-dev (external fmt)
+find_package(yaml-cpp REQUIRED)                         # libyaml-cpp-dev
+find_package(CLI11 REQUIRED)                            # libcli11-dev
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(PCAP REQUIRED IMPORTED_TARGET libpcap)  # libpcap-dev
+
+if(TARGET yaml-cpp AND NOT TARGET yaml-cpp::yaml-cpp)
+  add_library(yaml-cpp::yaml-cpp ALIAS yaml-cpp)
+endif()
+
+if(OGF_BUILD_TESTS)
+  find_package(GTest REQUIRED)                          # libgtest-dev
+endif()
+if(OGF_BUILD_BENCHMARKS)
+  find_package(benchmark REQUIRED)                      # libbenchmark-dev
+endif()

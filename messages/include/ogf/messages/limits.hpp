@@ -1,0 +1,24 @@
+// Limits on the message set that senders respect and receivers enforce. A message beyond them is
+// malformed: receivers reject and count it rather than allocate for it.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace ogf::messages {
+
+// Largest scan: an HDL-32E in dual-return mode at 300 rpm holds ~280 k points per revolution; 2^20
+// leaves room for every supported model and rpm.
+inline constexpr std::int32_t kMaxScanPoints = 1 << 20;
+
+// Largest raw batch: one revolution of a dual-return HDL-32E at 300 rpm is ~725 packets.
+inline constexpr std::int32_t kMaxPacketsPerBatch = 4096;
+inline constexpr std::int32_t kMaxPacketBytes = 1500;
+
+// Most cells in one map_delta_t, chosen so the encoded message (8-byte fingerprint, ~90 bytes of header,
+// 19 bytes per cell) plus the channel name stays below LCM_SHORT_MESSAGE_MAX_SIZE (65499 B on Linux):
+// one UDP datagram, no LCM fragmentation.
+inline constexpr std::int32_t kMaxDeltaCellsPerMessage = 3300;
+inline constexpr std::size_t kMaxUnfragmentedMessageBytes = 65499;
+
+}  // namespace ogf::messages

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs every Debian package ogf needs to build, test and run. Idempotent: when all packages are
+# present it only checks and exits. Run as root (or with sudo available).
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake pkg-config ninja-build
+  # messages: LCM 1.3.1 (C/C++ library, lcm-gen and tools, Java jar for lcm-spy)
+  liblcm-dev liblcm-bin liblcm-java default-jdk-headless libjchart2d-java
+  # libraries the code uses
+  libpcap-dev libeigen3-dev libboost-dev libspdlog-dev libyaml-cpp-dev libcli11-dev
+  # tests and benchmarks
+  libgtest-dev libgmock-dev libbenchmark-dev liboctomap-dev
+  # fuzzing (clang's libFuzzer runtime) and tooling used by the tests
+  clang libclang-rt-14-dev iproute2 unzip python3
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+echo "install-deps: done"

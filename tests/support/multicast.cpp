@@ -1,0 +1,47 @@
+#include "support/multicast.hpp"
+
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+
+namespace ogf::testing {
+namespace {
+
+std::string run(const char* cmd) {
+  std::string out;
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(::popen(cmd, "r"), ::pclose);
+  if (!pipe) return out;
+  std::array<char, 256> buf{};
+  while (std::fgets(buf.data(), static_cast<int>(buf.size()), pipe.get()) != nullptr) out += buf.data();
+  return out;
+}
+
+bool routesOverLoopback() {
+  const std::string route = run("ip route get 239.255.76.67 2>/dev/null");
+  return route.find(" dev lo") != std::string::npos;
+}
+
+}  // namespace
+
+std::optional<std::string> ensureLoopbackMulticast() {
+  if (routesOverLoopback()) return std::nullopt;
+  if (::geteuid() != 0) {
+    return "no multicast route over lo and not root to add one (run: ip link set lo multicast on; "
+           "ip route add 224.0.0.0/4 dev lo)";
+  }
+  (void)std::system("ip link set lo multicast on 2>/dev/null");
+  (void)std::system("ip route replace 224.0.0.0/4 dev lo 2>/dev/null");
+  if (routesOverLoopback()) return std::nullopt;
+  return "could not add a multicast route over lo (is iproute2 installed? is this a network namespace "
+         "without CAP_NET_ADMIN?)";
+}
+
+std::string loopbackUdpmUrl(int slot) {
+  const int port = 20000 + static_cast<int>(::getpid() % 20000) + slot;
+  return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=8388608";
+}
+
+}  // namespace ogf::testing
