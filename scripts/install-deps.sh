@@ -6,7 +6,8 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake pkg-config ninja-build
   # messages: LCM 1.3.1 (C/C++ library, lcm-gen and tools, Java jar for lcm-spy)
-  liblcm-dev liblcm-bin liblcm-java default-jdk-headless libjchart2d-java
+  # (default-jre: lcm-spy opens a window; the headless JDK alone only builds the jar)
+  liblcm-dev liblcm-bin liblcm-java default-jdk-headless default-jre libjchart2d-java
   # libraries the code uses
   libpcap-dev libeigen3-dev libboost-dev libspdlog-dev libyaml-cpp-dev libcli11-dev
   # tests and benchmarks
