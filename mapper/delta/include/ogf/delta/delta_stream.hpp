@@ -1,0 +1,54 @@
+// The publishing side of OGF_MAP_DELTA: turns the cells an update touched into map_delta_t messages that
+// each fit one UDP datagram, numbered so a client can tell a gap from a quiet map, and cuts keyframes
+// (the whole published map in parts) on request.
+#pragma once
+
+#include <ogf/map_delta_t.hpp>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "ogf/delta/published_map.hpp"
+#include "ogf/messages/limits.hpp"
+
+namespace ogf::delta {
+
+struct DeltaStreamConfig {
+  double resolution = 0.2;         // metres per cell
+  std::int64_t map_id = 0;         // identifies this map; a new map (restart) gets a new id
+  std::int32_t max_cells_per_message = ogf::messages::kMaxDeltaCellsPerMessage;
+};
+
+class DeltaStream {
+ public:
+  explicit DeltaStream(const DeltaStreamConfig& config);
+
+  // Update seq()+1: the candidates whose quantised probability or class differs from what was published
+  // (a cell never published counts as the prior) go into the published map and into the returned
+  // messages (at least one, possibly with no cells, so every update number is seen by clients). Each
+  // message carries the checksum of the published map after the whole update.
+  std::vector<ogf::map_delta_t> update(std::int64_t utime, std::span<const PublishedCell> candidates);
+
+  // The whole published map at seq() as a keyframe (kind KEYFRAME, base_seq -1), in parts.
+  std::vector<ogf::map_delta_t> keyframe(std::int64_t utime) const;
+
+  // Replaces the published map wholesale (after a restart from a snapshot) without publishing; clients
+  // learn it from the next keyframe.
+  void reset(std::span<const PublishedCell> cells);
+
+  std::int64_t seq() const { return seq_; }
+  std::int64_t mapId() const { return config_.map_id; }
+  const PublishedMap& map() const { return map_; }
+
+ private:
+  std::vector<ogf::map_delta_t> split(std::int64_t utime, std::int8_t kind, std::int64_t base_seq,
+                                      std::span<const PublishedCell> cells) const;
+
+  DeltaStreamConfig config_;
+  PublishedMap map_;
+  std::int64_t seq_ = 0;
+  std::vector<PublishedCell> changed_;  // reused between updates
+};
+
+}  // namespace ogf::delta
