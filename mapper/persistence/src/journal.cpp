@@ -1,0 +1,222 @@
+#include "ogf/persistence/journal.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+#include "ogf/common/crc32.hpp"
+
+namespace ogf::persistence {
+namespace {
+
+constexpr char kMagic[8] = {'O', 'G', 'F', 'J', 'R', 'N', 'L', '1'};
+constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kRecordMagic = 0x4352524A;
+constexpr std::size_t kHeaderSize = 8 + 4 + 8 + 8 + 4;
+constexpr std::size_t kRecordFixed = 4 + 4 + 8 + 8;  // before the measurements
+constexpr std::size_t kMeasurementSize = 13;
+// A record holds one scan's measurement set; 2^24 is far above any (a VLP-16 scan at 0.1 m makes ~1 M).
+constexpr std::uint32_t kMaxMeasurements = 1U << 24;
+
+template <class T>
+void put(std::vector<std::byte>& out, T v) {
+  using U = std::make_unsigned_t<T>;
+  auto u = static_cast<U>(v);
+  for (std::size_t i = 0; i < sizeof(T); ++i) out.push_back(static_cast<std::byte>((u >> (8 * i)) & 0xFFU));
+}
+
+template <class T>
+T get(const std::byte* p) {
+  using U = std::make_unsigned_t<T>;
+  U u = 0;
+  for (std::size_t i = 0; i < sizeof(T); ++i) u = static_cast<U>(u | (static_cast<U>(p[i]) << (8 * i)));
+  return static_cast<T>(u);
+}
+
+Error systemError(const std::filesystem::path& path, const std::string& what) {
+  return Error{path.string() + ": " + what + ": " + std::strerror(errno)};
+}
+
+std::vector<std::byte> header(std::int64_t map_id, std::int64_t base_seq) {
+  std::vector<std::byte> h;
+  for (char c : kMagic) h.push_back(static_cast<std::byte>(c));
+  put<std::uint32_t>(h, kVersion);
+  put<std::int64_t>(h, map_id);
+  put<std::int64_t>(h, base_seq);
+  put<std::uint32_t>(h, crc32(h.data(), h.size()));
+  return h;
+}
+
+Status writeAll(int fd, const std::filesystem::path& path, const std::vector<std::byte>& bytes) {
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return systemError(path, "write failed");
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  return okStatus();
+}
+
+}  // namespace
+
+Result<JournalContents> readJournal(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return systemError(path, "cannot open journal");
+  const std::vector<char> raw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto* data = reinterpret_cast<const std::byte*>(raw.data());
+  const std::size_t size = raw.size();
+
+  if (size < kHeaderSize) return Error{path.string() + ": offset 0: journal header truncated (" + std::to_string(size) + " bytes)"};
+  if (std::memcmp(data, kMagic, sizeof(kMagic)) != 0) return Error{path.string() + ": offset 0: not an ogf journal (bad magic)"};
+  if (get<std::uint32_t>(data + kHeaderSize - 4) != crc32(data, kHeaderSize - 4))
+    return Error{path.string() + ": offset 0: journal header checksum mismatch"};
+  if (const auto v = get<std::uint32_t>(data + 8); v != kVersion)
+    return Error{path.string() + ": offset 8: unsupported journal version " + std::to_string(v)};
+
+  JournalContents out;
+  out.map_id = get<std::int64_t>(data + 12);
+  out.base_seq = get<std::int64_t>(data + 20);
+  std::int64_t last_seq = out.base_seq;
+  std::size_t off = kHeaderSize;
+  const auto torn = [&](const std::string& why) {
+    out.torn_tail_offset = off;
+    out.torn_tail_reason = why;
+  };
+  while (off < size) {
+    if (size - off < kRecordFixed + 4) { torn("record header truncated"); break; }
+    const std::byte* r = data + off;
+    if (get<std::uint32_t>(r) != kRecordMagic) { torn("bad record magic"); break; }
+    const auto n = get<std::uint32_t>(r + 4);
+    if (n > kMaxMeasurements) { torn("absurd measurement count " + std::to_string(n)); break; }
+    const std::size_t len = kRecordFixed + static_cast<std::size_t>(n) * kMeasurementSize + 4;
+    if (size - off < len) { torn("record truncated"); break; }
+    if (get<std::uint32_t>(r + len - 4) != crc32(r, len - 4)) { torn("record checksum mismatch"); break; }
+    JournalRecord rec;
+    rec.seq = get<std::int64_t>(r + 8);
+    rec.utime = get<std::int64_t>(r + 16);
+    if (rec.seq <= last_seq) { torn("sequence " + std::to_string(rec.seq) + " does not increase"); break; }
+    rec.measurements.resize(n);
+    const std::byte* m = r + kRecordFixed;
+    for (std::uint32_t i = 0; i < n; ++i, m += kMeasurementSize) {
+      rec.measurements[i] = Measurement{{get<std::int32_t>(m), get<std::int32_t>(m + 4), get<std::int32_t>(m + 8)},
+                                        get<std::int8_t>(m + 12)};
+    }
+    last_seq = rec.seq;
+    out.records.push_back(std::move(rec));
+    off += len;
+  }
+  return out;
+}
+
+Result<JournalWriter> JournalWriter::create(const std::filesystem::path& path, std::int64_t map_id,
+                                            std::int64_t base_seq) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) return systemError(path, "cannot create journal");
+  const auto h = header(map_id, base_seq);
+  if (auto st = writeAll(fd, path, h); !st) {
+    ::close(fd);
+    return st.error();
+  }
+  if (::fdatasync(fd) != 0) {
+    auto err = systemError(path, "fdatasync failed");
+    ::close(fd);
+    return err;
+  }
+  return JournalWriter(path, fd, h.size(), base_seq);
+}
+
+Result<JournalWriter> JournalWriter::resume(const std::filesystem::path& path, const JournalContents& contents) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+  if (fd < 0) return systemError(path, "cannot open journal");
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) {
+    auto err = systemError(path, "fstat failed");
+    ::close(fd);
+    return err;
+  }
+  auto end = static_cast<std::uint64_t>(st.st_size);
+  if (contents.torn_tail_offset) {
+    end = *contents.torn_tail_offset;
+    if (::ftruncate(fd, static_cast<off_t>(end)) != 0 || ::fdatasync(fd) != 0) {
+      auto err = systemError(path, "cannot cut the torn tail");
+      ::close(fd);
+      return err;
+    }
+  }
+  if (::lseek(fd, static_cast<off_t>(end), SEEK_SET) < 0) {
+    auto err = systemError(path, "lseek failed");
+    ::close(fd);
+    return err;
+  }
+  const std::int64_t last = contents.records.empty() ? contents.base_seq : contents.records.back().seq;
+  return JournalWriter(path, fd, end, last);
+}
+
+JournalWriter::JournalWriter(JournalWriter&& o) noexcept
+    : path_(std::move(o.path_)), fd_(o.fd_), size_(o.size_), last_seq_(o.last_seq_), pending_(std::move(o.pending_)) {
+  o.fd_ = -1;
+}
+
+JournalWriter& JournalWriter::operator=(JournalWriter&& o) noexcept {
+  if (this != &o) {
+    if (fd_ >= 0) ::close(fd_);
+    path_ = std::move(o.path_);
+    fd_ = o.fd_;
+    size_ = o.size_;
+    last_seq_ = o.last_seq_;
+    pending_ = std::move(o.pending_);
+    o.fd_ = -1;
+  }
+  return *this;
+}
+
+JournalWriter::~JournalWriter() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+Status JournalWriter::append(std::int64_t seq, std::int64_t utime, std::span<const Measurement> measurements) {
+  if (seq <= last_seq_)
+    return Error{path_.string() + ": record seq " + std::to_string(seq) + " after " + std::to_string(last_seq_)};
+  if (measurements.size() > kMaxMeasurements)
+    return Error{path_.string() + ": record of " + std::to_string(measurements.size()) + " measurements is too large"};
+  const std::size_t start = pending_.size();
+  pending_.reserve(start + kRecordFixed + measurements.size() * kMeasurementSize + 4);
+  put<std::uint32_t>(pending_, kRecordMagic);
+  put<std::uint32_t>(pending_, static_cast<std::uint32_t>(measurements.size()));
+  put<std::int64_t>(pending_, seq);
+  put<std::int64_t>(pending_, utime);
+  for (const Measurement& m : measurements) {
+    put<std::int32_t>(pending_, m.key.x);
+    put<std::int32_t>(pending_, m.key.y);
+    put<std::int32_t>(pending_, m.key.z);
+    put<std::int8_t>(pending_, m.y);
+  }
+  put<std::uint32_t>(pending_, crc32(pending_.data() + start, pending_.size() - start));
+  last_seq_ = seq;
+  return okStatus();
+}
+
+Status JournalWriter::flush() {
+  if (pending_.empty()) return okStatus();
+  if (fd_ < 0) return Error{path_.string() + ": journal is closed"};
+  if (auto st = writeAll(fd_, path_, pending_); !st) {
+    // A partial write (disk full) must not leave half a record: cut back to the last whole one so a
+    // later flush (which retries the whole buffer) continues a readable journal.
+    if (::ftruncate(fd_, static_cast<off_t>(size_)) == 0) ::lseek(fd_, static_cast<off_t>(size_), SEEK_SET);
+    return st;
+  }
+  if (::fdatasync(fd_) != 0) return systemError(path_, "fdatasync failed");
+  size_ += pending_.size();
+  pending_.clear();
+  return okStatus();
+}
+
+}  // namespace ogf::persistence
