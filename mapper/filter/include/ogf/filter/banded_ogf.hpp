@@ -1,0 +1,98 @@
+// The product Occupancy Grid Filter: eq. (5) with the covariance kept only between cells within the stencil
+// radius R (ogf.md §4), on hashed blocks allocated on demand, so one measurement costs a constant amount of
+// work whatever the size of the map. Prior Σ0 = kernel × Wendland taper; mean, variance and the forward
+// half of the covariances are floats.
+//
+// Determinism: a batch is applied in a fixed order (colour of its block in a 2×2×2 checkerboard, block key,
+// cell key). Blocks of one colour are more than 2R apart, touch disjoint state and run in parallel; the map
+// is bit-identical for any thread count.
+#pragma once
+
+#include <ogf/core/cell_key.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "ogf/filter/block_storage.hpp"
+#include "ogf/filter/change_sink.hpp"
+#include "ogf/filter/filter_config.hpp"
+#include "ogf/filter/kernel.hpp"
+#include "ogf/filter/measurement.hpp"
+#include "ogf/filter/result.hpp"
+#include "ogf/filter/stencil.hpp"
+
+namespace ogf::filter {
+
+struct UpdateStats {
+  std::size_t applied = 0;          // measurements that changed the map
+  std::size_t skipped = 0;          // negligible updates skipped (below skipTolerance)
+  std::size_t rejected = 0;         // y not ±1, or z ≠ 0 in a 2-D map
+  std::size_t blocksAllocated = 0;  // new blocks this batch
+};
+
+// Latent mean and variance of one cell; the prior (0, Σ0_ii) for cells never allocated.
+struct CellEstimate {
+  double mean = 0.0;
+  double variance = 0.0;
+  bool allocated = false;
+};
+
+class BandedOgf {
+ public:
+  // Error when the configuration does not validate (the message names the field).
+  static Result<BandedOgf> create(const FilterConfig& config);
+
+  // Applies a batch of measurements (one per cell, as a scan's measurement set is) in the deterministic
+  // order above, then reports to `sink` (if any) every cell whose class or quantised probability changed.
+  UpdateStats update(std::span<const Measurement> batch, ChangeSink* sink = nullptr);
+  // One measurement, applied at once (a batch of one).
+  UpdateStats update(const Measurement& m) { return update(std::span<const Measurement>(&m, 1)); }
+
+  CellEstimate estimate(const CellKey& cell) const;
+  // Σ between two cells: 0 beyond the stencil, the prior where nothing is allocated.
+  double covariance(const CellKey& a, const CellKey& b) const;
+
+  // Every allocated cell in a deterministic order: blocks by key, then x, y, z inside a block.
+  void forEachCell(const std::function<void(const CellKey&, float mean, float variance)>& visit) const;
+  std::size_t allocatedCells() const { return storage_.size() * storage_.cellsPerBlock(); }
+  std::size_t memoryBytes() const;
+  // 64-bit checksum of the configuration and every stored value, in the deterministic order.
+  std::uint64_t checksum() const;
+
+  const FilterConfig& config() const { return config_; }
+  const Stencil& stencil() const { return stencil_; }
+  const PriorCovariance& prior() const { return prior_; }
+  // Number of worker threads for update(); does not change results.
+  void setThreads(int threads) { config_.threads = threads < 1 ? 1 : threads; }
+
+  // Raw block access for the map file: sorted keys, a block's floats (layout of Block), and restoring a
+  // block from such floats (error on a wrong size, a key outside the 2-D slice or a duplicate).
+  std::vector<CellKey> blockKeys() const { return storage_.sortedKeys(); }
+  std::span<const float> blockValues(const CellKey& blockKey) const;
+  std::size_t floatsPerBlock() const { return storage_.cellsPerBlock() * storage_.floatsPerCell(); }
+  Status restoreBlock(const CellKey& blockKey, std::span<const float> values);
+
+ private:
+  struct Item;
+  struct Group;
+  explicit BandedOgf(const FilterConfig& resolved);
+  Block& obtainBlock(const CellKey& blockKey, std::size_t& allocated);
+  void initialiseBlock(Block& block);
+  void applyGroup(const Group& group, std::span<const Item> items, UpdateStats& stats);
+  bool applyMeasurement(Block* const* neighbourhood, std::size_t local, int y);
+
+  FilterConfig config_;
+  PriorCovariance prior_;
+  Stencil stencil_;
+  BlockStorage storage_;
+  std::vector<float> priorSlots_;  // Σ0 for each forward slot
+  float priorVariance_ = 0.0F;
+  float varianceFloor_ = 0.0F;
+  // Per stencil offset: the position in a 3×3×3 neighbourhood of blocks and offsets in local coordinates.
+  std::vector<std::int32_t> offsetX_, offsetY_, offsetZ_;
+  bool parallelSafe_ = false;
+};
+
+}  // namespace ogf::filter

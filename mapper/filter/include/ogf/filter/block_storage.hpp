@@ -1,0 +1,70 @@
+// Hashed blocks of cells allocated on demand (ogf.md §4): a block is B×B×B cells in 3-D (B×B×1 in 2-D)
+// stored as float arrays (mean, variance, then one array per forward covariance slot), so a measurement
+// touches a few contiguous arrays of at most 8 neighbouring blocks.
+#pragma once
+
+#include <ogf/core/cell_key.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "ogf/filter/filter_config.hpp"
+
+namespace ogf::filter {
+
+// Block containing a cell, and the cell's index inside it (x fastest, then y, then z).
+inline CellKey blockKeyOf(const CellKey& cell) {
+  // C++20 defines >> on negative integers as an arithmetic shift: floor division by 8.
+  static_assert(kBlockSide == 8);
+  return {cell.x >> 3, cell.y >> 3, cell.z >> 3};
+}
+inline std::size_t localIndexOf(const CellKey& cell) {
+  return static_cast<std::size_t>((cell.x & 7) + 8 * ((cell.y & 7) + 8 * (cell.z & 7)));
+}
+
+class Block {
+ public:
+  Block(std::size_t cells, std::size_t forwardSlots);
+  std::size_t cells() const { return cells_; }
+  // Layout: [mean × cells][variance × cells][slot 0 × cells]...[slot F-1 × cells].
+  float* data() { return data_.get(); }
+  const float* data() const { return data_.get(); }
+  std::span<float> values() { return {data_.get(), size_}; }
+  std::span<const float> values() const { return {data_.get(), size_}; }
+
+ private:
+  std::size_t cells_;
+  std::size_t size_;
+  std::unique_ptr<float[]> data_;
+};
+
+class BlockStorage {
+ public:
+  BlockStorage(int dimensions, std::size_t forwardSlots);
+
+  std::size_t cellsPerBlock() const { return cellsPerBlock_; }
+  std::size_t floatsPerCell() const { return 2 + forwardSlots_; }
+  Block* find(const CellKey& blockKey);
+  const Block* find(const CellKey& blockKey) const;
+  // The block, allocated (and `fresh` set) when missing. Not thread-safe.
+  Block& obtain(const CellKey& blockKey, bool& fresh);
+  std::size_t size() const { return blocks_.size(); }
+  // Keys of all blocks, sorted: the deterministic order of iteration, checksums and files.
+  std::vector<CellKey> sortedKeys() const;
+  // Bytes in use: block arrays, block headers and the hash table.
+  std::size_t memoryBytes() const;
+  // Key of the cell at `local` in block `blockKey`.
+  CellKey cellKey(const CellKey& blockKey, std::size_t local) const;
+
+ private:
+  int dimensions_;
+  std::size_t forwardSlots_;
+  std::size_t cellsPerBlock_;
+  std::unordered_map<CellKey, std::unique_ptr<Block>, CellKeyHash> blocks_;
+};
+
+}  // namespace ogf::filter

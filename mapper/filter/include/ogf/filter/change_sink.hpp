@@ -1,0 +1,26 @@
+// What the banded filter reports after a batch of measurements: the cells whose class, eq. (3), or
+// quantised predictive probability changed, for the mapper's map deltas.
+#pragma once
+
+#include <ogf/core/cell_key.hpp>
+
+#include <cstdint>
+
+namespace ogf::filter {
+
+struct CellChange {
+  CellKey key;
+  float mean = 0.0F;
+  float variance = 0.0F;
+  std::uint16_t quantisedProbability = 5000;  // round(p · 10000), p = Φ(m/√(1+s)) (predictive)
+  std::int8_t occupancyClass = 0;             // eq. (3): +1 occupied, -1 free, 0 unknown
+};
+
+class ChangeSink {
+ public:
+  virtual ~ChangeSink() = default;
+  // Called once per changed cell, in the map's deterministic cell order, after the batch.
+  virtual void cellChanged(const CellChange& change) = 0;
+};
+
+}  // namespace ogf::filter

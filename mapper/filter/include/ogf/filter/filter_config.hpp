@@ -1,0 +1,46 @@
+// Typed configuration of the banded Occupancy Grid Filter, with validation that names the bad field and the
+// paper's values as defaults (Sec. VI: σ = half the cell size, amplitude 1/(σ√(2π)), r_o = 0.65,
+// r_f = 0.35). Unset optional fields are derived by resolved(): σ from the resolution, R from σ/cell, the
+// taper support from R.
+#pragma once
+
+#include <optional>
+
+#include "ogf/filter/kernel.hpp"
+#include "ogf/filter/result.hpp"
+
+namespace ogf::filter {
+
+// Side of a storage block in cells (ogf.md §4: B = 8). Blocks are B×B×B in 3-D and B×B×1 in 2-D.
+inline constexpr int kBlockSide = 8;
+
+struct FilterConfig {
+  // 3: cells are 3-D and the stencil is a ball. 2: the map is the z = 0 slice and the stencil a disc.
+  int dimensions = 3;
+  double resolution = 0.2;                 // metres per cell
+  std::optional<double> kernelSigma;       // metres; default resolution / 2
+  std::optional<double> kernelAmplitude;   // default 1/(σ√(2π)), the paper's normal pdf
+  std::optional<double> stencilRadius;     // cells; default √⌊(3σ/cell)²⌋ (√2 for σ = cell/2)
+  std::optional<double> taperSupport;      // cells; default √(R² + 1), the next lattice shell
+  double occupiedThreshold = 0.65;         // r_o of eq. (3)
+  double freeThreshold = 0.35;             // r_f of eq. (3)
+  // An update whose change to the measured cell's mean and variance is below this is skipped
+  // (ogf.md §4, the counterpart of OctoMap's clamping). 0 applies every update.
+  double skipTolerance = 1e-4;
+  int threads = 1;  // worker threads of BandedOgf::update; the map is bit-identical for any count
+
+  // Every optional field filled in, and every field checked. The error names the field.
+  Result<FilterConfig> resolved() const;
+
+  // Valid only on a resolved configuration.
+  GaussianKernel kernel() const { return {*kernelSigma, *kernelAmplitude}; }
+  WendlandTaper taper() const { return {*taperSupport}; }
+  PriorCovariance prior() const { return {kernel(), taper(), resolution, *stencilRadius}; }
+};
+
+// The default stencil radius, in cells, for a kernel of `sigmaCells` cells: the largest √n with
+// n ≤ (3σ/cell)², at least 1. ogf.md §4 measured d(banded, dense) = 0.41 % at σ = cell/2, R = √2 and
+// 0.61 % at σ = cell, R = 3.
+double defaultStencilRadius(double sigmaCells);
+
+}  // namespace ogf::filter

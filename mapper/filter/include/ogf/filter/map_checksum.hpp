@@ -1,0 +1,25 @@
+// A 64-bit checksum over bytes (FNV-1a over 64-bit words with a final avalanche), used for the map
+// checksum the mapper publishes and for the map file's integrity check. Not cryptographic.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+namespace ogf::filter {
+
+class MapChecksum {
+ public:
+  void add(std::span<const std::byte> bytes);
+  template <class T>
+  void addValue(const T& v) {
+    add(std::as_bytes(std::span<const T>(&v, 1)));
+  }
+  std::uint64_t value() const;
+
+ private:
+  std::uint64_t state_ = 0xCBF29CE484222325ULL;
+  std::uint64_t length_ = 0;
+};
+
+}  // namespace ogf::filter

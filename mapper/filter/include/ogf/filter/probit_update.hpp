@@ -1,0 +1,22 @@
+// The scalar part of one OGF measurement update, eq. (5), in the form ogf.md §2 computes it. For a
+// measurement y ∈ {-1, +1} on a cell with mean μ and variance s:
+//   z = y·μ/√(1+s),  λ = φ(z)/Φ(z),
+//   m ← m + Σ[:, i] · meanGain,            meanGain = y·λ/√(1+s)
+//   Σ ← Σ − Σ[:, i]·Σ[:, i]ᵀ · covShrink,   covShrink = λ·(z+λ)/(1+s)
+// The same numbers are the EP moments of eq. (7) (Theorem 1), so the dense OGF, the banded OGF and EP share
+// this function.
+#pragma once
+
+namespace ogf::filter {
+
+struct ProbitUpdate {
+  double z = 0.0;
+  double lambda = 0.0;     // inverse Mills ratio at z
+  double meanGain = 0.0;   // y·λ/√(1+s)
+  double covShrink = 0.0;  // λ·(z+λ)/(1+s), in [0, 1/(1+s)]
+};
+
+// y must be -1 or +1; variance must be positive.
+ProbitUpdate probitUpdate(int y, double mean, double variance);
+
+}  // namespace ogf::filter

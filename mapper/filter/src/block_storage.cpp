@@ -1,0 +1,59 @@
+// Block allocation and bookkeeping.
+#include "ogf/filter/block_storage.hpp"
+
+#include <algorithm>
+
+namespace ogf::filter {
+
+Block::Block(std::size_t cells, std::size_t forwardSlots)
+    : cells_(cells), size_(cells * (2 + forwardSlots)), data_(std::make_unique<float[]>(size_)) {}
+
+BlockStorage::BlockStorage(int dimensions, std::size_t forwardSlots)
+    : dimensions_(dimensions), forwardSlots_(forwardSlots),
+      cellsPerBlock_(dimensions == 3 ? kBlockSide * kBlockSide * kBlockSide : kBlockSide * kBlockSide) {}
+
+Block* BlockStorage::find(const CellKey& blockKey) {
+  const auto it = blocks_.find(blockKey);
+  return it == blocks_.end() ? nullptr : it->second.get();
+}
+
+const Block* BlockStorage::find(const CellKey& blockKey) const {
+  const auto it = blocks_.find(blockKey);
+  return it == blocks_.end() ? nullptr : it->second.get();
+}
+
+Block& BlockStorage::obtain(const CellKey& blockKey, bool& fresh) {
+  auto& slot = blocks_[blockKey];
+  fresh = slot == nullptr;
+  if (fresh) {
+    slot = std::make_unique<Block>(cellsPerBlock_, forwardSlots_);
+  }
+  return *slot;
+}
+
+std::vector<CellKey> BlockStorage::sortedKeys() const {
+  std::vector<CellKey> keys;
+  keys.reserve(blocks_.size());
+  for (const auto& [key, block] : blocks_) {
+    keys.push_back(key);
+  }
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+std::size_t BlockStorage::memoryBytes() const {
+  // Per block: the float arrays, the Block object, and an unordered_map node (key, pointer, next
+  // pointer, cached hash); plus one bucket pointer per bucket.
+  const std::size_t perBlock = cellsPerBlock_ * floatsPerCell() * sizeof(float) + sizeof(Block) +
+                               sizeof(CellKey) + 3 * sizeof(void*) + sizeof(std::size_t);
+  return blocks_.size() * perBlock + blocks_.bucket_count() * sizeof(void*);
+}
+
+CellKey BlockStorage::cellKey(const CellKey& blockKey, std::size_t local) const {
+  const auto l = static_cast<std::int32_t>(local);
+  const std::int32_t z = dimensions_ == 3 ? blockKey.z * kBlockSide + l / (kBlockSide * kBlockSide) : 0;
+  return {blockKey.x * kBlockSide + l % kBlockSide, blockKey.y * kBlockSide + (l / kBlockSide) % kBlockSide,
+          z};
+}
+
+}  // namespace ogf::filter

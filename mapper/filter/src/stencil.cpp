@@ -1,0 +1,58 @@
+// Stencil offsets, forward slots and the covariance pairs of one banded update.
+#include "ogf/filter/stencil.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+#include "ogf/filter/kernel.hpp"
+
+namespace ogf::filter {
+
+Stencil::Stencil(int dimensions, double radius) {
+  const double r2 = radius * radius + 1e-9;
+  const int reach = static_cast<int>(std::floor(radius + 1e-9));
+  const int zReach = dimensions == 3 ? reach : 0;
+  for (int x = -reach; x <= reach; ++x) {
+    for (int y = -reach; y <= reach; ++y) {
+      for (int z = -zReach; z <= zReach; ++z) {
+        const CellKey o{x, y, z};
+        if (static_cast<double>(squaredLength(o)) <= r2) {
+          offsets_.push_back(o);
+          extent_ = std::max({extent_, std::abs(x), std::abs(y), std::abs(z)});
+        }
+      }
+    }
+  }
+  for (const CellKey& o : offsets_) {
+    if (isForward(o)) {
+      forward_.push_back(o);
+    }
+  }
+  for (std::size_t s = 0; s < offsets_.size(); ++s) {
+    const CellKey& o = offsets_[s];
+    if (o == CellKey{}) {
+      self_ = s;
+    }
+    forwardSlot_.push_back(static_cast<std::int16_t>(forwardIndexOf(o)));
+    backwardSlot_.push_back(static_cast<std::int16_t>(forwardIndexOf(CellKey{} - o)));
+  }
+  // Every stored pair (cell a, cell a + f) with both ends inside the stencil.
+  for (std::size_t a = 0; a < offsets_.size(); ++a) {
+    for (std::size_t f = 0; f < forward_.size(); ++f) {
+      const CellKey b = offsets_[a] + forward_[f];
+      const auto it = std::find(offsets_.begin(), offsets_.end(), b);
+      if (it != offsets_.end()) {
+        pairs_.push_back({static_cast<std::uint16_t>(a), static_cast<std::uint16_t>(f),
+                          static_cast<std::uint16_t>(it - offsets_.begin())});
+      }
+    }
+  }
+}
+
+int Stencil::forwardIndexOf(const CellKey& o) const {
+  const auto it = std::find(forward_.begin(), forward_.end(), o);
+  return it == forward_.end() ? -1 : static_cast<int>(it - forward_.begin());
+}
+
+}  // namespace ogf::filter
