@@ -1,0 +1,85 @@
+// The push interface both ogf-driver and ogf-decode use: data and position payloads in (with their host
+// receive time), scans out through a callback, with every rejected input counted. Holds the model
+// detector, the packet decoder, the device clock and the scan assembler; packets that arrive before an
+// ambiguous model is decided are kept (a bounded copy) and decoded once it is.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "ogf/velodyne/device_clock.hpp"
+#include "ogf/velodyne/model_detector.hpp"
+#include "ogf/velodyne/packet_decoder.hpp"
+#include "ogf/velodyne/position_packet.hpp"
+#include "ogf/velodyne/scan_assembler.hpp"
+
+namespace ogf::velodyne {
+
+struct StreamConfig {
+  std::optional<Model> model;              // nullopt: detect (configuration always wins)
+  std::optional<Calibration> calibration;  // nullopt: the model's nominal table
+  std::optional<ReturnMode> return_mode;   // see DecoderConfig::return_mode
+  double min_range_m = 0.4;
+  double max_range_m = 250.0;
+  ScanAssemblerConfig assembler;
+};
+
+struct StreamCounters {
+  std::int64_t data_packets = 0;      // decoded
+  std::int64_t position_packets = 0;  // parsed
+  std::int64_t bad_size = 0;
+  std::int64_t bad_block_flag = 0;
+  std::int64_t bad_other = 0;         // bad azimuth, bad position packet, model never known
+  std::int64_t points = 0;
+  std::int64_t scans = 0;
+};
+
+class PacketStream {
+ public:
+  // Fails when the configuration cannot decode (range limits, a calibration too small for the model).
+  static Result<PacketStream> create(const StreamConfig& config);
+
+  void setScanSink(ScanAssembler::Sink sink) { sink_ = std::move(sink); }
+
+  // A payload from the data port. Returns how it was taken.
+  PacketStatus addDataPacket(std::span<const std::uint8_t> payload, std::int64_t host_utime);
+  // A payload from the position port; false when it was rejected (counted in bad_size or bad_other).
+  bool addPositionPacket(std::span<const std::uint8_t> payload, std::int64_t host_utime);
+  // End of input: decodes what waited for the model and emits the scan in progress.
+  void finish();
+
+  const StreamCounters& counters() const { return counters_; }
+  std::optional<Model> model() const { return detector_.model(); }
+  std::optional<ReturnMode> returnMode() const { return last_mode_; }
+  float rpm() const { return assembler_.lastRpm(); }
+  std::int64_t packetsLost() const { return assembler_.packetsLost(); }
+  const std::optional<PositionPacket>& lastPosition() const { return last_position_; }
+  const StreamConfig& config() const { return config_; }
+
+ private:
+  explicit PacketStream(const StreamConfig& config);
+  bool ensureDecoder();
+  PacketStatus decodeAndAssemble(std::span<const std::uint8_t> payload, std::int64_t host_utime);
+
+  struct Pending {
+    std::array<std::uint8_t, wire::kDataPacketSize> bytes;
+    std::int64_t host_utime;
+  };
+
+  StreamConfig config_;
+  ModelDetector detector_;
+  std::optional<PacketDecoder> decoder_;
+  DeviceClock clock_;
+  ScanAssembler assembler_;
+  ScanAssembler::Sink sink_;
+  DecodedPacket decoded_;
+  std::vector<Pending> pending_;
+  std::optional<PositionPacket> last_position_;
+  std::optional<ReturnMode> last_mode_;
+  StreamCounters counters_;
+};
+
+}  // namespace ogf::velodyne

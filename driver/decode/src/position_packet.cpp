@@ -1,0 +1,35 @@
+#include "ogf/velodyne/position_packet.hpp"
+
+#include <algorithm>
+
+#include "ogf/velodyne/wire_format.hpp"
+
+namespace ogf::velodyne {
+
+Result<PositionPacket> parsePositionPacket(std::span<const std::uint8_t> payload) {
+  if (payload.size() != wire::kPositionPacketSize)
+    return Error{"position packet: " + std::to_string(payload.size()) + " bytes, expected 512"};
+  const std::uint8_t* p = payload.data();
+  PositionPacket packet;
+  packet.toh_us = wire::readLe32(p + offsetof(wire::RawPositionPacket, timestamp));
+  const std::uint8_t pps = p[offsetof(wire::RawPositionPacket, pps_status)];
+  if (pps > 3) return Error{"position packet: offset 202 (PPS status) holds " + std::to_string(pps) + ", expected 0..3"};
+  packet.pps = static_cast<PpsState>(pps);
+  // The sentence starts at 206 and ends at CR, LF or NUL (vd telemetry_packet.cpp:105 reads up to 128).
+  const std::uint8_t* nmea = p + offsetof(wire::RawPositionPacket, nmea);
+  std::size_t n = 0;
+  while (n < packet.nmea_text.size() && nmea[n] != 0 && nmea[n] != '\r' && nmea[n] != '\n') {
+    const std::uint8_t c = nmea[n];
+    if (c < 0x20 || c > 0x7e) break;  // not printable ASCII: no sentence
+    packet.nmea_text[n] = static_cast<char>(c);
+    ++n;
+  }
+  packet.nmea_length = n > 0 && packet.nmea_text[0] == '$' ? n : 0;
+  if (packet.nmea_length > 0) {
+    auto fix = parseNmeaSentence(packet.nmea());
+    if (fix) packet.fix = *fix;
+  }
+  return packet;
+}
+
+}  // namespace ogf::velodyne
