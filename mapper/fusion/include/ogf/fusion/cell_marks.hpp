@@ -1,0 +1,62 @@
+// The cells one scan has marked free or occupied, kept as bits in 8×8×8 bricks found through a small
+// open-addressing table. Consecutive cells of a ray mostly fall in the brick of the previous one, so a mark
+// is usually a shift, a compare and an OR on a cache-hot brick; the table is only consulted when a ray
+// enters another brick. Read back in CellKey order with occupied winning over free (Sun et al. Sec. VI-B).
+// Buffers are reused from scan to scan: no allocation in steady state.
+#pragma once
+
+#include <ogf/core/cell_key.hpp>
+#include <ogf/core/measurement.hpp>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace ogf::fusion {
+
+class CellMarks {
+ public:
+  void clear();
+
+  void markFree(const CellKey& k) { mark(k, &Brick::free); }
+  void markOccupied(const CellKey& k) { mark(k, &Brick::occupied); }
+
+  // Appends one measurement per marked cell to `out`, sorted by CellKey; occupied where both were marked.
+  void appendSorted(std::vector<Measurement>& out);
+
+  std::size_t brickCount() const { return used_; }
+
+ private:
+  using Bits = std::array<std::uint64_t, 8>;  // word = local x, bit = 8·(local y) + local z
+  struct Brick {
+    Bits free;
+    Bits occupied;
+    CellKey key;  // brick coordinates: cell >> 3
+  };
+  struct Slot {
+    CellKey key;
+    std::uint32_t brick = kEmpty;
+  };
+  static constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
+
+  void mark(const CellKey& k, Bits Brick::*which) {
+    // Arithmetic shift and mask floor negative coordinates correctly (C++20 defines both).
+    const CellKey b{k.x >> 3, k.y >> 3, k.z >> 3};
+    if (last_ == kEmpty || b != bricks_[last_].key) last_ = brickIndex(b);
+    const auto bit = static_cast<unsigned>(((k.y & 7) << 3) | (k.z & 7));
+    (bricks_[last_].*which)[static_cast<std::size_t>(k.x & 7)] |= std::uint64_t{1} << bit;
+  }
+
+  std::uint32_t brickIndex(const CellKey& b);
+  void grow();
+
+  std::vector<Brick> bricks_;  // [0, used_) in use this scan; the rest kept for reuse
+  std::size_t used_ = 0;
+  std::vector<Slot> table_;    // power-of-two size, at most half full
+  std::uint32_t last_ = kEmpty;
+  std::vector<std::uint32_t> order_;  // scratch for appendSorted
+};
+
+}  // namespace ogf::fusion
