@@ -1,0 +1,99 @@
+// PoseBuffer: validation on insert, ring storage, and interpolation (lerp + slerp) without extrapolation.
+#include <ogf/fusion/pose_buffer.hpp>
+
+#include <cmath>
+
+namespace ogf::fusion {
+
+PoseBuffer::PoseBuffer(const PoseBufferConfig& config) : config_(config), ring_(config.capacity) {}
+
+PoseInsertResult PoseBuffer::insert(const Pose& pose) {
+  PoseInsertResult result;
+  const auto reject = [&](PoseRejection why, std::int64_t& counter) {
+    ++counter;
+    result.rejection = why;
+    return result;
+  };
+  if (!pose.position.allFinite() || !pose.orientation.coeffs().allFinite()) {
+    return reject(PoseRejection::kNonFinite, counts_.rejected_non_finite);
+  }
+  if (size_ > 0 && pose.utime == newest().utime) {
+    return reject(PoseRejection::kDuplicateTime, counts_.rejected_duplicate_time);
+  }
+  if (size_ > 0 && pose.utime < newest().utime) {
+    return reject(PoseRejection::kOutOfOrder, counts_.rejected_out_of_order);
+  }
+  const double norm = pose.orientation.norm();
+  if (!(std::abs(norm - 1.0) <= config_.quaternion_tolerance)) {
+    return reject(PoseRejection::kNotUnitQuaternion, counts_.rejected_not_unit);
+  }
+  Pose stored = pose;
+  if (norm != 1.0) {
+    stored.orientation.normalize();
+    result.normalised = true;
+    ++counts_.normalised;
+  }
+  if (size_ > 0) {
+    const Pose& previous = newest();
+    result.step_translation_m = (stored.position - previous.position).norm();
+    result.step_rotation_rad = previous.orientation.angularDistance(stored.orientation);
+    result.jump = result.step_translation_m > config_.jump_translation_m ||
+                  result.step_rotation_rad > config_.jump_rotation_rad;
+    if (result.jump) ++counts_.jumps;
+  }
+  if (size_ == ring_.size()) {
+    head_ = (head_ + 1) % ring_.size();
+    --size_;
+    ++counts_.evicted;
+  }
+  ring_[(head_ + size_) % ring_.size()] = stored;
+  ++size_;
+  ++counts_.accepted;
+  return result;
+}
+
+PoseCoverage PoseBuffer::coverageAt(std::int64_t utime) const {
+  if (size_ == 0 || utime > newest().utime) return PoseCoverage::kNotYet;
+  if (utime < oldest().utime) return PoseCoverage::kTooOld;
+  return PoseCoverage::kCovered;
+}
+
+PoseCoverage PoseBuffer::coverage(std::int64_t begin_utime, std::int64_t end_utime) const {
+  // The stored poses have no gaps in between, so the two ends decide; too old wins because waiting
+  // cannot help it.
+  const PoseCoverage begin = coverageAt(begin_utime);
+  if (begin != PoseCoverage::kCovered) return begin;
+  return coverageAt(end_utime);
+}
+
+PoseLookup PoseBuffer::interpolate(std::int64_t utime) const {
+  PoseLookup lookup;
+  lookup.coverage = coverageAt(utime);
+  if (!lookup.ok()) return lookup;
+  // First stored pose at or after utime (exists, since utime <= newest).
+  std::size_t lo = 0;
+  std::size_t hi = size_ - 1;
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    if (at(mid).utime < utime) {
+      lo = mid + 1;
+    } else {
+      hi = mid;
+    }
+  }
+  const Pose& after = at(lo);
+  if (after.utime == utime) {
+    lookup.pose = after;
+    return lookup;
+  }
+  const Pose& before = at(lo - 1);  // lo > 0 since utime >= oldest and != at(lo)
+  const double alpha =
+      static_cast<double>(utime - before.utime) / static_cast<double>(after.utime - before.utime);
+  lookup.pose.utime = utime;
+  lookup.pose.position = before.position + alpha * (after.position - before.position);
+  // Eigen's slerp takes the short arc (it flips the sign of one end when their dot product is negative).
+  lookup.pose.orientation = before.orientation.slerp(alpha, after.orientation);
+  return lookup;
+}
+
+}  // namespace ogf::fusion
