@@ -1,0 +1,120 @@
+// The scans that wait for the odometry covering them, and the policy that bounds the wait (architecture:
+// "no pose covering a scan's time → wait a bounded time, then drop the scan and count it; never
+// extrapolate silently"). Pure: the caller passes the time in. Bounded in scans and in points: when a new
+// scan does not fit, the oldest whole scans are dropped (the mapper fell behind), so memory never grows
+// without bound. A scan leaves by popReady() once the PoseBuffer covers its whole span, in arrival order;
+// it is dropped when it has waited longer than max_pose_wait_s or when its span starts before the oldest
+// pose kept (it can never be covered). Payload is whatever the daemon needs to map the scan later
+// (a shared_ptr to the decoded message, an index); it is moved in and out.
+#pragma once
+
+#include <ogf/fusion/fusion_config.hpp>
+#include <ogf/fusion/pose_buffer.hpp>
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <utility>
+
+namespace ogf::fusion {
+
+// What the policy needs to know of a scan.
+struct ScanSpan {
+  std::int64_t begin_utime = 0;  // first point's time, microseconds
+  std::int64_t end_utime = 0;    // last point's time
+  std::size_t points = 0;
+};
+
+// Cumulative counters, named as in mapper_status_t.
+struct PendingScansCounts {
+  std::int64_t scans_in = 0;
+  std::int64_t scans_dropped_behind = 0;   // oldest dropped to make room
+  std::int64_t scans_dropped_no_pose = 0;  // waited too long, or older than the oldest pose kept
+  std::int64_t scans_late = 0;             // arrived after a newer scan (span begins no later)
+  std::int64_t scans_rejected = 0;         // malformed span (end before begin)
+};
+
+enum class PushOutcome { kQueued, kLate, kRejected, kTooLarge };
+
+template <class Payload>
+class PendingScans {
+ public:
+  struct Entry {
+    ScanSpan span;
+    std::int64_t arrived_utime = 0;
+    Payload payload;
+  };
+
+  // config must validate (PendingScansConfig::validate).
+  explicit PendingScans(const PendingScansConfig& config)
+      : config_(config), max_wait_us_(std::llround(config.max_pose_wait_s * 1e6)) {}
+
+  // Queues a scan that arrived at now_utime (the caller's clock). Drops the oldest whole scans, counted as
+  // dropped_behind, until it fits; a scan larger than max_pending_points alone is dropped the same way.
+  PushOutcome push(const ScanSpan& span, Payload payload, std::int64_t now_utime) {
+    ++counts_.scans_in;
+    if (span.end_utime < span.begin_utime) {
+      ++counts_.scans_rejected;
+      return PushOutcome::kRejected;
+    }
+    if (last_begin_utime_ && span.begin_utime <= *last_begin_utime_) {
+      ++counts_.scans_late;
+      return PushOutcome::kLate;
+    }
+    last_begin_utime_ = span.begin_utime;
+    if (span.points > config_.max_pending_points) {
+      ++counts_.scans_dropped_behind;
+      return PushOutcome::kTooLarge;
+    }
+    while (!queue_.empty() &&
+           (queue_.size() >= config_.max_pending_scans || points_ + span.points > config_.max_pending_points)) {
+      dropFront(counts_.scans_dropped_behind);
+    }
+    points_ += span.points;
+    queue_.push_back(Entry{span, now_utime, std::move(payload)});
+    return PushOutcome::kQueued;
+  }
+
+  // The oldest scan whose span the poses cover, or nothing while the oldest still waits. Scans that can
+  // no longer be covered, or have waited longer than max_pose_wait_s, are dropped on the way.
+  std::optional<Entry> popReady(const PoseBuffer& poses, std::int64_t now_utime) {
+    while (!queue_.empty()) {
+      Entry& front = queue_.front();
+      const PoseCoverage c = poses.coverage(front.span.begin_utime, front.span.end_utime);
+      if (c == PoseCoverage::kCovered) {
+        std::optional<Entry> ready(std::move(front));
+        points_ -= ready->span.points;
+        queue_.pop_front();
+        return ready;
+      }
+      if (c == PoseCoverage::kTooOld || now_utime - front.arrived_utime > max_wait_us_) {
+        dropFront(counts_.scans_dropped_no_pose);
+        continue;
+      }
+      return std::nullopt;  // still waiting; later scans wait behind it to keep arrival order
+    }
+    return std::nullopt;
+  }
+
+  std::size_t size() const { return queue_.size(); }
+  std::size_t points() const { return points_; }
+  const PendingScansCounts& counts() const { return counts_; }
+
+ private:
+  void dropFront(std::int64_t& counter) {
+    points_ -= queue_.front().span.points;
+    queue_.pop_front();
+    ++counter;
+  }
+
+  PendingScansConfig config_;
+  std::int64_t max_wait_us_;
+  std::deque<Entry> queue_;
+  std::size_t points_ = 0;
+  std::optional<std::int64_t> last_begin_utime_;
+  PendingScansCounts counts_;
+};
+
+}  // namespace ogf::fusion

@@ -1,0 +1,112 @@
+// PendingScans: scans leave once covered, in arrival order; waiting is bounded in time; the queue is
+// bounded in scans and points by dropping the oldest whole scan; every drop is counted.
+#include <ogf/fusion/pending_scans.hpp>
+
+#include <gtest/gtest.h>
+
+#include <memory>
+
+namespace ogf::fusion {
+namespace {
+
+PendingScansConfig config(double wait_s = 0.2, std::size_t scans = 4, std::size_t points = 1000) {
+  PendingScansConfig c;
+  c.max_pose_wait_s = wait_s;
+  c.max_pending_scans = scans;
+  c.max_pending_points = points;
+  return c;
+}
+
+PoseBuffer posesUntil(std::int64_t from, std::int64_t to) {
+  PoseBuffer buffer(PoseBufferConfig{});
+  for (std::int64_t t = from; t <= to; t += 10'000) {
+    EXPECT_TRUE(buffer.insert({t, Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity()}).accepted());
+  }
+  return buffer;
+}
+
+ScanSpan scan(std::int64_t begin, std::size_t points = 100) { return {begin, begin + 99'000, points}; }
+
+TEST(PendingScans, ScanLeavesOnlyOnceItsWholeSpanIsCovered) {
+  PendingScans<int> pending(config());
+  ASSERT_EQ(pending.push(scan(1'000'000), 7, 0), PushOutcome::kQueued);
+  EXPECT_FALSE(pending.popReady(posesUntil(900'000, 1'050'000), 10'000)) << "half covered: wait";
+  EXPECT_EQ(pending.size(), 1U);
+  const auto ready = pending.popReady(posesUntil(900'000, 1'100'000), 20'000);
+  ASSERT_TRUE(ready);
+  EXPECT_EQ(ready->payload, 7);
+  EXPECT_EQ(pending.size(), 0U);
+  EXPECT_EQ(pending.points(), 0U);
+}
+
+TEST(PendingScans, ScanWaitingLongerThanMaxWaitIsDroppedAndCounted) {
+  PendingScans<int> pending(config(0.2));
+  ASSERT_EQ(pending.push(scan(1'000'000), 1, 5'000'000), PushOutcome::kQueued);
+  const PoseBuffer poses = posesUntil(900'000, 1'050'000);
+  EXPECT_FALSE(pending.popReady(poses, 5'200'000)) << "exactly max wait: still waiting";
+  EXPECT_EQ(pending.size(), 1U);
+  EXPECT_FALSE(pending.popReady(poses, 5'200'001));
+  EXPECT_EQ(pending.size(), 0U);
+  EXPECT_EQ(pending.counts().scans_dropped_no_pose, 1);
+}
+
+TEST(PendingScans, ScanOlderThanTheOldestPoseIsDroppedAtOnce) {
+  PendingScans<int> pending(config());
+  ASSERT_EQ(pending.push(scan(1'000'000), 1, 0), PushOutcome::kQueued);
+  ASSERT_EQ(pending.push(scan(2'000'000), 2, 0), PushOutcome::kQueued);
+  const auto ready = pending.popReady(posesUntil(1'500'000, 2'200'000), 0);
+  ASSERT_TRUE(ready);
+  EXPECT_EQ(ready->payload, 2);
+  EXPECT_EQ(pending.counts().scans_dropped_no_pose, 1);
+}
+
+TEST(PendingScans, ScansLeaveInArrivalOrder) {
+  PendingScans<int> pending(config());
+  ASSERT_EQ(pending.push(scan(1'000'000), 1, 0), PushOutcome::kQueued);
+  ASSERT_EQ(pending.push(scan(1'100'000), 2, 0), PushOutcome::kQueued);
+  const PoseBuffer poses = posesUntil(900'000, 1'300'000);
+  EXPECT_EQ(pending.popReady(poses, 0)->payload, 1);
+  EXPECT_EQ(pending.popReady(poses, 0)->payload, 2);
+  EXPECT_FALSE(pending.popReady(poses, 0));
+}
+
+TEST(PendingScans, FullQueueDropsTheOldestWholeScan) {
+  PendingScans<std::shared_ptr<int>> pending(config(1.0, 3, 1000));
+  auto first = std::make_shared<int>(0);
+  ASSERT_EQ(pending.push(scan(1'000'000), first, 0), PushOutcome::kQueued);
+  for (int i = 1; i < 5; ++i) {
+    ASSERT_EQ(pending.push(scan(1'000'000 + i * 100'000), std::make_shared<int>(i), 0), PushOutcome::kQueued);
+  }
+  EXPECT_EQ(pending.size(), 3U);
+  EXPECT_EQ(pending.counts().scans_dropped_behind, 2);
+  EXPECT_EQ(first.use_count(), 1) << "the dropped payload is released";
+  const PoseBuffer poses = posesUntil(0, 2'000'000);
+  EXPECT_EQ(*pending.popReady(poses, 0)->payload, 2);
+}
+
+TEST(PendingScans, PointBoundDropsOldestScansUntilTheNewOneFits) {
+  PendingScans<int> pending(config(1.0, 10, 1000));
+  ASSERT_EQ(pending.push(scan(1'000'000, 400), 1, 0), PushOutcome::kQueued);
+  ASSERT_EQ(pending.push(scan(1'100'000, 400), 2, 0), PushOutcome::kQueued);
+  ASSERT_EQ(pending.push(scan(1'200'000, 500), 3, 0), PushOutcome::kQueued);  // 1300 > 1000: drop one
+  EXPECT_EQ(pending.points(), 900U);
+  EXPECT_EQ(pending.counts().scans_dropped_behind, 1);
+  EXPECT_EQ(pending.push(scan(1'300'000, 1001), 4, 0), PushOutcome::kTooLarge);
+  EXPECT_EQ(pending.counts().scans_dropped_behind, 2);
+  EXPECT_EQ(pending.size(), 2U);
+}
+
+TEST(PendingScans, LateAndMalformedScansAreRefusedAndCounted) {
+  PendingScans<int> pending(config());
+  ASSERT_EQ(pending.push(scan(2'000'000), 1, 0), PushOutcome::kQueued);
+  EXPECT_EQ(pending.push(scan(1'000'000), 2, 0), PushOutcome::kLate);
+  EXPECT_EQ(pending.push(scan(2'000'000), 3, 0), PushOutcome::kLate) << "a duplicate is late too";
+  EXPECT_EQ(pending.push({3'000'000, 2'999'999, 10}, 4, 0), PushOutcome::kRejected);
+  EXPECT_EQ(pending.counts().scans_in, 4);
+  EXPECT_EQ(pending.counts().scans_late, 2);
+  EXPECT_EQ(pending.counts().scans_rejected, 1);
+  EXPECT_EQ(pending.size(), 1U);
+}
+
+}  // namespace
+}  // namespace ogf::fusion
