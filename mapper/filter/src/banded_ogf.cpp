@@ -53,7 +53,7 @@ Result<BandedOgf> BandedOgf::create(const FilterConfig& config) {
 }
 
 BandedOgf::BandedOgf(const FilterConfig& resolved)
-    : config_(resolved), prior_(resolved.prior()), stencil_(resolved.dimensions, *resolved.stencilRadius),
+    : config_(resolved), prior_(resolved.prior()), stencil_(resolved.dimensions, resolved.stencilShape()),
       storage_(resolved.dimensions, stencil_.forwardOffsets().size()) {
   for (const CellKey& o : stencil_.forwardOffsets()) {
     priorSlots_.push_back(static_cast<float>(prior_(o)));

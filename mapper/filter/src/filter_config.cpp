@@ -1,6 +1,9 @@
 // Defaults and validation of FilterConfig.
 #include "ogf/filter/filter_config.hpp"
 
+#include "ogf/filter/prior_spectrum.hpp"
+
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -13,6 +16,26 @@ Error fieldError(const char* field, double value, const char* why) {
 }
 
 bool positiveFinite(double v) { return std::isfinite(v) && v > 0.0; }
+
+// Smallest lattice spectrum, relative to the kernel amplitude, for a longer taper support to be chosen.
+constexpr double kSpectrumMargin = 0.1;
+
+// Length of the shortest lattice offset the stencil leaves out, cells.
+double shortestExcludedOffset(const StencilShape& shape, int dimensions) {
+  const int reach = shape.reach() + 1;
+  const int zReach = dimensions == 3 ? reach : 0;
+  double best = static_cast<double>(reach);
+  for (int x = -reach; x <= reach; ++x) {
+    for (int y = -reach; y <= reach; ++y) {
+      for (int z = -zReach; z <= zReach; ++z) {
+        if (!shape.contains(CellKey{x, y, z})) {
+          best = std::min(best, std::sqrt(static_cast<double>(x * x + y * y + z * z)));
+        }
+      }
+    }
+  }
+  return best;
+}
 
 }  // namespace
 
@@ -50,11 +73,34 @@ Result<FilterConfig> FilterConfig::resolved() const {
       *c.stencilRadius >= static_cast<double>(kBlockSide + 1)) {
     return fieldError("stencilRadius", *c.stencilRadius, "must lie in [1, 9) cells");
   }
+  if (c.stencilManhattanRadius < 0 || c.stencilManhattanRadius > kBlockSide) {
+    return fieldError("stencilManhattanRadius", c.stencilManhattanRadius, "must lie in [0, 8] cells");
+  }
+  // The longest support that drops nothing: the shortest offset outside the stencil. Then Σ0 = K ∘ T
+  // exactly and the Schur product theorem makes it positive definite; but T also damps the correlations
+  // inside the band. Longer supports damp less and cut K ∘ T at the stencil, so they are taken only when
+  // the lattice spectrum certifies the banded prior positive definite with a margin (prior_spectrum.hpp).
+  const double shortest = shortestExcludedOffset(c.stencilShape(), c.dimensions);
   if (!c.taperSupport) {
-    c.taperSupport = std::sqrt(std::floor(*c.stencilRadius * *c.stencilRadius + 1e-9) + 1.0);
+    c.taperSupport = shortest;
+    for (double factor : {64.0, 16.0, 8.0, 4.0, 2.0}) {
+      FilterConfig trial = c;
+      trial.taperSupport = shortest * factor;
+      const double margin = kSpectrumMargin * *c.kernelAmplitude;
+      if (priorSpectrumLowerBound(trial.prior(), c.dimensions) >= margin) {
+        c.taperSupport = trial.taperSupport;
+        break;
+      }
+    }
   }
   if (!positiveFinite(*c.taperSupport)) {
     return fieldError("taperSupport", *c.taperSupport, "must be a positive number of cells");
+  }
+  if (*c.taperSupport > shortest + 1e-9 &&
+      !(priorSpectrumLowerBound(c.prior(), c.dimensions) > 0.0)) {
+    return fieldError("taperSupport", *c.taperSupport,
+                      "leaves the banded prior not positive definite (its lattice spectrum reaches 0); use a "
+                      "shorter support");
   }
   if (!(c.freeThreshold > 0.0 && c.freeThreshold <= c.occupiedThreshold && c.occupiedThreshold < 1.0)) {
     return fieldError("occupiedThreshold", c.occupiedThreshold,

@@ -20,14 +20,8 @@ double WendlandTaper::operator()(double distanceCells) const {
 }
 
 PriorCovariance::PriorCovariance(GaussianKernel kernel, WendlandTaper taper, double resolution,
-                                 double stencilRadius)
-    : kernel_(kernel), taper_(taper), resolution_(resolution),
-      // A hair above R² so that R = √2 admits the offsets of squared length exactly 2.
-      radiusSquared_(stencilRadius * stencilRadius + 1e-9) {}
-
-bool PriorCovariance::inStencil(const CellKey& offset) const {
-  return static_cast<double>(squaredLength(offset)) <= radiusSquared_;
-}
+                                 StencilShape shape)
+    : kernel_(kernel), taper_(taper), resolution_(resolution), shape_(shape) {}
 
 double PriorCovariance::operator()(const CellKey& offset) const {
   if (!inStencil(offset)) {

@@ -5,19 +5,17 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "ogf/filter/kernel.hpp"
 
 namespace ogf::filter {
 
-Stencil::Stencil(int dimensions, double radius) {
-  const double r2 = radius * radius + 1e-9;
-  const int reach = static_cast<int>(std::floor(radius + 1e-9));
+Stencil::Stencil(int dimensions, StencilShape shape) {
+  const int reach = shape.reach();
   const int zReach = dimensions == 3 ? reach : 0;
   for (int x = -reach; x <= reach; ++x) {
     for (int y = -reach; y <= reach; ++y) {
       for (int z = -zReach; z <= zReach; ++z) {
         const CellKey o{x, y, z};
-        if (static_cast<double>(squaredLength(o)) <= r2) {
+        if (shape.contains(o)) {
           offsets_.push_back(o);
           extent_ = std::max({extent_, std::abs(x), std::abs(y), std::abs(z)});
         }

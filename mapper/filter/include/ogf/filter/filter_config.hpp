@@ -20,8 +20,11 @@ struct FilterConfig {
   double resolution = 0.2;                 // metres per cell
   std::optional<double> kernelSigma;       // metres; default resolution / 2
   std::optional<double> kernelAmplitude;   // default 1/(σ√(2π)), the paper's normal pdf
-  std::optional<double> stencilRadius;     // cells; default √⌊(3σ/cell)²⌋ (√2 for σ = cell/2)
-  std::optional<double> taperSupport;      // cells; default √(R² + 1), the next lattice shell
+  std::optional<double> stencilRadius;     // R, cells; default √⌊(3σ/cell)²⌋ (√2 for σ = cell/2)
+  int stencilManhattanRadius = 2;          // L, cells: |o|₁ ≤ L is kept too (stencil_shape.hpp); 0 = none
+  // cells; default: the longest of s·{64, 16, 8, 4, 2} whose banded prior is certified positive definite
+  // with a margin, else s, the shortest offset outside the stencil (nothing dropped, always definite).
+  std::optional<double> taperSupport;
   double occupiedThreshold = 0.65;         // r_o of eq. (3)
   double freeThreshold = 0.35;             // r_f of eq. (3)
   // An update whose change to the measured cell's mean and variance is below this is skipped
@@ -35,7 +38,8 @@ struct FilterConfig {
   // Valid only on a resolved configuration.
   GaussianKernel kernel() const { return {*kernelSigma, *kernelAmplitude}; }
   WendlandTaper taper() const { return {*taperSupport}; }
-  PriorCovariance prior() const { return {kernel(), taper(), resolution, *stencilRadius}; }
+  StencilShape stencilShape() const { return {*stencilRadius, stencilManhattanRadius}; }
+  PriorCovariance prior() const { return {kernel(), taper(), resolution, stencilShape()}; }
 };
 
 // The default stencil radius, in cells, for a kernel of `sigmaCells` cells: the largest √n with

@@ -6,6 +6,8 @@
 
 #include <ogf/core/cell_key.hpp>
 
+#include "ogf/filter/stencil_shape.hpp"
+
 namespace ogf::filter {
 
 // k(d) = amplitude · exp(−d²/2σ²), d and σ in metres. The paper's amplitude is 1/(σ√(2π)).
@@ -22,20 +24,20 @@ struct WendlandTaper {
   double operator()(double distanceCells) const;
 };
 
-// Σ0 between two cells `offset` apart: kernel × taper inside the stencil (|offset| ≤ R), 0 outside.
+// Σ0 between two cells `offset` apart: kernel × taper inside the stencil, 0 outside.
 class PriorCovariance {
  public:
-  PriorCovariance(GaussianKernel kernel, WendlandTaper taper, double resolution, double stencilRadius);
+  PriorCovariance(GaussianKernel kernel, WendlandTaper taper, double resolution, StencilShape shape);
   double operator()(const CellKey& offset) const;
   double variance() const { return (*this)(CellKey{}); }
-  // True when `offset` lies within the stencil (|offset|² ≤ R²).
-  bool inStencil(const CellKey& offset) const;
+  bool inStencil(const CellKey& offset) const { return shape_.contains(offset); }
+  const StencilShape& shape() const { return shape_; }
 
  private:
   GaussianKernel kernel_;
   WendlandTaper taper_;
   double resolution_;
-  double radiusSquared_;
+  StencilShape shape_;
 };
 
 // Squared length of an integer offset, in cells².

@@ -6,6 +6,8 @@
 
 #include <ogf/core/cell_key.hpp>
 
+#include "ogf/filter/stencil_shape.hpp"
+
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -27,9 +29,9 @@ struct StencilPair {
 
 class Stencil {
  public:
-  Stencil(int dimensions, double radius);
+  Stencil(int dimensions, StencilShape shape);
 
-  // Every offset with |o| ≤ R, including 0, in lexicographic (x, y, z) order.
+  // Every offset of the shape, including 0, in lexicographic (x, y, z) order.
   std::span<const CellKey> offsets() const { return offsets_; }
   // The forward half, in lexicographic order: the covariances a cell stores, one slot each.
   std::span<const CellKey> forwardOffsets() const { return forward_; }

@@ -1,0 +1,124 @@
+// The banded filter's map is bit-identical for 1 and N threads and for any order of a batch, and it reports
+// exactly the cells whose class or quantised probability changed.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "ogf/filter/banded_ogf.hpp"
+#include "ogf/filter/occupancy.hpp"
+
+namespace ogf::filter {
+namespace {
+
+// A scan-like batch: one measurement per cell in a 40 × 40 × 12 region around `centre`, y from a random
+// wall pattern.
+std::vector<Measurement> batchAround(const CellKey& centre, unsigned seed, std::size_t count) {
+  std::mt19937 rng(seed);
+  std::set<CellKey> seen;
+  std::vector<Measurement> batch;
+  while (batch.size() < count) {
+    const CellKey k = centre + CellKey{static_cast<int>(rng() % 40U) - 20, static_cast<int>(rng() % 40U) - 20,
+                                       static_cast<int>(rng() % 12U) - 6};
+    if (seen.insert(k).second) {
+      batch.push_back({k, static_cast<std::int8_t>((k.x % 7 == 0 || k.z == -6) ? 1 : -1)});
+    }
+  }
+  return batch;
+}
+
+std::uint64_t mapAfter(int threads, bool shuffle) {
+  FilterConfig config;
+  config.threads = threads;
+  auto ogf = BandedOgf::create(config);
+  EXPECT_TRUE(ogf.ok());
+  std::mt19937 rng(3);
+  for (unsigned scan = 0; scan < 4; ++scan) {
+    std::vector<Measurement> batch = batchAround(CellKey{static_cast<int>(scan) * 5, 0, 0}, scan, 6000);
+    if (shuffle) {
+      std::shuffle(batch.begin(), batch.end(), rng);
+    }
+    ogf->update(batch);
+  }
+  return ogf->checksum();
+}
+
+TEST(BandedDeterminism, OneAndManyThreadsGiveTheSameMapBitForBit) {
+  const std::uint64_t one = mapAfter(1, false);
+  EXPECT_EQ(one, mapAfter(2, false));
+  EXPECT_EQ(one, mapAfter(4, false));
+  EXPECT_EQ(one, mapAfter(7, false));
+}
+
+TEST(BandedDeterminism, BatchOrderDoesNotMatter) { EXPECT_EQ(mapAfter(1, false), mapAfter(2, true)); }
+
+TEST(BandedDeterminism, ChecksumSeesASingleMeasurement) {
+  FilterConfig config;
+  auto a = BandedOgf::create(config);
+  auto b = BandedOgf::create(config);
+  const std::vector<Measurement> batch = batchAround(CellKey{}, 1, 500);
+  a->update(batch);
+  b->update(batch);
+  EXPECT_EQ(a->checksum(), b->checksum());
+  b->update(Measurement{CellKey{100, 100, 100}, 1});
+  EXPECT_NE(a->checksum(), b->checksum());
+}
+
+class RecordingSink : public ChangeSink {
+ public:
+  void cellChanged(const CellChange& c) override { changes.push_back(c); }
+  std::vector<CellChange> changes;
+};
+
+TEST(BandedDeterminism, ChangeSinkReportsExactlyTheCellsWhoseClassOrQuantisedProbabilityChanged) {
+  FilterConfig config;
+  config.threads = 2;
+  auto ogf = BandedOgf::create(config);
+  ASSERT_TRUE(ogf.ok());
+  ogf->update(batchAround(CellKey{}, 1, 3000));
+  std::map<CellKey, std::pair<std::uint16_t, std::int8_t>> before;
+  auto snapshot = [&](std::map<CellKey, std::pair<std::uint16_t, std::int8_t>>& into) {
+    ogf->forEachCell([&](const CellKey& k, float m, float s) {
+      into[k] = {quantiseProbability(predictiveProbability(static_cast<double>(m), static_cast<double>(s))),
+                 occupancyClass(static_cast<double>(m), 0.65, 0.35)};
+    });
+  };
+  snapshot(before);
+  RecordingSink sink;
+  ogf->update(batchAround(CellKey{3, 0, 0}, 2, 3000), &sink);
+  std::map<CellKey, std::pair<std::uint16_t, std::int8_t>> after;
+  snapshot(after);
+  std::set<CellKey> expected;
+  for (const auto& [k, v] : after) {
+    const auto it = before.find(k);
+    const auto old = it == before.end() ? std::pair<std::uint16_t, std::int8_t>{5000, 0} : it->second;
+    if (old != v) {
+      expected.insert(k);
+    }
+  }
+  std::set<CellKey> reported;
+  for (const CellChange& c : sink.changes) {
+    EXPECT_TRUE(reported.insert(c.key).second) << "reported twice";
+    EXPECT_EQ(c.quantisedProbability, after.at(c.key).first);
+    EXPECT_EQ(c.occupancyClass, after.at(c.key).second);
+  }
+  EXPECT_FALSE(expected.empty());
+  EXPECT_EQ(reported, expected);
+}
+
+TEST(BandedDeterminism, RejectsBadMeasurementsAndCountsThem) {
+  FilterConfig config;
+  config.dimensions = 2;
+  config.resolution = 1.0;
+  auto ogf = BandedOgf::create(config);
+  const std::vector<Measurement> batch = {{{0, 0, 0}, 1}, {{1, 0, 3}, 1}, {{2, 0, 0}, 0}, {{3, 0, 0}, -1}};
+  const UpdateStats stats = ogf->update(batch);
+  EXPECT_EQ(stats.rejected, 2U);
+  EXPECT_EQ(stats.applied, 2U);
+}
+
+}  // namespace
+}  // namespace ogf::filter

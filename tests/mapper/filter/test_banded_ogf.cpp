@@ -1,0 +1,155 @@
+// The banded filter against the dense reference: equal at a stencil covering the whole grid, within 0.5 %
+// at the default stencil; its prior is positive definite thanks to the taper; and its map does not depend
+// on the number of threads.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "ogf/filter/banded_ogf.hpp"
+#include "ogf/filter/dense_ogf.hpp"
+#include "ogf/filter/occupancy.hpp"
+#include "random_scene.hpp"
+
+namespace ogf::filter {
+namespace {
+
+using testing::RandomScene;
+
+BandedOgf makeBanded(FilterConfig config) {
+  auto made = BandedOgf::create(config);
+  EXPECT_TRUE(made.ok()) << (made.ok() ? "" : made.error().message);
+  return std::move(made).value();
+}
+
+// Applies every sample to both filters, one at a time in the same order.
+void applyBoth(const RandomScene& scene, BandedOgf& banded, DenseOgf& dense) {
+  for (const Measurement& m : scene.samples) {
+    banded.update(m);
+    ASSERT_TRUE(dense.update(m.key, m.y));
+  }
+}
+
+Eigen::VectorXd bandedMeans(const BandedOgf& banded, const std::vector<CellKey>& cells) {
+  Eigen::VectorXd m(static_cast<Eigen::Index>(cells.size()));
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    m(static_cast<Eigen::Index>(i)) = banded.estimate(cells[i]).mean;
+  }
+  return m;
+}
+
+void expectEqualToDense(const FilterConfig& config, const RandomScene& scene) {
+  BandedOgf banded = makeBanded(config);
+  const PriorCovariance prior = banded.prior();
+  DenseOgf dense(scene.cells, [&](const CellKey& o) { return prior(o); });
+  applyBoth(scene, banded, dense);
+  const double scale = prior.variance();
+  double worstMean = 0.0;
+  double worstCov = 0.0;
+  for (std::size_t i = 0; i < scene.cells.size(); ++i) {
+    const auto a = static_cast<Eigen::Index>(i);
+    worstMean = std::max(worstMean, std::abs(banded.estimate(scene.cells[i]).mean - dense.mean()(a)));
+    for (std::size_t j = 0; j < scene.cells.size(); ++j) {
+      const auto b = static_cast<Eigen::Index>(j);
+      worstCov = std::max(worstCov,
+                          std::abs(banded.covariance(scene.cells[i], scene.cells[j]) - dense.covariance()(a, b)));
+    }
+  }
+  // Float storage: a few ulps of float per update, relative to the prior's scale.
+  EXPECT_LT(worstMean, 1e-5 * std::max(1.0, dense.mean().cwiseAbs().maxCoeff()));
+  EXPECT_LT(worstCov, 1e-5 * scale);
+}
+
+TEST(BandedOgf, FullStencilEqualsDenseIn2D) {
+  FilterConfig config;
+  config.dimensions = 2;
+  config.resolution = 1.0;
+  config.kernelSigma = 1.0;
+  config.stencilRadius = std::sqrt(32.0);  // offsets up to (4, 4): the whole 5 × 5 grid
+  config.skipTolerance = 0.0;
+  expectEqualToDense(config, RandomScene::make(5, 5, 1, 3, 60, 1));  // cells measured repeatedly too
+}
+
+TEST(BandedOgf, FullStencilEqualsDenseIn3D) {
+  FilterConfig config;
+  config.resolution = 0.2;
+  config.kernelSigma = 0.2;
+  config.stencilRadius = std::sqrt(9.0 + 9.0 + 4.0);  // the whole 4 × 4 × 3 grid
+  config.skipTolerance = 0.0;
+  RandomScene scene = RandomScene::make(4, 4, 3, 3, 48, 2);
+  // Negative keys too: blocks on both sides of 0.
+  for (CellKey& c : scene.cells) {
+    c = c - CellKey{2, 2, 1};
+  }
+  for (Measurement& m : scene.samples) {
+    m.key = m.key - CellKey{2, 2, 1};
+  }
+  expectEqualToDense(config, scene);
+}
+
+struct Agreement {
+  double d = 0.0;        // eq. (12), ‖m_banded − m_dense‖ / ‖m_dense‖
+  double classes = 0.0;  // fraction of cells in the same class, eq. (3)
+};
+
+Agreement compareDefaultStencil(FilterConfig config, const RandomScene& scene, double skipTolerance) {
+  config.skipTolerance = skipTolerance;
+  BandedOgf banded = makeBanded(config);
+  const FilterConfig resolved = *config.resolved();
+  const GaussianKernel kernel = resolved.kernel();
+  // The reference: the untapered, untruncated kernel of the paper.
+  DenseOgf dense(scene.cells, [&](const CellKey& o) {
+    return kernel(std::sqrt(static_cast<double>(squaredLength(o))) * resolved.resolution);
+  });
+  applyBoth(scene, banded, dense);
+  const Eigen::VectorXd mb = bandedMeans(banded, scene.cells);
+  Agreement a;
+  a.d = (mb - dense.mean()).norm() / dense.mean().norm();
+  std::size_t same = 0;
+  for (Eigen::Index i = 0; i < mb.size(); ++i) {
+    same += occupancyClass(mb(i), 0.65, 0.35) == occupancyClass(dense.mean()(i), 0.65, 0.35) ? 1U : 0U;
+  }
+  a.classes = static_cast<double>(same) / static_cast<double>(mb.size());
+  return a;
+}
+
+TEST(BandedOgf, DefaultStencilWithinHalfPercentOfDenseIn2D) {
+  FilterConfig config;
+  config.dimensions = 2;
+  config.resolution = 1.0;  // σ = half a cell by default
+  for (unsigned seed : {11U, 12U, 13U}) {
+    const Agreement a = compareDefaultStencil(config, RandomScene::make(25, 25, 1, 12, 400, seed), 1e-4);
+    EXPECT_LE(a.d, 0.005) << "seed " << seed;
+    EXPECT_GE(a.classes, 0.995) << "seed " << seed;
+  }
+}
+
+TEST(BandedOgf, DefaultStencilWithinHalfPercentOfDenseIn3D) {
+  FilterConfig config;  // 3-D, 0.2 m cells, σ = 0.1 m
+  for (unsigned seed : {21U, 22U}) {
+    const Agreement a = compareDefaultStencil(config, RandomScene::make(12, 12, 6, 20, 600, seed), 1e-4);
+    EXPECT_LE(a.d, 0.005) << "seed " << seed;
+    EXPECT_GE(a.classes, 0.995) << "seed " << seed;
+  }
+}
+
+TEST(BandedOgf, SkippingNegligibleUpdatesChangesDByLessThanATenthOfAPercent) {
+  FilterConfig config;
+  config.dimensions = 2;
+  config.resolution = 1.0;
+  RandomScene scene = RandomScene::make(25, 25, 1, 12, 400, 5);
+  // Measure every sample five times, so most later updates are negligible.
+  const std::vector<Measurement> once = scene.samples;
+  for (int k = 0; k < 4; ++k) {
+    scene.samples.insert(scene.samples.end(), once.begin(), once.end());
+  }
+  const Agreement exact = compareDefaultStencil(config, scene, 0.0);
+  const Agreement skipping = compareDefaultStencil(config, scene, 1e-4);
+  EXPECT_LT(std::abs(skipping.d - exact.d), 0.001);
+}
+
+}  // namespace
+}  // namespace ogf::filter
