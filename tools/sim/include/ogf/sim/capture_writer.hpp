@@ -1,0 +1,30 @@
+// Writes a simulated VLP-16 capture to PCAP: data packets at the real packet period, a position packet
+// (GPRMC, PPS locked) after every 14th data packet (the manual's "about 14 to 1", velodyne.md §4.5).
+// Each frame's pcap stamp is the absolute time of its TOH stamp, so host time and device time agree.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "ogf/sim/nmea.hpp"
+#include "ogf/sim/result.hpp"
+#include "ogf/sim/vlp16_simulator.hpp"
+
+namespace ogf::sim {
+
+inline constexpr std::uint64_t kDataPacketsPerPositionPacket = 14;
+
+struct CaptureSummary {
+  std::uint64_t data_packets = 0;
+  std::uint64_t position_packets = 0;
+  std::int64_t first_utime = 0;
+  std::int64_t last_utime = 0;
+};
+
+// The data packets whose first firing falls within `duration_s` of the start.
+std::uint64_t dataPacketCount(const Vlp16Simulator& sim, double duration_s);
+
+Result<CaptureSummary> writeCapture(const Vlp16Simulator& sim, double duration_s, const std::string& pcap_path,
+                                    const GeoPosition& where = {});
+
+}  // namespace ogf::sim
