@@ -24,6 +24,7 @@ void ScanAssembler::begin(std::int64_t start_ns, const PacketTime& time, Model m
   scan_.time_source = time.device.source;
   scan_.starts_at_cut = at_cut;
   start_ns_ = start_ns;
+  last_firing_ns_ = start_ns;
   scan_.device_utime_start = start_ns / 1000;
   scan_.host_utime_start = time.host_utime;
   first_packet_utime_ = time.device.utime;
@@ -75,10 +76,9 @@ void ScanAssembler::add(const DecodedPacket& packet, const PacketTime& time, Mod
   packet_counted_ = false;
 
   const std::int64_t packet_ns = time.device.utime * 1000;
-  int point = 0;
-  for (int f = 0; f < packet.firing_count; ++f) {
-    const int az = packet.firing_azimuth[static_cast<std::size_t>(f)];
-    const std::int64_t firing_ns = packet_ns + std::llround(packet.firing_time_us[static_cast<std::size_t>(f)] * 1000.0f);
+  // Every laser firing, in time order, may be the one that crosses the cut: the first firing of each
+  // sequence (so a sequence without returns still counts) and then each point of it.
+  auto step = [&](int az, std::int64_t t_ns) {
     bool cut = false;
     if (prev_azimuth_ && open_) {
       const int d = (az - *prev_azimuth_ + kTurn) % kTurn;
@@ -90,15 +90,21 @@ void ScanAssembler::add(const DecodedPacket& packet, const PacketTime& time, Mod
     }
     prev_azimuth_ = az;
     if (cut) finish(sink, true);
-    if (!open_) begin(firing_ns, time, model, packet.return_mode, cut);
+    if (!open_) begin(t_ns, time, model, packet.return_mode, cut);
     countPacket(time);
-    last_firing_ns_ = firing_ns;
-    const std::int64_t base_ns = scan_.device_utime_start * 1000;
+    last_firing_ns_ = std::max(last_firing_ns_, t_ns);
+  };
+  int point = 0;
+  for (int f = 0; f < packet.firing_count; ++f) {
+    step(packet.firing_azimuth[static_cast<std::size_t>(f)],
+         packet_ns + std::llround(packet.firing_time_us[static_cast<std::size_t>(f)] * 1000.0f));
     for (; point < packet.point_count && packet.points[static_cast<std::size_t>(point)].firing == f; ++point) {
       const Point& p = packet.points[static_cast<std::size_t>(point)];
-      const std::int64_t t_ns = packet_ns + std::llround(p.time_offset_us * 1000.0f) - base_ns;
+      const std::int64_t t_ns = packet_ns + std::llround(p.time_offset_us * 1000.0f);
+      step(static_cast<int>(std::lround(p.azimuth_deg * 100.0f)) % kTurn, t_ns);
+      const std::int64_t offset = t_ns - scan_.device_utime_start * 1000;
       scan_.points.push_back(ScanPoint{p.x, p.y, p.z, p.distance_m, p.azimuth_deg,
-                                       static_cast<std::int32_t>(std::clamp<std::int64_t>(t_ns, 0, INT32_MAX)),
+                                       static_cast<std::int32_t>(std::clamp<std::int64_t>(offset, 0, INT32_MAX)),
                                        p.intensity, p.ring, p.laser_id, p.return_type});
     }
   }

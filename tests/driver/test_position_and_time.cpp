@@ -1,0 +1,108 @@
+// NMEA sentences with checksums, position packets, and device time from the top-of-hour counter.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <vector>
+
+#include "ogf/velodyne/device_clock.hpp"
+#include "ogf/velodyne/position_packet.hpp"
+
+namespace ov = ogf::velodyne;
+
+namespace {
+constexpr const char* kRmc = "$GPRMC,214106,A,3707.8178,N,12139.2690,W,010.3,188.2,230715,013.8,E,D*05";
+constexpr std::int64_t kHourUs = 3'600'000'000LL;
+
+std::vector<std::uint8_t> positionPacket(std::uint32_t toh, std::uint8_t pps, const char* nmea) {
+  std::vector<std::uint8_t> p(512, 0);
+  for (int i = 0; i < 4; ++i) p[198 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(toh >> (8 * i));
+  p[202] = pps;
+  std::memcpy(p.data() + 206, nmea, std::strlen(nmea));
+  p[206 + std::strlen(nmea)] = '\r';
+  return p;
+}
+}  // namespace
+
+TEST(Nmea, RmcWithGoodChecksumParsesTimeDateAndFix) {
+  const auto fix = ov::parseNmeaSentence(std::string(kRmc) + "\r\n");
+  ASSERT_TRUE(fix) << fix.error().message;
+  EXPECT_TRUE(fix->fix_valid);
+  EXPECT_EQ(fix->hour, 21);
+  EXPECT_EQ(fix->minute, 41);
+  EXPECT_EQ(*fix->year, 2015);
+  EXPECT_EQ(*fix->utcMicroseconds(), (1437685200LL + 41 * 60 + 6) * 1'000'000);
+  EXPECT_NEAR(*fix->course_deg, 188.2, 1e-9);
+}
+
+TEST(Nmea, WrongOrMissingChecksumIsRefused) {
+  std::string bad = kRmc;
+  bad[10] = '7';  // one digit of the time changed
+  const auto wrong = ov::parseNmeaSentence(bad);
+  ASSERT_FALSE(wrong);
+  EXPECT_NE(wrong.error().message.find("checksum"), std::string::npos);
+  EXPECT_FALSE(ov::parseNmeaSentence("$GPRMC,214106,A,3707.8178,N,12139.2690,W,010.3,188.2,230715,013.8,E,D"));
+}
+
+TEST(Nmea, GgaQualityDecidesTheFix) {
+  const auto good = ov::parseNmeaSentence("$GPGGA,123519,4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,*47");
+  ASSERT_TRUE(good) << good.error().message;
+  EXPECT_TRUE(good->fix_valid);
+  EXPECT_FALSE(good->year);
+  EXPECT_NEAR(*good->latitude_deg, 48.0 + 7.038 / 60, 1e-9);
+  const auto none = ov::parseNmeaSentence("$GPGGA,123519,,,,,0,00,,,M,,M,,*6B");
+  ASSERT_TRUE(none) << none.error().message;
+  EXPECT_FALSE(none->fix_valid);
+}
+
+TEST(PositionPacket, ReadsTimestampPpsAndSentence) {
+  const auto bytes = positionPacket(2467108343u, 2, kRmc);
+  const auto p = ov::parsePositionPacket(bytes);
+  ASSERT_TRUE(p) << p.error().message;
+  EXPECT_EQ(p->toh_us, 2467108343u);
+  EXPECT_EQ(p->pps, ov::PpsState::Locked);
+  EXPECT_EQ(p->nmea(), kRmc);
+  EXPECT_TRUE(p->gpsFixValid());
+}
+
+TEST(PositionPacket, WrongSizeAndBadPpsAreRefusedButACorruptSentenceIsNot) {
+  std::vector<std::uint8_t> short_packet(100, 0);
+  EXPECT_FALSE(ov::parsePositionPacket(short_packet));
+  auto bad_pps = positionPacket(0, 7, kRmc);
+  EXPECT_FALSE(ov::parsePositionPacket(bad_pps));
+  auto corrupt = positionPacket(0, 2, "$GPRMC,214106,A,garbage*00");
+  const auto p = ov::parsePositionPacket(corrupt);
+  ASSERT_TRUE(p);
+  EXPECT_FALSE(p->fix);
+  EXPECT_FALSE(p->gpsFixValid());
+}
+
+TEST(DeviceClock, HostHourFollowsTheThirtyMinuteRule) {
+  const std::int64_t hour = 1000 * kHourUs;
+  // Host just after the hour, device counter just before it: the previous hour.
+  EXPECT_EQ(ov::placeInHour(3599'000'000u, hour + 10'000'000), hour - 1'000'000);
+  // Host just before the hour, device just after: the next hour.
+  EXPECT_EQ(ov::placeInHour(5'000'000u, hour - 2'000'000), hour + 5'000'000);
+  // Same hour.
+  EXPECT_EQ(ov::placeInHour(1800'000'000u, hour + 1700'000'000), hour + 1800'000'000);
+  ov::DeviceClock clock;
+  const auto t = clock.toAbsolute(5'000'000u, hour - 2'000'000);
+  EXPECT_EQ(t.source, ov::TimeSource::HostHour);
+  EXPECT_EQ(t.utime, hour + 5'000'000);
+}
+
+TEST(DeviceClock, LockedPpsTakesTheHourFromNmeaNotTheHost) {
+  ov::DeviceClock clock;
+  const std::int64_t host = 1'000'000'000'000'000LL;  // a host clock far from GPS time (2001)
+  const auto packet = ov::parsePositionPacket(positionPacket(2466500000u, 2, kRmc));
+  ASSERT_TRUE(packet);
+  clock.onPositionPacket(*packet, host);
+  const auto t = clock.toAbsolute(2467000000u, host + 500'000);
+  EXPECT_EQ(t.source, ov::TimeSource::PpsNmea);
+  EXPECT_EQ(t.utime, 1437685200LL * 1'000'000 + 2467000000LL);
+  // Without lock the host hour is used.
+  ov::DeviceClock unlocked;
+  unlocked.onPositionPacket(*ov::parsePositionPacket(positionPacket(2466500000u, 1, kRmc)), host);
+  EXPECT_EQ(unlocked.toAbsolute(2467000000u, host).source, ov::TimeSource::HostHour);
+  // A stale GPS time no longer anchors the hour.
+  EXPECT_EQ(clock.toAbsolute(2467000000u, host + 60'000'000).source, ov::TimeSource::HostHour);
+}
