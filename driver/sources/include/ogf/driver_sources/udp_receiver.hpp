@@ -1,0 +1,54 @@
+// Receives UDP datagrams on one port through Boost.Asio, with the kernel receive timestamp (SO_TIMESTAMP)
+// of each, and asks for a large SO_RCVBUF so a burst at the sensor's packet rate is not dropped by the
+// kernel. Non-blocking: datagrams are drained on each readiness notification.
+#pragma once
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/udp.hpp>
+
+#include <array>
+#include <functional>
+#include <string>
+
+#include "ogf/driver_sources/udp_datagram.hpp"
+#include "ogf/velodyne/result.hpp"
+
+namespace ogf::driver_sources {
+
+struct UdpReceiverConfig {
+  std::string bind_address = "0.0.0.0";
+  std::uint16_t port = 2368;
+  int receive_buffer_bytes = 8 * 1024 * 1024;
+};
+
+class UdpReceiver {
+ public:
+  using Handler = std::function<void(const UdpDatagram&)>;
+
+  // Binds and starts receiving; fails with the address and the system's reason.
+  static velodyne::Result<std::unique_ptr<UdpReceiver>> open(boost::asio::io_context& io, const UdpReceiverConfig& config,
+                                                             Handler handler);
+  ~UdpReceiver();
+  UdpReceiver(const UdpReceiver&) = delete;
+  UdpReceiver& operator=(const UdpReceiver&) = delete;
+
+  // The receive buffer the kernel granted (Linux reports twice the usable size; this is what it reports).
+  int grantedReceiveBuffer() const { return granted_buffer_; }
+  std::uint16_t port() const { return port_; }
+  // Datagrams longer than the buffer (cut by the kernel): counted, not delivered.
+  std::uint64_t oversized() const { return oversized_; }
+
+ private:
+  UdpReceiver(boost::asio::io_context& io, Handler handler);
+  void arm();
+  void drain();
+
+  boost::asio::ip::udp::socket socket_;
+  Handler handler_;
+  int granted_buffer_ = 0;
+  std::uint16_t port_ = 0;
+  std::uint64_t oversized_ = 0;
+  std::array<std::uint8_t, 65536> buffer_{};
+};
+
+}  // namespace ogf::driver_sources

@@ -1,0 +1,34 @@
+// Test helper: runs a program as a real child process (posix_spawn), with its output to a file, and
+// waits for it or stops it with a signal.
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ogf::testing {
+
+class ChildProcess {
+ public:
+  // Starts `argv[0]` with `argv`; stdout and stderr go to `log_path`.
+  ChildProcess(const std::vector<std::string>& argv, const std::string& log_path);
+  ~ChildProcess();
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
+
+  bool started() const { return pid_ > 0; }
+  // The exit status once it has exited within `timeout` (-signal when killed by one), else nullopt.
+  std::optional<int> wait(std::chrono::milliseconds timeout);
+  void signal(int sig);
+  std::string log() const;
+
+ private:
+  pid_t pid_ = -1;
+  std::optional<int> status_;
+  std::string log_path_;
+};
+
+}  // namespace ogf::testing
