@@ -1,0 +1,64 @@
+// One scan through the map: placed with the sensor pose at each point's time (Deskew), turned into one
+// measurement per cell (MeasurementSet, Sun et al. Sec. VI-B), folded into the banded OGF (eq. 5), and the
+// cells whose published state changed collected for the delta stream. measure() and apply() are separate
+// so the daemon can journal a scan's measurements before the filter sees them (write-ahead): replaying the
+// journal through apply() gives back the same map, bit for bit.
+#pragma once
+
+#include <ogf/filter/banded_ogf.hpp>
+#include <ogf/fusion/deskew.hpp>
+#include <ogf/fusion/measurement_set.hpp>
+#include <ogf/fusion/pose_buffer.hpp>
+
+#include <Eigen/Geometry>
+
+#include <span>
+#include <vector>
+
+#include "ogf/common/result.hpp"
+#include "ogf/core/measurement.hpp"
+#include "ogf/delta/published_cell.hpp"
+#include "ogf/pipeline/mapper_config.hpp"
+
+namespace ogf::pipeline {
+
+class ScanMapper {
+ public:
+  static Result<ScanMapper> create(const MapperConfig& config);
+
+  // Places the scan with the poses and builds its measurement set. On kCovered, measurements() holds it
+  // until the next measure call; otherwise it is empty and the coverage says wait (kNotYet) or drop
+  // (kTooOld).
+  fusion::PoseCoverage measure(const fusion::ScanPoints& scan, const fusion::PoseBuffer& poses);
+  // The same for a sensor that does not move (a tripod): every point from one sensor pose.
+  void measureStatic(const fusion::ScanPoints& scan, const Eigen::Isometry3d& odom_from_sensor);
+  std::span<const Measurement> measurements() const { return measurements_; }
+  const fusion::RayCounts& rayCounts() const { return set_.counts(); }
+
+  // Folds measurements into the filter in the filter's deterministic order. When `changes` is given,
+  // the cells whose class or quantised probability changed are appended to it as delta candidates.
+  filter::UpdateStats apply(std::span<const Measurement> measurements,
+                            std::vector<delta::PublishedCell>* changes = nullptr);
+
+  filter::BandedOgf& filter() { return filter_; }
+  const filter::BandedOgf& filter() const { return filter_; }
+  const MapperConfig& config() const { return config_; }
+
+  // Every allocated cell as the delta stream would publish it, in the filter's cell order (for the
+  // first keyframe after a restart and for exports).
+  std::vector<delta::PublishedCell> publishedCells() const;
+
+ private:
+  ScanMapper(const MapperConfig& config, filter::BandedOgf filter);
+
+  MapperConfig config_;
+  fusion::Deskew deskew_;
+  fusion::MeasurementSet set_;
+  filter::BandedOgf filter_;
+  std::vector<Eigen::Vector3d> origins_;
+  std::vector<Eigen::Vector3d> endpoints_;
+  std::span<const Measurement> measurements_;
+  std::vector<filter::Measurement> batch_;  // the filter's measurement type, reused
+};
+
+}  // namespace ogf::pipeline

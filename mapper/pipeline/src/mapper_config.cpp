@@ -1,0 +1,17 @@
+#include "ogf/pipeline/mapper_config.hpp"
+
+#include <string>
+
+namespace ogf::pipeline {
+
+Status MapperConfig::validate() const {
+  if (auto st = fusion.validate(); !st) return Error{"fusion." + st.error().message};
+  if (auto r = filter.resolved(); !r) return Error{"filter." + r.error().message};
+  if (filter.dimensions != 3) return Error{"filter.dimensions: the mapper builds 3-D maps, got " + std::to_string(filter.dimensions)};
+  if (fusion.measurement.resolution_m != filter.resolution)
+    return Error{"filter.resolution: " + std::to_string(filter.resolution) + " m differs from fusion's " +
+                 std::to_string(fusion.measurement.resolution_m) + " m; one cell size serves both"};
+  return okStatus();
+}
+
+}  // namespace ogf::pipeline

@@ -1,0 +1,73 @@
+#include "ogf/pipeline/scan_mapper.hpp"
+
+#include <ogf/filter/occupancy.hpp>
+
+namespace ogf::pipeline {
+namespace {
+
+// Collects the filter's changed cells as delta candidates.
+class ChangeCollector final : public filter::ChangeSink {
+ public:
+  explicit ChangeCollector(std::vector<delta::PublishedCell>& out) : out_(out) {}
+  void cellChanged(const filter::CellChange& c) override {
+    out_.push_back({c.key, static_cast<std::int16_t>(c.quantisedProbability), c.occupancyClass, c.variance});
+  }
+
+ private:
+  std::vector<delta::PublishedCell>& out_;
+};
+
+}  // namespace
+
+Result<ScanMapper> ScanMapper::create(const MapperConfig& config) {
+  if (auto st = config.validate(); !st) return st.error();
+  auto filter = filter::BandedOgf::create(config.filter);
+  if (!filter) return Error{"filter." + filter.error().message};
+  return ScanMapper(config, std::move(*filter));
+}
+
+ScanMapper::ScanMapper(const MapperConfig& config, filter::BandedOgf filter)
+    : config_(config),
+      deskew_(config.fusion.extrinsic.bodyFromSensor()),
+      set_(config.fusion.measurement),
+      filter_(std::move(filter)) {}
+
+fusion::PoseCoverage ScanMapper::measure(const fusion::ScanPoints& scan, const fusion::PoseBuffer& poses) {
+  measurements_ = {};
+  const fusion::PoseCoverage c = deskew_.place(scan, poses, origins_, endpoints_);
+  if (c != fusion::PoseCoverage::kCovered) return c;
+  measurements_ = set_.build(origins_, endpoints_);
+  return c;
+}
+
+void ScanMapper::measureStatic(const fusion::ScanPoints& scan, const Eigen::Isometry3d& odom_from_sensor) {
+  const std::size_t n = scan.size();
+  origins_.assign(n, odom_from_sensor.translation());
+  endpoints_.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    endpoints_[i] = odom_from_sensor * Eigen::Vector3d(scan.x[i], scan.y[i], scan.z[i]);
+  measurements_ = set_.build(origins_, endpoints_);
+}
+
+filter::UpdateStats ScanMapper::apply(std::span<const Measurement> measurements,
+                                      std::vector<delta::PublishedCell>* changes) {
+  batch_.resize(measurements.size());
+  for (std::size_t i = 0; i < measurements.size(); ++i) batch_[i] = {measurements[i].key, measurements[i].y};
+  if (changes == nullptr) return filter_.update(batch_);
+  ChangeCollector collector(*changes);
+  return filter_.update(batch_, &collector);
+}
+
+std::vector<delta::PublishedCell> ScanMapper::publishedCells() const {
+  std::vector<delta::PublishedCell> out;
+  out.reserve(filter_.allocatedCells());
+  const auto& cfg = filter_.config();
+  filter_.forEachCell([&](const CellKey& key, float mean, float variance) {
+    const double p = filter::predictiveProbability(mean, variance);
+    out.push_back({key, static_cast<std::int16_t>(filter::quantiseProbability(p)),
+                   filter::occupancyClass(mean, cfg.occupiedThreshold, cfg.freeThreshold), variance});
+  });
+  return out;
+}
+
+}  // namespace ogf::pipeline
