@@ -1,0 +1,130 @@
+// Recovery from the state directory: snapshot + the journal after it, whatever instant the previous run
+// stopped at; a damaged snapshot is refused rather than half-loaded.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "ogf/persistence/state_directory.hpp"
+
+namespace {
+
+using namespace ogf::persistence;
+namespace fs = std::filesystem;
+
+class StateDirectoryTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("ogf-state-" + std::to_string(::getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  static std::vector<ogf::Measurement> set(int i) {
+    return {{{i, 0, 0}, 1}, {{i, 1, 0}, -1}};
+  }
+  fs::path dir_;
+};
+
+TEST_F(StateDirectoryTest, FreshDirectoryStartsANewMap) {
+  auto sd = StateDirectory::open(dir_);
+  ASSERT_TRUE(sd.ok()) << sd.error().message;
+  auto r = sd->recover(42);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r->map_id, 42);
+  EXPECT_EQ(r->last_seq, 0);
+  EXPECT_TRUE(r->replay.empty());
+  EXPECT_TRUE(r->snapshot_map.empty());
+}
+
+TEST_F(StateDirectoryTest, JournalAloneIsReplayedAfterARestart) {
+  {
+    auto sd = StateDirectory::open(dir_);
+    ASSERT_TRUE(sd->recover(7).ok());
+    for (int i = 1; i <= 3; ++i) ASSERT_TRUE(sd->journal(i, i * 10, set(i)).ok());
+  }  // "killed" here: nothing else is written
+  auto sd = StateDirectory::open(dir_);
+  auto r = sd->recover(99);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r->map_id, 7);  // the map survives the restart
+  ASSERT_EQ(r->replay.size(), 3u);
+  EXPECT_EQ(r->replay[2].seq, 3);
+  EXPECT_EQ(r->replay[2].measurements, set(3));
+  EXPECT_EQ(r->last_seq, 3);
+  ASSERT_TRUE(sd->journal(4, 40, set(4)).ok());  // and appending continues the same journal
+  auto again = StateDirectory::open(dir_)->recover(1);
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(again->replay.size(), 4u);
+}
+
+TEST_F(StateDirectoryTest, SnapshotThenJournalReplaysOnlyWhatCameAfter) {
+  const std::vector<std::uint8_t> map{1, 2, 3, 4, 5};
+  {
+    auto sd = StateDirectory::open(dir_);
+    ASSERT_TRUE(sd->recover(7).ok());
+    for (int i = 1; i <= 3; ++i) ASSERT_TRUE(sd->journal(i, 0, set(i)).ok());
+    ASSERT_TRUE(sd->snapshot(3, map).ok());
+    for (int i = 4; i <= 5; ++i) ASSERT_TRUE(sd->journal(i, 0, set(i)).ok());
+  }
+  auto r = StateDirectory::open(dir_)->recover(1);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r->snapshot_seq, 3);
+  EXPECT_EQ(r->snapshot_map, map);
+  ASSERT_EQ(r->replay.size(), 2u);
+  EXPECT_EQ(r->replay[0].seq, 4);
+  EXPECT_EQ(r->last_seq, 5);
+}
+
+TEST_F(StateDirectoryTest, CrashBetweenSnapshotAndJournalResetSkipsRecordsTheSnapshotHolds) {
+  // The old journal (records 1..5) is still there next to a snapshot at seq 3.
+  {
+    auto sd = StateDirectory::open(dir_);
+    ASSERT_TRUE(sd->recover(7).ok());
+    for (int i = 1; i <= 5; ++i) ASSERT_TRUE(sd->journal(i, 0, set(i)).ok());
+  }
+  const std::vector<std::uint8_t> map{9, 9};
+  const auto snap = encodeSnapshot(7, 3, map);
+  std::ofstream(dir_ / "snapshot.ogfs", std::ios::binary)
+      .write(reinterpret_cast<const char*>(snap.data()), static_cast<std::streamsize>(snap.size()));
+  auto sd = StateDirectory::open(dir_);
+  auto r = sd->recover(1);
+  ASSERT_TRUE(r.ok());
+  ASSERT_EQ(r->replay.size(), 2u);
+  EXPECT_EQ(r->replay[0].seq, 4);
+  EXPECT_FALSE(r->notes.empty());
+  // The directory was rewritten to snapshot + journal(4, 5), so a second recovery agrees.
+  ASSERT_TRUE(sd->journal(6, 0, set(6)).ok());
+  auto again = StateDirectory::open(dir_)->recover(1);
+  ASSERT_TRUE(again.ok());
+  ASSERT_EQ(again->replay.size(), 3u);
+  EXPECT_EQ(again->replay.back().seq, 6);
+}
+
+TEST_F(StateDirectoryTest, DamagedSnapshotIsRefusedNamingTheFile) {
+  {
+    auto sd = StateDirectory::open(dir_);
+    ASSERT_TRUE(sd->recover(7).ok());
+    ASSERT_TRUE(sd->snapshot(1, std::vector<std::uint8_t>(100, 3)).ok());
+  }
+  fs::resize_file(dir_ / "snapshot.ogfs", 60);
+  auto r = StateDirectory::open(dir_)->recover(1);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("snapshot.ogfs"), std::string::npos);
+  {
+    std::fstream f(dir_ / "snapshot.ogfs", std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(0);
+    f.put('X');
+  }
+  EXPECT_FALSE(StateDirectory::open(dir_)->recover(1).ok());
+}
+
+TEST_F(StateDirectoryTest, UnusablePathIsAnErrorNamingIt) {
+  std::ofstream(dir_.string() + "-file") << "x";  // a file where the directory should be
+  auto sd = StateDirectory::open(fs::path(dir_.string() + "-file") / "state");
+  ASSERT_FALSE(sd.ok());
+  EXPECT_NE(sd.error().message.find("-file"), std::string::npos);
+  fs::remove(dir_.string() + "-file");
+}
+
+}  // namespace
