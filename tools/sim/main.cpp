@@ -32,8 +32,9 @@ Outputs in --out DIR:
   truth.grid           ground-truth occupancy at --truth-resolution, cells by the CellKey convention
                        (cell (i,j,k) covers [i r,(i+1) r) x ...): text header (OGF-TRUTH 1, resolution,
                        min_key, size, classes, order x-fastest, fnv1a64, data) then one byte per cell,
-                       x fastest: 0 free (open air), 1 occupied (holds a solid's surface),
-                       2 unobservable (wholly inside a solid). Reader: ogf::sim::readGroundTruth.
+                       x fastest: 0 free (open air the sensor's air space reaches), 1 occupied
+                       (holds a solid's surface), 2 unobservable (wholly inside a solid, or air
+                       sealed off behind surfaces). Reader: ogf::sim::readGroundTruth.
   sim.yaml             what was simulated (world, trajectory, sensor, extrinsic sensor->body, counts).
 )";
 

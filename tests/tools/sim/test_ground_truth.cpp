@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "ogf/sim/ground_truth.hpp"
+#include "ogf/sim/scene.hpp"
 
 namespace ogf::sim {
 namespace {
@@ -83,6 +84,21 @@ TEST(SimGroundTruth, YawedBoxAndCylinderCellsAgreeWithPointSampling) {
   }
   EXPECT_GT(t.count(CellClass::Unobservable), 100u);
   EXPECT_GT(t.count(CellClass::Occupied), 100u);
+}
+
+TEST(SimGroundTruth, AirBehindTheWallsIsUnobservableOnceTheSensorSeedsTheRoom) {
+  const auto scene = presetScene("lab");
+  ASSERT_TRUE(scene.ok()) << scene.error();
+  const CellKey outside_west_wall{-2, 20, 5};  // x in [-0.4, -0.2): beyond the wall at [-0.2, 0)
+  const CellKey in_the_room{15, 15, 5};
+  const GroundTruth unseeded = computeGroundTruth(scene->world, 0.2);
+  EXPECT_EQ(unseeded.at(outside_west_wall), CellClass::Free);
+  const GroundTruth seeded = computeGroundTruth(scene->world, 0.2, {Eigen::Vector3d{3.5, 3.5, 1.0}});
+  EXPECT_EQ(seeded.at(outside_west_wall), CellClass::Unobservable);
+  EXPECT_EQ(seeded.at(in_the_room), CellClass::Free);
+  // Only air changes: every occupied cell stays occupied.
+  EXPECT_EQ(seeded.count(CellClass::Occupied), unseeded.count(CellClass::Occupied));
+  EXPECT_LT(seeded.count(CellClass::Free), unseeded.count(CellClass::Free));
 }
 
 TEST(SimGroundTruth, FileRoundTripsExactly) {

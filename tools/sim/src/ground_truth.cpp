@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 #include "ogf/sim/cell_overlap.hpp"
 
@@ -40,7 +41,55 @@ CellKey GroundTruth::keyOf(std::size_t index) const {
           static_cast<std::int32_t>(min_key.z + i / (nx * ny))};
 }
 
-GroundTruth computeGroundTruth(const World& world, double resolution) {
+namespace {
+
+// Turns open-air cells that no seed reaches (6-connected flood through free cells) into unobservable.
+void sealOffUnreachableAir(GroundTruth& truth, const std::vector<Eigen::Vector3d>& seeds) {
+  const auto free = static_cast<std::uint8_t>(CellClass::Free);
+  const std::int64_t nx = truth.size[0];
+  const std::int64_t ny = truth.size[1];
+  const std::int64_t nz = truth.size[2];
+  std::vector<std::uint8_t> reached(truth.cells.size(), 0);
+  std::vector<std::int64_t> stack;
+  for (const auto& p : seeds) {
+    const CellKey k = cellKeyOf(p, truth.resolution);
+    const std::int64_t ix = k.x - truth.min_key.x;
+    const std::int64_t iy = k.y - truth.min_key.y;
+    const std::int64_t iz = k.z - truth.min_key.z;
+    if (ix < 0 || iy < 0 || iz < 0 || ix >= nx || iy >= ny || iz >= nz) continue;
+    const std::int64_t i = ix + nx * (iy + ny * iz);
+    if (truth.cells[static_cast<std::size_t>(i)] != free || reached[static_cast<std::size_t>(i)]) continue;
+    reached[static_cast<std::size_t>(i)] = 1;
+    stack.push_back(i);
+  }
+  while (!stack.empty()) {
+    const std::int64_t i = stack.back();
+    stack.pop_back();
+    const std::int64_t ix = i % nx;
+    const std::int64_t iy = (i / nx) % ny;
+    const std::int64_t iz = i / (nx * ny);
+    const std::array<std::pair<bool, std::int64_t>, 6> neighbours = {{{ix > 0, i - 1},
+                                                                       {ix + 1 < nx, i + 1},
+                                                                       {iy > 0, i - nx},
+                                                                       {iy + 1 < ny, i + nx},
+                                                                       {iz > 0, i - nx * ny},
+                                                                       {iz + 1 < nz, i + nx * ny}}};
+    for (const auto& [inside, j] : neighbours) {
+      const auto u = static_cast<std::size_t>(j);
+      if (!inside || reached[u] || truth.cells[u] != free) continue;
+      reached[u] = 1;
+      stack.push_back(j);
+    }
+  }
+  for (std::size_t i = 0; i < truth.cells.size(); ++i) {
+    if (truth.cells[i] == free && !reached[i]) truth.cells[i] = static_cast<std::uint8_t>(CellClass::Unobservable);
+  }
+}
+
+}  // namespace
+
+GroundTruth computeGroundTruth(const World& world, double resolution,
+                               const std::vector<Eigen::Vector3d>& sensor_positions) {
   GroundTruth truth;
   truth.resolution = resolution;
   const double r = resolution;
@@ -84,6 +133,7 @@ GroundTruth computeGroundTruth(const World& world, double resolution) {
       }
     }
   }
+  if (!sensor_positions.empty()) sealOffUnreachableAir(truth, sensor_positions);
   return truth;
 }
 

@@ -36,8 +36,9 @@ bool clipSlab(double o, double d, double lo, double hi, double& t0, double& t1, 
 }
 
 std::optional<Crossing> intersectBox(const Box& box, const Ray& ray) {
-  const double c = std::cos(box.yaw);
-  const double s = std::sin(box.yaw);
+  // Most boxes are not yawed: skip the trigonometry (the hottest call of a simulation otherwise).
+  const double c = box.yaw == 0.0 ? 1.0 : std::cos(box.yaw);
+  const double s = box.yaw == 0.0 ? 0.0 : std::sin(box.yaw);
   // Into the box frame: rotate by -yaw about the centre.
   const Eigen::Vector3d rel = ray.origin - box.centre;
   const Eigen::Vector3d o{c * rel.x() + s * rel.y(), -s * rel.x() + c * rel.y(), rel.z()};

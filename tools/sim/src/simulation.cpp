@@ -79,7 +79,11 @@ Result<SimulationReport> runSimulation(const Scene& scene, const TrajectorySpec&
   if (auto s = writePoseCsv((dir / "odometry.csv").string(), odometry); !s) return Error{s.error()};
   if (auto s = writeOdometryLcmLog((dir / "odometry.lcmlog").string(), odometry); !s) return Error{s.error()};
 
-  report.truth = computeGroundTruth(scene.world, config.truth_resolution_m);
+  // The open air the sensor reaches is seeded from where the sensor was at every pose.
+  std::vector<Eigen::Vector3d> sensor_positions;
+  sensor_positions.reserve(truth.size());
+  for (const auto& p : truth) sensor_positions.push_back((p.pose.isometry() * scene.sensor_to_body).translation());
+  report.truth = computeGroundTruth(scene.world, config.truth_resolution_m, sensor_positions);
   if (auto s = writeGroundTruth((dir / "truth.grid").string(), report.truth); !s) return Error{s.error()};
   if (auto s = writeDescription((dir / "sim.yaml").string(), scene, config, report); !s) return Error{s.error()};
   return report;

@@ -31,7 +31,12 @@ void store(vlp16::FiringBlock& block, std::size_t channel, const Echo* echo, dou
 Vlp16Simulator::Vlp16Simulator(const World& world, const Eigen::Isometry3d& sensor_to_body,
                                const Trajectory& trajectory, const SensorConfig& config, std::int64_t start_utime)
     : world_(world), sensor_to_body_(sensor_to_body), trajectory_(trajectory), config_(config),
-      start_utime_(start_utime) {}
+      start_utime_(start_utime) {
+  for (std::size_t i = 0; i < vlp16::kLasers; ++i) {
+    cos_elevation_[i] = std::cos(vlp16::kElevationDeg[i] * kDeg);
+    sin_elevation_[i] = std::sin(vlp16::kElevationDeg[i] * kDeg);
+  }
+}
 
 std::uint32_t Vlp16Simulator::tohAt(std::int64_t t_ns) const {
   const std::int64_t u = utimeAt(t_ns);
@@ -69,10 +74,10 @@ vlp16::DataPacket Vlp16Simulator::dataPacket(std::uint64_t index) const {
       }
       const auto laser = static_cast<std::size_t>(c % vlp16::kLasers);
       const Eigen::Isometry3d sensor = trajectory_.poseAt(static_cast<double>(t) * 1e-9).isometry() * sensor_to_body_;
-      const double w = vlp16::kElevationDeg[laser] * kDeg;
       const double a = az_deg * kDeg;
       // Sensor frame of §4.3: x forward, y left, azimuth clockwise seen from above.
-      const Eigen::Vector3d local{std::cos(w) * std::cos(a), -std::cos(w) * std::sin(a), std::sin(w)};
+      const Eigen::Vector3d local{cos_elevation_[laser] * std::cos(a), -cos_elevation_[laser] * std::sin(a),
+                                  sin_elevation_[laser]};
       const Ray ray{sensor * Eigen::Vector3d{0.0, 0.0, vlp16::kVerticalOffsetM[laser]}, sensor.linear() * local};
 
       BeamEchoes echoes = traceBeam(world_, ray, trace_range);

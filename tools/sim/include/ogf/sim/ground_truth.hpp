@@ -3,9 +3,10 @@
 // against, and its file format.
 //
 // Classes: occupied = the cell holds part of a solid's surface; unobservable = the cell lies wholly inside
-// a solid (no beam can reach it); free = the cell touches no solid (open air). Free says nothing about
-// whether the trajectory saw the cell. A cell inside the union of two overlapping solids but inside
-// neither alone counts as occupied.
+// a solid, or is open air sealed off from every sensor position by surfaces (behind a wall: no beam can
+// reach it); free = open air (touching no solid) that the sensor's air space reaches. Free does not mean
+// a beam of this particular run crossed the cell. A cell inside the union of two overlapping solids but
+// inside neither alone counts as occupied.
 //
 // File (truth.grid): a text header of "key value" lines, then the raw cells.
 //   OGF-TRUTH 1
@@ -46,8 +47,11 @@ struct GroundTruth {
   CellKey keyOf(std::size_t index) const;
 };
 
-// Classifies every cell whose box meets world.bounds.
-GroundTruth computeGroundTruth(const World& world, double resolution);
+// Classifies every cell whose box meets world.bounds. `sensor_positions` (world frame) seed the open air
+// the sensor can reach: open-air cells not face-connected to a seed's cell through open air become
+// unobservable. With no positions every open-air cell is free.
+GroundTruth computeGroundTruth(const World& world, double resolution,
+                               const std::vector<Eigen::Vector3d>& sensor_positions = {});
 
 // FNV-1a 64 of the cell bytes, as the file header states it.
 std::uint64_t truthChecksum(const std::vector<std::uint8_t>& cells);

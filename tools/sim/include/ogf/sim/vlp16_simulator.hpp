@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include <array>
 #include <cstdint>
 
 #include "ogf/sim/trajectory.hpp"
@@ -54,6 +55,8 @@ class Vlp16Simulator {
   const Trajectory& trajectory_;
   SensorConfig config_;
   std::int64_t start_utime_;
+  std::array<double, vlp16::kLasers> cos_elevation_{};
+  std::array<double, vlp16::kLasers> sin_elevation_{};
 };
 
 }  // namespace ogf::sim
