@@ -1,0 +1,92 @@
+// ogf-sim as a process: the interface flags and file names, and refusals that name the line and field.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <sys/wait.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ProgramRun {
+  int exit_code = -1;
+  std::string stderr_text;
+};
+
+class SimProgram : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("ogf_sim_program_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  ProgramRun run(const std::string& args) const {
+    const fs::path err = dir_ / "stderr.txt";
+    const std::string cmd = std::string(OGF_SIM_BINARY) + " " + args + " >/dev/null 2>" + err.string();
+    const int status = std::system(cmd.c_str());
+    std::ifstream in(err);
+    return ProgramRun{WIFEXITED(status) ? WEXITSTATUS(status) : -1,
+               std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>())};
+  }
+
+  void write(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
+
+  fs::path dir_;
+};
+
+TEST_F(SimProgram, WritesEveryInterfaceFileAndExitsZero) {
+  const fs::path out = dir_ / "out";
+  const ProgramRun r = run("--world lab --trajectory corridor --duration 0.2 --rpm 1200 --return-mode dual --seed 3 --out " +
+                    out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.stderr_text;
+  for (const char* f : {"capture.pcap", "odometry.csv", "odometry.lcmlog", "trajectory_true.csv", "truth.grid"}) {
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+    EXPECT_GT(fs::file_size(out / f), 0u) << f;
+  }
+  std::ifstream csv(out / "odometry.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "utime,x,y,z,qw,qx,qy,qz");
+}
+
+TEST_F(SimProgram, MalformedSceneFileIsRefusedWithLineAndField) {
+  write("bad.yaml",
+        "name: bad\n"
+        "ground: {height: 0}\n"
+        "solids:\n"
+        "  - {type: box, center: [0, 0, 1], size: [1, 1, 1]}\n"
+        "  - {type: cylinder, center: [1, 1], radius: -2, z: [0, 1]}\n");
+  const ProgramRun r = run("--world " + (dir_ / "bad.yaml").string() + " --out " + (dir_ / "out").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.stderr_text.find("bad.yaml:5: solids[1].radius: must be positive"), std::string::npos)
+      << r.stderr_text;
+}
+
+TEST_F(SimProgram, TrajectoryFileDrivesTheBody) {
+  write("path.yaml", "speed: 0.5\nwaypoints: [[2.5, 3.0], [7.5, 3.0]]\n");
+  const fs::path out = dir_ / "out";
+  const ProgramRun r = run("--trajectory " + (dir_ / "path.yaml").string() + " --duration 0.1 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.stderr_text;
+  std::ifstream csv(out / "trajectory_true.csv");
+  std::string line;
+  std::getline(csv, line);
+  std::getline(csv, line);
+  EXPECT_EQ(line.substr(0, line.find(',', line.find(',') + 1)), "1704110400000000,2.500000") << line;
+}
+
+TEST_F(SimProgram, UnknownWorldAndReturnModeAreRefused) {
+  ProgramRun r = run("--world moon --out " + (dir_ / "out").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.stderr_text.find("no world preset named 'moon'"), std::string::npos) << r.stderr_text;
+  r = run("--return-mode both --out " + (dir_ / "out").string());
+  EXPECT_NE(r.exit_code, 0);
+}
+
+}  // namespace
