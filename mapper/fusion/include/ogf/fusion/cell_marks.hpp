@@ -44,18 +44,29 @@ class CellMarks {
   void mark(const CellKey& k, Bits Brick::*which) {
     // Arithmetic shift and mask floor negative coordinates correctly (C++20 defines both).
     const CellKey b{k.x >> 3, k.y >> 3, k.z >> 3};
-    if (last_ == kEmpty || b != bricks_[last_].key) last_ = brickIndex(b);
+    // Compared without branches: the brick changes only every few cells of a ray.
+    if (((b.x ^ last_key_.x) | (b.y ^ last_key_.y) | (b.z ^ last_key_.z)) != 0) {
+      last_brick_ = &bricks_[brickIndex(b)];
+      last_key_ = b;
+    }
     const auto bit = static_cast<unsigned>(((k.y & 7) << 3) | (k.z & 7));
-    (bricks_[last_].*which)[static_cast<std::size_t>(k.x & 7)] |= std::uint64_t{1} << bit;
+    (last_brick_->*which)[static_cast<std::size_t>(k.x & 7)] |= std::uint64_t{1} << bit;
   }
 
-  std::uint32_t brickIndex(const CellKey& b);
+  // No brick has this key (brick coordinates are cell coordinates >> 3, so they stay within ±2^28).
+  static constexpr CellKey kNoBrick{std::numeric_limits<std::int32_t>::min(), 0, 0};
+
+  std::uint32_t brickIndex(CellKey b);
+  std::uint32_t tableIndex(CellKey b);
   void grow();
 
   std::vector<Brick> bricks_;  // [0, used_) in use this scan; the rest kept for reuse
   std::size_t used_ = 0;
   std::vector<Slot> table_;    // power-of-two size, at most half full
-  std::uint32_t last_ = kEmpty;
+  static constexpr unsigned kRecentBits = 9;
+  std::array<Slot, std::size_t{1} << kRecentBits> recent_{};  // direct-mapped cache in front of table_
+  CellKey last_key_ = kNoBrick;  // the brick of the last mark, and where it is
+  Brick* last_brick_ = nullptr;
   std::vector<std::uint32_t> order_;  // scratch for appendSorted
 };
 

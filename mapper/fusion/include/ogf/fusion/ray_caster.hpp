@@ -45,7 +45,7 @@ class RayIterator {
 
   CellKey operator*() const { return {cell_[0], cell_[1], cell_[2]}; }
 
-  RayIterator& operator++() {
+  [[gnu::always_inline]] RayIterator& operator++() {
     step();
     return *this;
   }
@@ -59,20 +59,55 @@ class RayIterator {
  private:
   friend class RayCaster;
 
-  void step() {
-    const double t_min = std::min(std::min(next_[0], next_[1]), next_[2]);
-    unsigned axes = (next_[0] == t_min ? 1U : 0U) | (next_[1] == t_min ? 2U : 0U) | (next_[2] == t_min ? 4U : 0U);
-    // Tie rule from the half-open cells (see the file comment): upward axes first.
-    if ((axes & upward_axes_) != 0U) axes &= upward_axes_;
-    for (std::size_t a = 0; a < 3; ++a) {
-      if ((axes >> a & 1U) == 0U) continue;
-      cell_[a] += step_[a];
-      --crossings_left_;
-      if (--left_[a] == 0) {
-        next_[a] = kNever;
-      } else {
-        next_[a] += delta_[a];
-      }
+  // Everything on the stepping path is forced inline and indexes its arrays with constants only: the
+  // traversal is fast when the iterator's state lives in the caller's registers, and slow (state spilled
+  // to memory, ~4x) otherwise.
+  [[gnu::always_inline]] void step() {
+    // A&W's step: advance the axis whose next boundary comes first. Equal crossings (exact ties) take the
+    // slower path below.
+    if (next_[0] < next_[1]) {
+      if (next_[0] < next_[2]) return advance<0>();
+      if (next_[2] < next_[0]) return advance<2>();
+    } else if (next_[1] < next_[0]) {
+      if (next_[1] < next_[2]) return advance<1>();
+      if (next_[2] < next_[1]) return advance<2>();
+    }
+    stepTied();
+  }
+
+  // Some crossings are equal, maybe not the smallest. Tie rule from the half-open cells (see the file
+  // comment): of the axes crossing first, the upward ones step together; the downward ones are then the
+  // smallest crossing of the next step.
+  [[gnu::always_inline]] void stepTied() {
+    const double n0 = next_[0];
+    const double n1 = next_[1];
+    const double n2 = next_[2];
+    const double n01 = n1 < n0 ? n1 : n0;
+    const double t = n2 < n01 ? n2 : n01;
+    bool x = !(n0 > t);
+    bool y = !(n1 > t);
+    bool z = !(n2 > t);
+    const bool x_up = x && step_[0] > 0;
+    const bool y_up = y && step_[1] > 0;
+    const bool z_up = z && step_[2] > 0;
+    if (x_up || y_up || z_up) {
+      x = x_up;
+      y = y_up;
+      z = z_up;
+    }
+    if (x) advance<0>();
+    if (y) advance<1>();
+    if (z) advance<2>();
+  }
+
+  template <std::size_t A>
+  [[gnu::always_inline]] void advance() {
+    cell_[A] += step_[A];
+    --crossings_left_;
+    if (--left_[A] == 0) {
+      next_[A] = kNever;  // no boundary left on this axis: it never wins again
+    } else {
+      next_[A] += delta_[A];
     }
   }
 
@@ -85,8 +120,7 @@ class RayIterator {
   std::array<double, 3> next_{kNever, kNever, kNever};
   std::array<double, 3> delta_{};
   std::array<std::int64_t, 3> left_{};  // boundaries still to cross per axis
-  std::int64_t crossings_left_ = 0;     // sum of left_
-  unsigned upward_axes_ = 0;            // bit a set when axis a steps +1
+  std::int64_t crossings_left_ = 0;     // boundaries still to cross on all axes
 };
 
 // The range of cells from origin (included) to endpoint (excluded), metres in the map frame.
