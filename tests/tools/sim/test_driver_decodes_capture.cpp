@@ -12,6 +12,7 @@
 #include "ogf/sim/scene.hpp"
 #include "ogf/velodyne/packet_decoder.hpp"
 #include "ogf/velodyne/position_packet.hpp"
+#include "sim_test_paths.hpp"
 
 namespace ogf::sim {
 namespace {
@@ -44,7 +45,7 @@ TEST(SimDriverDecodesCapture, PointsLandOnTheWorldAndPositionPacketsAreLocked) {
   cfg.range_noise_m = 0.0;
   const std::int64_t start = 1704110400LL * 1000000;
   const Vlp16Simulator sim(scene->world, scene->sensor_to_body, *traj, cfg, start);
-  const std::string path = (std::filesystem::temp_directory_path() / "ogf_sim_test_decode.pcap").string();
+  const std::string path = test::scratchPath("decode.pcap").string();
   const auto summary = writeCapture(sim, 0.3, path);
   ASSERT_TRUE(summary.ok()) << summary.error();
 

@@ -6,6 +6,7 @@
 
 #include "ogf/sim/ground_truth.hpp"
 #include "ogf/sim/scene.hpp"
+#include "sim_test_paths.hpp"
 
 namespace ogf::sim {
 namespace {
@@ -20,7 +21,7 @@ World groundAndCube() {
 }
 
 std::string tempPath(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("ogf_sim_test_" + name)).string();
+  return test::scratchPath(name).string();
 }
 
 TEST(SimGroundTruth, GridCoversBoundsWithCellKeyConvention) {

@@ -9,6 +9,7 @@
 
 #include "ogf/sim/odometry_error.hpp"
 #include "ogf/sim/pose_files.hpp"
+#include "sim_test_paths.hpp"
 
 namespace ogf::sim {
 namespace {
@@ -23,7 +24,7 @@ std::vector<StampedPose> truthAlongLoop(double seconds) {
 }
 
 std::string tempPath(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("ogf_sim_test_" + name)).string();
+  return test::scratchPath(name).string();
 }
 
 TEST(SimOdometry, NonePresetReproducesTheTruth) {

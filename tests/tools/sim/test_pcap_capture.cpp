@@ -12,6 +12,7 @@
 #include "ogf/sim/capture_writer.hpp"
 #include "ogf/sim/nmea.hpp"
 #include "sim_test_world.hpp"
+#include "sim_test_paths.hpp"
 
 namespace ogf::sim {
 namespace {
@@ -70,7 +71,7 @@ TEST(SimPcapCapture, FramesParseWithValidChecksumsAndTohOnTheCaptureClock) {
   // Start 0.1 s before 13:00:00 UTC so the TOH counter wraps inside the capture.
   const std::int64_t start = (1704110400LL + 3600) * 1000000 - 100000;
   const Vlp16Simulator sim(world, Eigen::Isometry3d(Eigen::Translation3d(0, 0, 1)), *traj, SensorConfig{}, start);
-  const std::string path = (std::filesystem::temp_directory_path() / "ogf_sim_test_capture.pcap").string();
+  const std::string path = test::scratchPath("capture.pcap").string();
   const auto summary = writeCapture(sim, 0.25, path);
   ASSERT_TRUE(summary.ok()) << summary.error();
   EXPECT_EQ(summary->data_packets, 189u);  // ceil(0.25 s / 1327.104 µs)

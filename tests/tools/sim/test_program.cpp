@@ -1,5 +1,6 @@
 // ogf-sim as a process: the interface flags and file names, and refusals that name the line and field.
 #include <gtest/gtest.h>
+#include "sim_test_paths.hpp"
 
 #include <cstdlib>
 #include <filesystem>
@@ -20,8 +21,8 @@ struct ProgramRun {
 class SimProgram : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("ogf_sim_program_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    dir_ = ogf::sim::test::scratchPath("program_" +
+                                       std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }

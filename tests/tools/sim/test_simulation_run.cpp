@@ -7,6 +7,7 @@
 
 #include "ogf/sim/pose_files.hpp"
 #include "ogf/sim/simulation.hpp"
+#include "sim_test_paths.hpp"
 
 namespace ogf::sim {
 namespace {
@@ -19,8 +20,7 @@ std::string slurp(const std::filesystem::path& p) {
 class SimulationRun : public ::testing::Test {
  protected:
   void SetUp() override {
-    base_ = std::filesystem::temp_directory_path() /
-            ("ogf_sim_run_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    base_ = test::scratchPath("run_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     std::filesystem::remove_all(base_);
     auto scene = presetScene("lab");
     ASSERT_TRUE(scene.ok()) << scene.error();
