@@ -24,6 +24,24 @@ std::uint16_t interpolate(int base, int advance, double fraction) {
   return static_cast<std::uint16_t>(((a % kTurn) + kTurn) % kTurn);
 }
 
+struct AzimuthTable {
+  std::array<float, kTurn> cos{}, sin{};
+};
+
+// cos and sin of every 0.01 degree azimuth, computed once per process.
+const AzimuthTable& azimuthTable() {
+  static const AzimuthTable table = [] {
+    AzimuthTable t;
+    for (int a = 0; a < kTurn; ++a) {
+      const double rad = a * 0.01 * M_PI / 180.0;
+      t.cos[static_cast<std::size_t>(a)] = static_cast<float>(std::cos(rad));
+      t.sin[static_cast<std::size_t>(a)] = static_cast<float>(std::sin(rad));
+    }
+    return t;
+  }();
+  return table;
+}
+
 }  // namespace
 
 Result<PacketDecoder> PacketDecoder::create(const DecoderConfig& config) {
@@ -58,13 +76,9 @@ Result<PacketDecoder> PacketDecoder::create(const DecoderConfig& config) {
   });
   d.ring_.resize(order.size());
   for (std::size_t r = 0; r < order.size(); ++r) d.ring_[static_cast<std::size_t>(order[r])] = static_cast<std::uint8_t>(r);
-  d.cos_azimuth_.resize(kTurn);
-  d.sin_azimuth_.resize(kTurn);
-  for (int a = 0; a < kTurn; ++a) {
-    const double rad = a * 0.01 * M_PI / 180.0;
-    d.cos_azimuth_[static_cast<std::size_t>(a)] = static_cast<float>(std::cos(rad));
-    d.sin_azimuth_[static_cast<std::size_t>(a)] = static_cast<float>(std::sin(rad));
-  }
+  const AzimuthTable& table = azimuthTable();
+  d.cos_azimuth_ = table.cos.data();
+  d.sin_azimuth_ = table.sin.data();
   for (int ch = 0; ch < wire::kChannelsPerBlock; ++ch) {
     d.channel_time_us_[static_cast<std::size_t>(ch)] = channelTimeInBlockUs(config.model, ch);
     d.channel_laser_[static_cast<std::size_t>(ch)] = static_cast<std::uint8_t>(laserOfChannel(config.model, ch));
@@ -124,6 +138,7 @@ PacketStatus PacketDecoder::decode(std::span<const std::uint8_t> payload, Decode
       returnModeFromByte(packet.return_mode).value_or(az[0] == az[1] ? ReturnMode::Dual : ReturnMode::Strongest);
   const std::optional<ReturnMode> wanted = config_.return_mode;
   const bool dual = packet_mode == ReturnMode::Dual || wanted == ReturnMode::Dual;
+  out.dual_layout = dual;
 
   const ModelTraits& t = traits(config_.model);
   const int fpb = t.firings_per_block;

@@ -55,7 +55,7 @@ void ScanAssembler::finish(const Sink& sink, bool at_cut) {
 }
 
 void ScanAssembler::add(const DecodedPacket& packet, const PacketTime& time, Model model, const Sink& sink) {
-  period_us_ = packetPeriodUs(model, packet.return_mode);
+  period_us_ = packetPeriodUs(model, packet.dual_layout ? ReturnMode::Dual : ReturnMode::Strongest);
   // Loss from the device-time gap to the previous packet.
   if (prev_packet_utime_) {
     const double gap = static_cast<double>(time.device.utime - *prev_packet_utime_);

@@ -47,7 +47,8 @@ struct DecodedPacket {
   static constexpr int kMaxFirings = 24;
 
   std::uint32_t toh_us = 0;    // bytes 1200..1203
-  ReturnMode return_mode = ReturnMode::Strongest;
+  ReturnMode return_mode = ReturnMode::Strongest;  // of the points (a kept return when filtering dual data)
+  bool dual_layout = false;                         // the packet is block pairs (fixes the packet period)
   std::uint8_t product_id = 0;
   int firing_count = 0;        // firing sequences in the packet, in time order
   std::array<std::uint16_t, kMaxFirings> firing_azimuth{};  // 0.01 degree, first laser of the firing
@@ -82,8 +83,8 @@ class PacketDecoder {
   double resolution_m_ = 0.002;
   std::vector<LaserTable> lasers_;
   std::vector<std::uint8_t> ring_;
-  std::vector<float> cos_azimuth_;  // 36000 entries, 0.01 degree steps
-  std::vector<float> sin_azimuth_;
+  const float* cos_azimuth_ = nullptr;  // 36000 entries, 0.01 degree steps, shared by all decoders
+  const float* sin_azimuth_ = nullptr;
   std::array<double, wire::kChannelsPerBlock> channel_time_us_{};
   float min_range_m_ = 0.0f, max_range_m_ = 0.0f;
   std::array<std::uint8_t, wire::kChannelsPerBlock> channel_laser_{};
