@@ -7,7 +7,21 @@
 
 namespace ogf::fusion {
 
-MeasurementSet::MeasurementSet(const MeasurementConfig& config) : config_(config) {}
+MeasurementSet::MeasurementSet(const MeasurementConfig& config)
+    : config_(config), coordinate_limit_m_(config.resolution_m * 1073741824.0) {}
+
+bool MeasurementSet::acceptable(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  if (!a.allFinite() || !b.allFinite()) {
+    ++counts_.rejected_non_finite;
+    return false;
+  }
+  // The traversal converts coordinates to int32 cells; 2^30 cells leaves room for max range beyond them.
+  if (a.cwiseAbs().maxCoeff() >= coordinate_limit_m_ || b.cwiseAbs().maxCoeff() >= coordinate_limit_m_) {
+    ++counts_.rejected_out_of_range;
+    return false;
+  }
+  return true;
+}
 
 void MeasurementSet::begin() {
   marks_.clear();
@@ -20,10 +34,7 @@ void MeasurementSet::markFreeAlong(const Eigen::Vector3d& origin, const Eigen::V
 }
 
 void MeasurementSet::addReturn(const Eigen::Vector3d& origin, const Eigen::Vector3d& endpoint) {
-  if (!origin.allFinite() || !endpoint.allFinite()) {
-    ++counts_.rejected_non_finite;
-    return;
-  }
+  if (!acceptable(origin, endpoint)) return;
   const Eigen::Vector3d ray = endpoint - origin;
   const double range = ray.norm();
   if (range < config_.min_range_m) {
@@ -45,7 +56,8 @@ void MeasurementSet::addReturn(const Eigen::Vector3d& origin, const Eigen::Vecto
 
 void MeasurementSet::addNoReturn(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) {
   const double length = direction.norm();
-  if (!origin.allFinite() || !direction.allFinite() || !(length > 0.0)) {
+  if (!acceptable(origin, Eigen::Vector3d::Zero())) return;
+  if (!direction.allFinite() || !(length > 0.0)) {
     ++counts_.rejected_non_finite;
     return;
   }

@@ -194,6 +194,15 @@ TEST(MeasurementSet, NonFiniteRaysAreCountedAndSkipped) {
   EXPECT_EQ(set.counts().rejected_non_finite, 3);
 }
 
+TEST(MeasurementSet, RaysBeyondTheCellKeyRangeAreCountedAndSkipped) {
+  MeasurementSet set(config(0.2, 0.5, 10.0));
+  set.begin();
+  set.addReturn({1e9, 0.0, 0.0}, {1e9 + 1.0, 0.0, 0.0});  // 5e9 cells: beyond int32
+  set.addReturn({0.0, 0.0, 0.0}, {0.0, -1e12, 0.0});
+  EXPECT_TRUE(set.finish().empty());
+  EXPECT_EQ(set.counts().rejected_out_of_range, 2);
+}
+
 TEST(MeasurementSet, NoReturnBeamsAreIgnoredByDefault) {
   MeasurementConfig c = config(0.2, 0.5, 5.0);
   EXPECT_FALSE(c.free_space_for_no_return);

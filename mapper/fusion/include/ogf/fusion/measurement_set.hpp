@@ -33,6 +33,7 @@ struct RayCounts {
   std::int64_t no_return_free = 0;      // beams without a return that marked free space
   std::int64_t no_return_ignored = 0;   // beams without a return, free space disabled
   std::int64_t rejected_non_finite = 0; // NaN or infinite origin, endpoint or direction
+  std::int64_t rejected_out_of_range = 0;  // a coordinate beyond 2^30 cells from 0, outside CellKey's reach
 };
 
 class MeasurementSet {
@@ -60,8 +61,11 @@ class MeasurementSet {
 
  private:
   void markFreeAlong(const Eigen::Vector3d& origin, const Eigen::Vector3d& endpoint);
+  // Finite and within CellKey's int32 range with margin; counts the ray when not.
+  bool acceptable(const Eigen::Vector3d& a, const Eigen::Vector3d& b);
 
   MeasurementConfig config_;
+  double coordinate_limit_m_;  // 2^30 cells
   CellMarks marks_;
   std::vector<Measurement> measurements_;
   RayCounts counts_;
