@@ -17,9 +17,6 @@ Error fieldError(const char* field, double value, const char* why) {
 
 bool positiveFinite(double v) { return std::isfinite(v) && v > 0.0; }
 
-// Smallest lattice spectrum, relative to the kernel amplitude, for a longer taper support to be chosen.
-constexpr double kSpectrumMargin = 0.1;
-
 // Length of the shortest lattice offset the stencil leaves out, cells.
 double shortestExcludedOffset(const StencilShape& shape, int dimensions) {
   const int reach = shape.reach() + 1;
@@ -40,9 +37,11 @@ double shortestExcludedOffset(const StencilShape& shape, int dimensions) {
 }  // namespace
 
 double defaultStencilRadius(double sigmaCells) {
-  const double reach = 3.0 * sigmaCells;
-  const double n = std::floor(reach * reach + 1e-9);
-  return std::sqrt(std::max(1.0, n));
+  if (sigmaCells <= 0.5 + 1e-9) {
+    return std::sqrt(2.0);
+  }
+  const double reach = 4.0 * sigmaCells;
+  return std::sqrt(std::floor(reach * reach + 1e-9));
 }
 
 Result<FilterConfig> FilterConfig::resolved() const {
@@ -79,15 +78,14 @@ Result<FilterConfig> FilterConfig::resolved() const {
   // The longest support that drops nothing: the shortest offset outside the stencil. Then Σ0 = K ∘ T
   // exactly and the Schur product theorem makes it positive definite; but T also damps the correlations
   // inside the band. Longer supports damp less and cut K ∘ T at the stencil, so they are taken only when
-  // the lattice spectrum certifies the banded prior positive definite with a margin (prior_spectrum.hpp).
+  // the lattice spectrum certifies the banded prior positive definite (prior_spectrum.hpp).
   const double shortest = shortestExcludedOffset(c.stencilShape(), c.dimensions);
   if (!c.taperSupport) {
     c.taperSupport = shortest;
-    for (double factor : {64.0, 16.0, 8.0, 4.0, 2.0}) {
+    for (double factor : {64.0, 16.0, 8.0, 6.0, 4.0, 3.0, 2.5, 2.0, 1.5, 1.25}) {
       FilterConfig trial = c;
       trial.taperSupport = shortest * factor;
-      const double margin = kSpectrumMargin * *c.kernelAmplitude;
-      if (priorSpectrumLowerBound(trial.prior(), c.dimensions) >= margin) {
+      if (priorSpectrumLowerBound(trial.prior(), c.dimensions) > 0.0) {
         c.taperSupport = trial.taperSupport;
         break;
       }

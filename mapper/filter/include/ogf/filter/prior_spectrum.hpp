@@ -1,8 +1,9 @@
 // A certificate that the banded prior Σ0 = K ∘ T (cut at the stencil radius) is positive definite on every
 // finite map, from its lattice spectrum: Σ0 is a convolution on the integer lattice, so for any finitely
 // supported x, xᵀ Σ0 x = ∫ |x̂(ω)|² P(ω) dω / (2π)^d with P(ω) = Σ_o Σ0(o) cos(ω·o). If P > 0 on the torus,
-// every principal submatrix is positive definite. The minimum of P is bounded from below on a grid of ω
-// with a curvature term, so the bound is rigorous.
+// every principal submatrix is positive definite. The minimum of P is bounded from below by branch and
+// bound over cells of ω with a Taylor bound (value, gradient, curvature) per cell, so the bound is
+// rigorous; when it cannot be proven positive within a budget the result is ≤ 0 (not certified).
 #pragma once
 
 #include "ogf/filter/kernel.hpp"

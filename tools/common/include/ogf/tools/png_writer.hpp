@@ -1,0 +1,20 @@
+// Writes an Image as a PNG file (8-bit grey or RGB, no interlace): signature, IHDR, one IDAT holding a zlib
+// stream of stored blocks, IEND, each chunk with its CRC-32. No PNG library needed.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "ogf/tools/image.hpp"
+
+namespace ogf::tools {
+
+// The PNG file's bytes.
+std::vector<std::uint8_t> encodePng(const Image& image);
+
+// Writes the file; on failure returns false and sets `error` (naming the path).
+bool writePng(const std::filesystem::path& path, const Image& image, std::string& error);
+
+}  // namespace ogf::tools
