@@ -1,0 +1,113 @@
+// The map file round-trips bit for bit, is written atomically, and refuses truncated or corrupted bytes
+// with an error naming the field, never half-loading.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "ogf/filter/banded_ogf.hpp"
+#include "ogf/filter/map_file.hpp"
+
+namespace ogf::filter {
+namespace {
+
+BandedOgf sampleMap(int dimensions) {
+  FilterConfig config;
+  config.dimensions = dimensions;
+  auto map = BandedOgf::create(config);
+  EXPECT_TRUE(map.ok());
+  std::mt19937 rng(5);
+  std::set<CellKey> seen;
+  std::vector<Measurement> batch;
+  while (batch.size() < 400) {
+    const CellKey k{static_cast<int>(rng() % 30U) - 15, static_cast<int>(rng() % 30U) - 15,
+                    dimensions == 3 ? static_cast<int>(rng() % 6U) - 3 : 0};
+    if (seen.insert(k).second) {
+      batch.push_back({k, static_cast<std::int8_t>(k.x > 3 ? 1 : -1)});
+    }
+  }
+  map->update(batch);
+  return std::move(map).value();
+}
+
+std::filesystem::path tempPath(const char* name) {
+  return std::filesystem::temp_directory_path() / (std::string(name) + "-" + std::to_string(::getpid()));
+}
+
+TEST(MapFile, RoundTripIsBitIdenticalIn2DAnd3D) {
+  for (int dims : {2, 3}) {
+    const BandedOgf map = sampleMap(dims);
+    const auto path = tempPath("ogf-map-roundtrip");
+    ASSERT_TRUE(saveMapFile(map, path).ok());
+    const auto loaded = loadMapFile(path);
+    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+    EXPECT_EQ(loaded->checksum(), map.checksum());
+    EXPECT_EQ(loaded->blockKeys(), map.blockKeys());
+    EXPECT_EQ(*loaded->config().taperSupport, *map.config().taperSupport);
+    // No temporary file left behind.
+    for (const auto& entry : std::filesystem::directory_iterator(path.parent_path())) {
+      EXPECT_EQ(entry.path().string().find(path.filename().string() + ".tmp"), std::string::npos);
+    }
+    std::filesystem::remove(path);
+  }
+}
+
+TEST(MapFile, LoadedMapKeepsFilteringLikeTheOriginal) {
+  BandedOgf map = sampleMap(3);
+  auto loaded = decodeMap(encodeMap(map));
+  ASSERT_TRUE(loaded.ok());
+  const std::vector<Measurement> more = {{{1, 1, 1}, 1}, {{2, 1, 1}, -1}, {{40, 0, 0}, 1}};
+  map.update(more);
+  loaded->update(more);
+  EXPECT_EQ(loaded->checksum(), map.checksum());
+}
+
+TEST(MapFile, EveryTruncationIsRefused) {
+  const std::vector<std::uint8_t> bytes = encodeMap(sampleMap(2));
+  for (std::size_t len = 0; len < bytes.size(); len += 1 + len / 7) {
+    const auto r = decodeMap(std::span<const std::uint8_t>(bytes.data(), len), "cut.map");
+    ASSERT_FALSE(r.ok()) << "accepted " << len << " of " << bytes.size() << " bytes";
+    EXPECT_NE(r.error().message.find("cut.map: offset"), std::string::npos) << r.error().message;
+  }
+}
+
+TEST(MapFile, FlippedBitsAreRefusedWithTheFieldNamed) {
+  const std::vector<std::uint8_t> bytes = encodeMap(sampleMap(3));
+  std::mt19937 rng(9);
+  for (int trial = 0; trial < 60; ++trial) {
+    std::vector<std::uint8_t> bad = bytes;
+    const std::size_t at = rng() % bad.size();
+    bad[at] ^= static_cast<std::uint8_t>(1U << (rng() % 8U));
+    const auto r = decodeMap(bad, "bad.map");
+    ASSERT_FALSE(r.ok()) << "accepted a flip at byte " << at;
+  }
+  std::vector<std::uint8_t> magic = bytes;
+  magic[0] = 'X';
+  EXPECT_NE(decodeMap(magic).error().message.find("magic"), std::string::npos);
+  std::vector<std::uint8_t> payload = bytes;
+  payload.back() ^= 1U;
+  EXPECT_NE(decodeMap(payload).error().message.find("payload checksum"), std::string::npos);
+  std::vector<std::uint8_t> trailing = bytes;
+  trailing.push_back(0);
+  EXPECT_NE(decodeMap(trailing).error().message.find("trailing"), std::string::npos);
+}
+
+TEST(MapFile, MissingFileIsAnErrorNamingThePath) {
+  const auto r = loadMapFile("/nonexistent/dir/x.map");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("/nonexistent/dir/x.map"), std::string::npos);
+}
+
+TEST(MapFile, SaveIntoAMissingDirectoryFailsCleanly) {
+  const auto st = saveMapFile(sampleMap(2), "/nonexistent/dir/x.map");
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.error().message.find("/nonexistent/dir/x.map"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ogf::filter
