@@ -23,7 +23,8 @@ constexpr const char* kOutputs = R"(
 Outputs in --out DIR:
   capture.pcap         VLP-16 capture: classic pcap, Ethernet/IPv4/UDP from 192.168.1.201 to
                        255.255.255.255, data packets to 2368 at the real packet period (1327.104 us,
-                       663.552 us dual), a position packet (GPRMC, PPS locked) to 8308 after every 14th.
+                       663.552 us dual; HDL-32E 552.96/276.48 us), a position packet (GPRMC, PPS
+                       locked) to 8308 after every 14th.
                        Pcap stamps = the packets' TOH time (start 2024-01-01 12:00:00 UTC by default).
   odometry.csv         utime,x,y,z,qw,qx,qy,qz: body pose in the odometry frame at --odometry-rate
                        (utime on the capture's clock; odom frame = world frame at the start).
@@ -47,6 +48,7 @@ int main(int argc, char** argv) {
   std::string trajectory;
   std::string out_dir;
   std::string return_mode = "strongest";
+  std::string model_name = "vlp16";
   std::string odometry_error = "none";
   std::string log_level = "info";
   ogf::sim::SimulationConfig config;
@@ -59,6 +61,9 @@ int main(int argc, char** argv) {
   app.add_option("--rpm", config.sensor.rpm, "Rotation rate, 300..1200 (600 or 1200 typical)")
       ->capture_default_str()
       ->check(CLI::Range(300.0, 1200.0));
+  app.add_option("--model", model_name, "Sensor: vlp16 (the VLP-16 of velodyne.md) or hdl32e")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"vlp16", "hdl32e"}));
   app.add_option("--return-mode", return_mode, "strongest|last|dual")
       ->capture_default_str()
       ->check(CLI::IsMember({"strongest", "last", "dual"}));
@@ -110,6 +115,7 @@ int main(int argc, char** argv) {
     return EXIT_FAILURE;
   }
   config.sensor.mode = *ogf::sim::vlp16::parseReturnMode(return_mode);
+  config.sensor.model = *ogf::sim::parseLidarModel(model_name);
   config.odometry_error = *model;
   config.odometry_error_name = odometry_error;
   config.world_label = world;
@@ -122,9 +128,9 @@ int main(int argc, char** argv) {
     return EXIT_FAILURE;
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  spdlog::info("world {} ({} solids), trajectory {} ({:.1f} m path), {} s at {} rpm, {} returns",
+  spdlog::info("world {} ({} solids), trajectory {} ({:.1f} m path), {} {} s at {} rpm, {} returns",
                scene->world.name, scene->world.solids.size(), config.trajectory_label, report->path_length_m,
-               config.duration_s, config.sensor.rpm, return_mode);
+               ogf::sim::lidarModel(config.sensor.model).name, config.duration_s, config.sensor.rpm, return_mode);
   spdlog::info("wrote {}: {} data + {} position packets, {} odometry poses ({}), truth {}x{}x{} at {} m "
                "({} occupied) in {:.2f} s",
                out_dir, report->capture.data_packets, report->capture.position_packets, report->odometry_poses,

@@ -70,7 +70,7 @@ TEST(SimPcapCapture, FramesParseWithValidChecksumsAndTohOnTheCaptureClock) {
   ASSERT_TRUE(traj.ok());
   // Start 0.1 s before 13:00:00 UTC so the TOH counter wraps inside the capture.
   const std::int64_t start = (1704110400LL + 3600) * 1000000 - 100000;
-  const Vlp16Simulator sim(world, Eigen::Isometry3d(Eigen::Translation3d(0, 0, 1)), *traj, SensorConfig{}, start);
+  const LidarSimulator sim(world, Eigen::Isometry3d(Eigen::Translation3d(0, 0, 1)), *traj, SensorConfig{}, start);
   const std::string path = test::scratchPath("capture.pcap").string();
   const auto summary = writeCapture(sim, 0.25, path);
   ASSERT_TRUE(summary.ok()) << summary.error();

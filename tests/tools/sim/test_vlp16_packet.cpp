@@ -6,7 +6,8 @@
 #include <numbers>
 
 #include "ogf/sim/vlp16_packet.hpp"
-#include "ogf/sim/vlp16_simulator.hpp"
+#include "ogf/sim/lidar_model.hpp"
+#include "ogf/sim/lidar_simulator.hpp"
 #include "sim_test_world.hpp"
 
 namespace ogf::sim {
@@ -73,7 +74,7 @@ TEST_P(SimulatedPackets, StampsFollowThePeriodAndAzimuthsTheRpm) {
   cfg.rpm = rpm;
   cfg.mode = mode;
   const std::int64_t start = 1704110400LL * 1000000;  // 12:00:00 UTC: TOH starts at 0
-  const Vlp16Simulator sim(world, Eigen::Isometry3d(Eigen::Translation3d(0, 0, 1)), *traj, cfg, start);
+  const LidarSimulator sim(world, Eigen::Isometry3d(Eigen::Translation3d(0, 0, 1)), *traj, cfg, start);
   const double period_us = mode == ReturnMode::Dual ? 663.552 : 1327.104;
   const double deg_per_us = rpm * 360.0 / 60.0 * 1e-6;
   double previous_az = -1.0;
@@ -107,13 +108,13 @@ INSTANTIATE_TEST_SUITE_P(RpmAndMode, SimulatedPackets,
                                            std::make_tuple(600.0, ReturnMode::Dual),
                                            std::make_tuple(1200.0, ReturnMode::Dual)));
 
-TEST(SimVlp16Simulator, GroundRangesMatchElevationAndVerticalOffset) {
+TEST(SimLidarSimulator, GroundRangesMatchElevationAndVerticalOffset) {
   const World world = test::groundOnly();
   const auto traj = Trajectory::build(TrajectorySpec{{{0, 0, 0}}, 1.0, false, 0.0});
   ASSERT_TRUE(traj.ok());
   SensorConfig cfg;
   cfg.range_noise_m = 0.0;
-  const Vlp16Simulator sim(world, Eigen::Isometry3d(Eigen::Translation3d(0, 0, 1)), *traj, cfg, 0);
+  const LidarSimulator sim(world, Eigen::Isometry3d(Eigen::Translation3d(0, 0, 1)), *traj, cfg, 0);
   const auto p = sim.dataPacket(3);
   for (std::size_t c = 0; c < 32; ++c) {
     const std::size_t laser = c % 16;
@@ -131,7 +132,7 @@ TEST(SimVlp16Simulator, GroundRangesMatchElevationAndVerticalOffset) {
   }
 }
 
-TEST(SimVlp16Simulator, DualModeHoldsLastInEvenBlocksAndStrongestOtherInOdd) {
+TEST(SimLidarSimulator, DualModeHoldsLastInEvenBlocksAndStrongestOtherInOdd) {
   for (const double glass_refl : {15.0, 220.0}) {  // glass weaker than the wall, then stronger
     const World world = test::glassBeforeWall(glass_refl);
     const auto traj = Trajectory::build(TrajectorySpec{{{0, 0, 0}}, 1.0, false, 0.0});
@@ -139,7 +140,7 @@ TEST(SimVlp16Simulator, DualModeHoldsLastInEvenBlocksAndStrongestOtherInOdd) {
     SensorConfig cfg;
     cfg.range_noise_m = 0.0;
     cfg.mode = ReturnMode::Dual;
-    const Vlp16Simulator sim(world, Eigen::Isometry3d(Eigen::Translation3d(0, 0, 1)), *traj, cfg, 0);
+    const LidarSimulator sim(world, Eigen::Isometry3d(Eigen::Translation3d(0, 0, 1)), *traj, cfg, 0);
     const auto p = sim.dataPacket(0);  // azimuth ≈ 0: looking along +x at the pane and the wall
     const auto& last = p.blocks[0];
     const auto& strongest = p.blocks[1];
@@ -154,7 +155,7 @@ TEST(SimVlp16Simulator, DualModeHoldsLastInEvenBlocksAndStrongestOtherInOdd) {
   }
 }
 
-TEST(SimVlp16Simulator, StrongestAndLastModesPickTheirEcho) {
+TEST(SimLidarSimulator, StrongestAndLastModesPickTheirEcho) {
   const World world = test::glassBeforeWall(220.0);  // the pane is the strongest echo, the wall the last
   const auto traj = Trajectory::build(TrajectorySpec{{{0, 0, 0}}, 1.0, false, 0.0});
   ASSERT_TRUE(traj.ok());
@@ -162,20 +163,53 @@ TEST(SimVlp16Simulator, StrongestAndLastModesPickTheirEcho) {
   cfg.range_noise_m = 0.0;
   const Eigen::Isometry3d mount(Eigen::Translation3d(0, 0, 1));
   cfg.mode = ReturnMode::Strongest;
-  const auto strongest = Vlp16Simulator(world, mount, *traj, cfg, 0).dataPacket(0);
+  const auto strongest = LidarSimulator(world, mount, *traj, cfg, 0).dataPacket(0);
   cfg.mode = ReturnMode::Last;
-  const auto last = Vlp16Simulator(world, mount, *traj, cfg, 0).dataPacket(0);
+  const auto last = LidarSimulator(world, mount, *traj, cfg, 0).dataPacket(0);
   EXPECT_LT(strongest.blocks[0].distance[1] * 0.002, 2.1);
   EXPECT_GT(last.blocks[0].distance[1] * 0.002, 4.9);
 }
 
-TEST(SimVlp16Simulator, DropoutsEmptyTheirShareOfFirings) {
+TEST(SimLidarModel, Hdl32eFiresThirtyTwoLasersPerBlockWithItsProductByte) {
+  const LidarModel& m = lidarModel(LidarModelId::Hdl32e);
+  EXPECT_EQ(m.lasers, 32u);
+  EXPECT_EQ(m.product_id, 0x21);
+  EXPECT_EQ(m.channelOffsetNs(0, 1), 1152);
+  EXPECT_EQ(m.channelOffsetNs(0, 31), 31 * 1152);
+  EXPECT_EQ(m.channelOffsetNs(2, 0), 2 * 46080);
+  EXPECT_EQ(m.packetPeriodNs(ReturnMode::Strongest), 552960);
+  EXPECT_EQ(m.packetPeriodNs(ReturnMode::Dual), 276480);
+  // The VLP-16 entry is the schedule of §4.3.
+  EXPECT_EQ(lidarModel(LidarModelId::Vlp16).channelOffsetNs(3, 17), vlp16::channelOffsetNs(3, 17));
+
+  const World world = test::groundOnly();
+  const auto traj = Trajectory::build(TrajectorySpec{{{0, 0, 0}}, 1.0, false, 0.0});
+  ASSERT_TRUE(traj.ok());
+  SensorConfig cfg;
+  cfg.model = LidarModelId::Hdl32e;
+  cfg.range_noise_m = 0.0;
+  const LidarSimulator sim(world, Eigen::Isometry3d(Eigen::Translation3d(0, 0, 1)), *traj, cfg, 0);
+  EXPECT_EQ(sim.packetPeriodNs(), 552960);
+  const auto p = sim.dataPacket(10);
+  EXPECT_EQ(p.product_id, 0x21);
+  EXPECT_EQ(p.toh_us, 5529u);  // floor(10 × 552.96 µs)
+  for (std::size_t c = 0; c < 32; ++c) {
+    const double w = m.elevation_deg[c] * std::numbers::pi / 180.0;
+    if (w >= 0) {
+      EXPECT_EQ(p.blocks[4].distance[c], 0) << "laser " << c;
+    } else {
+      EXPECT_EQ(p.blocks[4].distance[c], std::lround(1.0 / std::sin(-w) / 0.002)) << "laser " << c;
+    }
+  }
+}
+
+TEST(SimLidarSimulator, DropoutsEmptyTheirShareOfFirings) {
   const World world = test::groundOnly();
   const auto traj = Trajectory::build(TrajectorySpec{{{0, 0, 0}}, 1.0, false, 0.0});
   ASSERT_TRUE(traj.ok());
   SensorConfig cfg;
   cfg.dropout = 0.25;
-  const Vlp16Simulator sim(world, Eigen::Isometry3d(Eigen::Translation3d(0, 0, 1)), *traj, cfg, 0);
+  const LidarSimulator sim(world, Eigen::Isometry3d(Eigen::Translation3d(0, 0, 1)), *traj, cfg, 0);
   int empty = 0;
   int total = 0;
   for (std::uint64_t k = 0; k < 50; ++k) {

@@ -8,13 +8,13 @@
 
 namespace ogf::sim {
 
-std::uint64_t dataPacketCount(const Vlp16Simulator& sim, double duration_s) {
+std::uint64_t dataPacketCount(const LidarSimulator& sim, double duration_s) {
   const auto duration_ns = static_cast<std::int64_t>(std::llround(duration_s * 1e9));
   if (duration_ns <= 0) return 0;
   return static_cast<std::uint64_t>((duration_ns - 1) / sim.packetPeriodNs() + 1);
 }
 
-Result<CaptureSummary> writeCapture(const Vlp16Simulator& sim, double duration_s, const std::string& pcap_path,
+Result<CaptureSummary> writeCapture(const LidarSimulator& sim, double duration_s, const std::string& pcap_path,
                                     const GeoPosition& where) {
   auto writer = PcapWriter::open(pcap_path);
   if (!writer) return Error{writer.error()};

@@ -23,9 +23,9 @@ Status writeDescription(const std::string& path, const Scene& scene, const Simul
                      config.trajectory_label)
       << fmt::format("duration_s: {}\nstart_utime: {}\nseed: {}\n", config.duration_s, config.start_utime,
                      config.sensor.seed)
-      << fmt::format("sensor: {{model: VLP-16, rpm: {}, return_mode: {}, range_noise_m: {}, dropout: {}, "
+      << fmt::format("sensor: {{model: {}, rpm: {}, return_mode: {}, range_noise_m: {}, dropout: {}, "
                      "max_range_m: {}}}\n",
-                     config.sensor.rpm, vlp16::toString(config.sensor.mode), config.sensor.range_noise_m,
+                     lidarModel(config.sensor.model).name, config.sensor.rpm, vlp16::toString(config.sensor.mode), config.sensor.range_noise_m,
                      config.sensor.dropout, config.sensor.max_range_m)
       << fmt::format("sensor_to_body: {{xyz: [{}, {}, {}], quaternion_wxyz: [{}, {}, {}, {}]}}\n", t.x(), t.y(),
                      t.z(), q.w(), q.x(), q.y(), q.z())
@@ -60,7 +60,7 @@ Result<SimulationReport> runSimulation(const Scene& scene, const TrajectorySpec&
   SimulationReport report;
   report.path_length_m = trajectory->length();
 
-  const Vlp16Simulator sim(scene.world, scene.sensor_to_body, *trajectory, config.sensor, config.start_utime);
+  const LidarSimulator sim(scene.world, scene.sensor_to_body, *trajectory, config.sensor, config.start_utime);
   auto capture = writeCapture(sim, config.duration_s, (dir / "capture.pcap").string());
   if (!capture) return Error{capture.error()};
   report.capture = *capture;

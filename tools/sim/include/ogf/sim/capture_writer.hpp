@@ -8,7 +8,7 @@
 
 #include "ogf/sim/nmea.hpp"
 #include "ogf/sim/result.hpp"
-#include "ogf/sim/vlp16_simulator.hpp"
+#include "ogf/sim/lidar_simulator.hpp"
 
 namespace ogf::sim {
 
@@ -22,9 +22,9 @@ struct CaptureSummary {
 };
 
 // The data packets whose first firing falls within `duration_s` of the start.
-std::uint64_t dataPacketCount(const Vlp16Simulator& sim, double duration_s);
+std::uint64_t dataPacketCount(const LidarSimulator& sim, double duration_s);
 
-Result<CaptureSummary> writeCapture(const Vlp16Simulator& sim, double duration_s, const std::string& pcap_path,
+Result<CaptureSummary> writeCapture(const LidarSimulator& sim, double duration_s, const std::string& pcap_path,
                                     const GeoPosition& where = {});
 
 }  // namespace ogf::sim

@@ -1,5 +1,6 @@
-// The simulated VLP-16: spins at the configured rpm on the moving body and fills data packets. Every
-// channel of every block is fired at its own time (velodyne.md §4.3) from the pose the body has at that
+// The simulated Velodyne (a VLP-16, or an HDL-32E): spins at the configured rpm on the moving body and
+// fills data packets. Every channel of every block is fired at its own time (velodyne.md §4.3 for the
+// VLP-16; lidar_model.hpp) from the pose the body has at that
 // instant, so the capture carries the motion distortion a real one does. A packet is a function of its
 // index alone (the noise stream is seeded per packet), so captures are reproducible for a --seed.
 #pragma once
@@ -9,6 +10,7 @@
 #include <array>
 #include <cstdint>
 
+#include "ogf/sim/lidar_model.hpp"
 #include "ogf/sim/trajectory.hpp"
 #include "ogf/sim/vlp16_packet.hpp"
 #include "ogf/sim/world.hpp"
@@ -16,6 +18,7 @@
 namespace ogf::sim {
 
 struct SensorConfig {
+  LidarModelId model = LidarModelId::Vlp16;
   double rpm = 600.0;  // the VLP-16 spins at 300..1200 rpm (manual §8.1)
   vlp16::ReturnMode mode = vlp16::ReturnMode::Strongest;
   double range_noise_m = 0.01;  // σ of the Gaussian added to every range
@@ -25,14 +28,14 @@ struct SensorConfig {
   std::uint64_t seed = 1;
 };
 
-class Vlp16Simulator {
+class LidarSimulator {
  public:
   // `world` and `trajectory` must outlive the simulator. `start_utime` is the time of packet 0's first
   // firing, µs since the epoch.
-  Vlp16Simulator(const World& world, const Eigen::Isometry3d& sensor_to_body, const Trajectory& trajectory,
+  LidarSimulator(const World& world, const Eigen::Isometry3d& sensor_to_body, const Trajectory& trajectory,
                  const SensorConfig& config, std::int64_t start_utime);
 
-  std::int64_t packetPeriodNs() const { return vlp16::packetPeriodNs(config_.mode); }
+  std::int64_t packetPeriodNs() const { return model_.packetPeriodNs(config_.mode); }
   // Time of packet `index`'s first firing after the start, ns.
   std::int64_t packetStartNs(std::uint64_t index) const {
     return static_cast<std::int64_t>(index) * packetPeriodNs();
@@ -55,8 +58,9 @@ class Vlp16Simulator {
   const Trajectory& trajectory_;
   SensorConfig config_;
   std::int64_t start_utime_;
-  std::array<double, vlp16::kLasers> cos_elevation_{};
-  std::array<double, vlp16::kLasers> sin_elevation_{};
+  const LidarModel& model_;
+  std::array<double, 32> cos_elevation_{};
+  std::array<double, 32> sin_elevation_{};
 };
 
 }  // namespace ogf::sim

@@ -17,7 +17,7 @@
 #include "ogf/sim/odometry_error.hpp"
 #include "ogf/sim/result.hpp"
 #include "ogf/sim/scene.hpp"
-#include "ogf/sim/vlp16_simulator.hpp"
+#include "ogf/sim/lidar_simulator.hpp"
 
 namespace ogf::sim {
 
