@@ -7,7 +7,7 @@ namespace ogf::fusion {
 
 void CellMarks::clear() {
   used_ = 0;
-  last_key_ = kNoBrick;
+  last_cell_ = kNoCell;
   last_brick_ = nullptr;
   std::fill(table_.begin(), table_.end(), Slot{});
   recent_.fill(Slot{});

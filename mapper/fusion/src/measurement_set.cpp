@@ -30,7 +30,7 @@ void MeasurementSet::begin() {
 }
 
 void MeasurementSet::markFreeAlong(const Eigen::Vector3d& origin, const Eigen::Vector3d& endpoint) {
-  for (const CellKey cell : RayCaster(origin, endpoint, config_.resolution_m)) marks_.markFree(cell);
+  marks_.markFree(RayCaster(origin, endpoint, config_.resolution_m));
 }
 
 void MeasurementSet::addReturn(const Eigen::Vector3d& origin, const Eigen::Vector3d& endpoint) {
@@ -50,7 +50,7 @@ void MeasurementSet::addReturn(const Eigen::Vector3d& origin, const Eigen::Vecto
   }
   ++counts_.returns;
   const RayCaster cells(origin, endpoint, config_.resolution_m);
-  for (const CellKey cell : cells) marks_.markFree(cell);
+  marks_.markFree(cells);
   marks_.markOccupied(cells.endCell());
 }
 

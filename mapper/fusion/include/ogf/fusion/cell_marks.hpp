@@ -7,6 +7,7 @@
 
 #include <ogf/core/cell_key.hpp>
 #include <ogf/core/measurement.hpp>
+#include <ogf/fusion/ray_caster.hpp>
 
 #include <array>
 #include <cstddef>
@@ -22,6 +23,20 @@ class CellMarks {
 
   void markFree(const CellKey& k) { mark(k, &Brick::free); }
   void markOccupied(const CellKey& k) { mark(k, &Brick::occupied); }
+  // Marks every cell of the ray free: the hot loop of a scan, with the current brick held in registers.
+  void markFree(const RayCaster& ray) {
+    CellKey base = last_cell_;
+    Brick* brick = last_brick_;
+    for (const CellKey k : ray) {
+      if (!sameBrick(k, base)) {
+        brick = &bricks_[brickIndex(brickOf(k))];
+        base = k;
+      }
+      setBit(brick->free, k);
+    }
+    last_cell_ = base;
+    last_brick_ = brick;
+  }
 
   // Appends one measurement per marked cell to `out`, sorted by CellKey; occupied where both were marked.
   void appendSorted(std::vector<Measurement>& out);
@@ -41,20 +56,30 @@ class CellMarks {
   };
   static constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
 
-  void mark(const CellKey& k, Bits Brick::*which) {
-    // Arithmetic shift and mask floor negative coordinates correctly (C++20 defines both).
-    const CellKey b{k.x >> 3, k.y >> 3, k.z >> 3};
-    // Compared without branches: the brick changes only every few cells of a ray.
-    if (((b.x ^ last_key_.x) | (b.y ^ last_key_.y) | (b.z ^ last_key_.z)) != 0) {
-      last_brick_ = &bricks_[brickIndex(b)];
-      last_key_ = b;
-    }
+  // Same brick iff the coordinates agree above their 3 low bits (two's complement, so this holds for
+  // negative cells too): a few instructions, and a predictable branch, since the brick changes only every
+  // few cells of a ray.
+  static bool sameBrick(const CellKey& a, const CellKey& b) {
+    return (((a.x ^ b.x) | (a.y ^ b.y) | (a.z ^ b.z)) & ~7) == 0;
+  }
+  // Arithmetic shifts floor negative coordinates (C++20 defines them).
+  static CellKey brickOf(const CellKey& k) { return {k.x >> 3, k.y >> 3, k.z >> 3}; }
+  static void setBit(Bits& bits, const CellKey& k) {
     const auto bit = static_cast<unsigned>(((k.y & 7) << 3) | (k.z & 7));
-    (last_brick_->*which)[static_cast<std::size_t>(k.x & 7)] |= std::uint64_t{1} << bit;
+    bits[static_cast<std::size_t>(k.x & 7)] |= std::uint64_t{1} << bit;
   }
 
-  // No brick has this key (brick coordinates are cell coordinates >> 3, so they stay within ±2^28).
-  static constexpr CellKey kNoBrick{std::numeric_limits<std::int32_t>::min(), 0, 0};
+  void mark(const CellKey& k, Bits Brick::*which) {
+    if (!sameBrick(k, last_cell_)) {
+      last_brick_ = &bricks_[brickIndex(brickOf(k))];
+      last_cell_ = k;
+    }
+    setBit(last_brick_->*which, k);
+  }
+
+  // The "no brick yet" cell: it shares a brick only with x in [INT32_MIN, INT32_MIN + 7], which is out of
+  // bounds for CellMarks (MeasurementSet keeps cells within 2^30 of the origin).
+  static constexpr CellKey kNoCell{std::numeric_limits<std::int32_t>::min(), 0, 0};
 
   std::uint32_t brickIndex(CellKey b);
   std::uint32_t tableIndex(CellKey b);
@@ -65,7 +90,7 @@ class CellMarks {
   std::vector<Slot> table_;    // power-of-two size, at most half full
   static constexpr unsigned kRecentBits = 9;
   std::array<Slot, std::size_t{1} << kRecentBits> recent_{};  // direct-mapped cache in front of table_
-  CellKey last_key_ = kNoBrick;  // the brick of the last mark, and where it is
+  CellKey last_cell_ = kNoCell;  // a cell of the brick of the last mark, and where that brick is
   Brick* last_brick_ = nullptr;
   std::vector<std::uint32_t> order_;  // scratch for appendSorted
 };
