@@ -1,14 +1,15 @@
-// Writes a simulated VLP-16 capture to PCAP: data packets at the real packet period, a position packet
-// (GPRMC, PPS locked) after every 14th data packet (the manual's "about 14 to 1", velodyne.md §4.5).
+// Writes a simulated Velodyne capture (VLP-16 or HDL-32E) to PCAP: data packets at the real packet
+// period, a position packet (GPRMC, PPS locked) after every 14th data packet (the manual's "about 14 to
+// 1", velodyne.md §4.5).
 // Each frame's pcap stamp is the absolute time of its TOH stamp, so host time and device time agree.
 #pragma once
 
 #include <cstdint>
 #include <string>
 
+#include "ogf/sim/lidar_simulator.hpp"
 #include "ogf/sim/nmea.hpp"
 #include "ogf/sim/result.hpp"
-#include "ogf/sim/lidar_simulator.hpp"
 
 namespace ogf::sim {
 
