@@ -59,14 +59,14 @@ TEST(PacketDecoder, AzimuthIsInterpolatedPerFiringAndWrapped) {
   // Block 0, sequence 1, laser 15: 35990 + 40 * (55.296 + 15 * 2.304) / 110.592 = 36022.5 -> 22.5 -> 23 (round).
   const ov::Point& p31 = out->points[31];
   EXPECT_EQ(p31.laser_id, 15);
-  EXPECT_NEAR(p31.azimuth_deg, 0.23, 1e-4);
-  EXPECT_NEAR(p31.time_offset_us, 55.296 + 15 * 2.304, 1e-3);
+  EXPECT_NEAR(p31.azimuthDeg(), 0.23, 1e-4);
+  EXPECT_NEAR(p31.timeOffsetUs(), 55.296 + 15 * 2.304, 1e-3);
   for (int i = 0; i < out->point_count; ++i) {
-    EXPECT_GE(out->points[static_cast<std::size_t>(i)].azimuth_deg, 0.0f);
-    EXPECT_LT(out->points[static_cast<std::size_t>(i)].azimuth_deg, 360.0f);
+    EXPECT_GE(out->points[static_cast<std::size_t>(i)].azimuthDeg(), 0.0f);
+    EXPECT_LT(out->points[static_cast<std::size_t>(i)].azimuthDeg(), 360.0f);
   }
   // The last block reuses the previous advance; time of block 11, sequence 1, laser 15.
-  EXPECT_NEAR(out->points[383].time_offset_us, 11 * 110.592 + 55.296 + 15 * 2.304, 1e-3);
+  EXPECT_NEAR(out->points[383].timeOffsetUs(), 11 * 110.592 + 55.296 + 15 * 2.304, 1e-3);
   EXPECT_EQ(out->firing_count, 24);
 }
 
@@ -76,7 +76,7 @@ TEST(PacketDecoder, Azimuth36000FromTheSensorIsZero) {
   SyntheticPacket p;
   p.azimuths(0, 20).azimuth(0, 36000).channel(0, 0, 500, 1);
   ASSERT_EQ(d.decode(p.bytes(), *out), ov::PacketStatus::Ok);
-  EXPECT_NEAR(out->points[0].azimuth_deg, 0.0, 1e-6);
+  EXPECT_NEAR(out->points[0].azimuthDeg(), 0.0, 1e-6);
   SyntheticPacket q;
   q.azimuths(0, 20).azimuth(3, 36001);
   EXPECT_EQ(d.decode(q.bytes(), *out), ov::PacketStatus::BadAzimuth);
@@ -125,9 +125,9 @@ TEST(PacketDecoder, DualPairsGiveLastStrongestOrOnePointForBoth) {
   EXPECT_EQ(out->points[2].return_type, ov::ReturnType::Strongest);
   EXPECT_NEAR(out->points[2].distance_m, 3.0, 1e-6);
   // Pair 1, sequence 1, laser 0: time uses the pair index (one firing per pair).
-  EXPECT_NEAR(out->points[3].time_offset_us, 110.592 + 55.296, 1e-3);
+  EXPECT_NEAR(out->points[3].timeOffsetUs(), 110.592 + 55.296, 1e-3);
   // The azimuth advance comes from the next pair: 1040 + 40 * 0.5 = 1060.
-  EXPECT_NEAR(out->points[3].azimuth_deg, 10.60, 1e-4);
+  EXPECT_NEAR(out->points[3].azimuthDeg(), 10.60, 1e-4);
   EXPECT_EQ(out->firing_count, 12);
 }
 
@@ -152,10 +152,10 @@ TEST(PacketDecoder, Hdl32eFiresOneLaserEvery1152NanosecondsAcrossAllChannels) {
   EXPECT_EQ(out->firing_count, 12);
   const ov::Point& last_in_block = out->points[31];
   EXPECT_EQ(last_in_block.laser_id, 31);
-  EXPECT_NEAR(last_in_block.time_offset_us, 31 * 1.152, 1e-3);
-  EXPECT_NEAR(out->points[32].time_offset_us, 46.08, 1e-3);
+  EXPECT_NEAR(last_in_block.timeOffsetUs(), 31 * 1.152, 1e-3);
+  EXPECT_NEAR(out->points[32].timeOffsetUs(), 46.08, 1e-3);
   // 16 units over 46.08 us; laser 31 at 35.712 us: 16 * 0.775 = 12.4 -> 12.
-  EXPECT_NEAR(last_in_block.azimuth_deg, 0.12, 1e-4);
+  EXPECT_NEAR(last_in_block.azimuthDeg(), 0.12, 1e-4);
   EXPECT_NEAR(last_in_block.z, 5.0 * std::sin(deg(10.67)), 1e-4);
 }
 
@@ -167,5 +167,5 @@ TEST(PacketDecoder, Vlp32cUsesFourMillimetreUnitsAndLaserPairs) {
   ASSERT_EQ(d.decode(p.bytes(), *out), ov::PacketStatus::Ok);
   ASSERT_EQ(out->point_count, 1);
   EXPECT_NEAR(out->points[0].distance_m, 4.0, 1e-6);
-  EXPECT_NEAR(out->points[0].time_offset_us, 55.296 + 2 * 2.304, 1e-3);
+  EXPECT_NEAR(out->points[0].timeOffsetUs(), 55.296 + 2 * 2.304, 1e-3);
 }

@@ -18,14 +18,14 @@ int forwardAdvance(int from, int to) {
 }
 
 // Interpolated azimuth, rounded to the 0.01 degree grid and wrapped before any table lookup
-// (ros rawdata.cc:709-710 and its changelog's "azimuth overflow" fix; vd wrap()).
-std::uint16_t interpolate(int base, int advance, double fraction) {
-  const long a = std::lround(base + advance * fraction);
-  return static_cast<std::uint16_t>(((a % kTurn) + kTurn) % kTurn);
+// (ros rawdata.cc:709-710 rounds the same way; its changelog's "azimuth overflow" fix; vd wrap()).
+std::uint16_t interpolate(int base, int advance, float fraction) {
+  const int a = base + static_cast<int>(static_cast<float>(advance) * fraction + 0.5f);
+  return static_cast<std::uint16_t>(a >= kTurn ? a - kTurn : a);
 }
 
 struct AzimuthTable {
-  std::array<float, kTurn> cos{}, sin{};
+  std::array<float, 2 * kTurn> cos_sin{};  // interleaved: one cache line holds both
 };
 
 // cos and sin of every 0.01 degree azimuth, computed once per process.
@@ -34,8 +34,8 @@ const AzimuthTable& azimuthTable() {
     AzimuthTable t;
     for (int a = 0; a < kTurn; ++a) {
       const double rad = a * 0.01 * M_PI / 180.0;
-      t.cos[static_cast<std::size_t>(a)] = static_cast<float>(std::cos(rad));
-      t.sin[static_cast<std::size_t>(a)] = static_cast<float>(std::sin(rad));
+      t.cos_sin[2 * static_cast<std::size_t>(a)] = static_cast<float>(std::cos(rad));
+      t.cos_sin[2 * static_cast<std::size_t>(a) + 1] = static_cast<float>(std::sin(rad));
     }
     return t;
   }();
@@ -55,10 +55,11 @@ Result<PacketDecoder> PacketDecoder::create(const DecoderConfig& config) {
   if (static_cast<int>(calib.lasers.size()) < t.lasers)
     return Error{"calibration " + calib.source + ": " + std::to_string(calib.lasers.size()) + " lasers, the " +
                  std::string(t.name) + " needs " + std::to_string(t.lasers)};
+  const double t_block = t.block_duration_us;
   d.resolution_m_ = calib.distance_resolution_m;
+  d.resolution_f_ = static_cast<float>(calib.distance_resolution_m);
   d.min_range_m_ = static_cast<float>(config.min_range_m);
   d.max_range_m_ = static_cast<float>(config.max_range_m);
-  d.lasers_.resize(static_cast<std::size_t>(t.lasers));
   for (int i = 0; i < t.lasers; ++i) {
     const LaserCorrection& c = calib.lasers[static_cast<std::size_t>(i)];
     d.lasers_[static_cast<std::size_t>(i)] = LaserTable{
@@ -74,29 +75,35 @@ Result<PacketDecoder> PacketDecoder::create(const DecoderConfig& config) {
     return calib.lasers[static_cast<std::size_t>(a)].vert_correction_rad <
            calib.lasers[static_cast<std::size_t>(b)].vert_correction_rad;
   });
-  d.ring_.resize(order.size());
   for (std::size_t r = 0; r < order.size(); ++r) d.ring_[static_cast<std::size_t>(order[r])] = static_cast<std::uint8_t>(r);
   const AzimuthTable& table = azimuthTable();
-  d.cos_azimuth_ = table.cos.data();
-  d.sin_azimuth_ = table.sin.data();
+  d.cos_sin_azimuth_ = table.cos_sin.data();
   for (int ch = 0; ch < wire::kChannelsPerBlock; ++ch) {
-    d.channel_time_us_[static_cast<std::size_t>(ch)] = channelTimeInBlockUs(config.model, ch);
-    d.channel_laser_[static_cast<std::size_t>(ch)] = static_cast<std::uint8_t>(laserOfChannel(config.model, ch));
-    d.channel_sequence_[static_cast<std::size_t>(ch)] = static_cast<std::uint8_t>(sequenceOfChannel(config.model, ch));
+    const auto c = static_cast<std::size_t>(ch);
+    const double in_block = channelTimeInBlockUs(config.model, ch);
+    d.channel_fraction_[c] = static_cast<float>(in_block / t_block);
+    d.channel_time_ns_[c] = static_cast<std::int32_t>(std::lround(in_block * 1000.0));
+    d.channel_laser_[c] = static_cast<std::uint8_t>(laserOfChannel(config.model, ch));
+    d.channel_sequence_[c] = static_cast<std::uint8_t>(sequenceOfChannel(config.model, ch));
   }
+  d.block_ns_ = static_cast<std::int32_t>(std::lround(t.block_duration_us * 1000.0));
+  d.sequence_ns_ = static_cast<std::int32_t>(std::lround(t.sequence_duration_us * 1000.0));
   return d;
 }
 
-void PacketDecoder::emit(DecodedPacket& out, const wire::RawChannel& ch, int laser, std::uint16_t azimuth,
-                         float time_us, ReturnType type, int firing) const {
+[[gnu::always_inline]] inline void PacketDecoder::emit(DecodedPacket& out, const wire::RawChannel& ch, int channel, int base, int advance,
+                         std::int32_t time_ns, ReturnType type, int firing) const {
   const std::uint16_t raw = wire::readLe16(ch.distance);
   if (raw == 0) return;  // no return
+  const auto c = static_cast<std::size_t>(channel);
+  const int laser = channel_laser_[c];
   const LaserTable& l = lasers_[static_cast<std::size_t>(laser)];
-  const float distance = static_cast<float>(raw * resolution_m_);
+  const float distance = static_cast<float>(raw) * resolution_f_;
   const float r = distance + l.dist_corr;
   if (r < min_range_m_ || r > max_range_m_) return;
+  const std::uint16_t azimuth = interpolate(base, advance, channel_fraction_[c]);
   // cos/sin(azimuth - rot_correction) (ros rawdata.cc; vd unpackPoint).
-  const float ca = cos_azimuth_[azimuth], sa = sin_azimuth_[azimuth];
+  const float ca = cos_sin_azimuth_[2 * azimuth], sa = cos_sin_azimuth_[2 * azimuth + 1];
   const float cos_a = ca * l.cos_rot_corr + sa * l.sin_rot_corr;
   const float sin_a = sa * l.cos_rot_corr - ca * l.sin_rot_corr;
   const float xy = r * l.cos_vert - l.vert_offset * l.sin_vert;
@@ -106,8 +113,8 @@ void PacketDecoder::emit(DecodedPacket& out, const wire::RawChannel& ch, int las
   p.y = -(xy * sin_a - l.horiz_offset * cos_a);
   p.z = r * l.sin_vert + l.vert_offset * l.cos_vert;
   p.distance_m = distance;
-  p.azimuth_deg = static_cast<float>(azimuth) * 0.01f;
-  p.time_offset_us = time_us;
+  p.time_offset_ns = time_ns;
+  p.azimuth = azimuth;
   p.intensity = ch.reflectivity;
   p.ring = ring_[static_cast<std::size_t>(laser)];
   p.laser_id = static_cast<std::uint8_t>(laser);
@@ -140,10 +147,8 @@ PacketStatus PacketDecoder::decode(std::span<const std::uint8_t> payload, Decode
   const bool dual = packet_mode == ReturnMode::Dual || wanted == ReturnMode::Dual;
   out.dual_layout = dual;
 
-  const ModelTraits& t = traits(config_.model);
-  const int fpb = t.firings_per_block;
-  const double block_us = t.block_duration_us;
-  const double sequence_us = t.sequence_duration_us;
+  const int fpb = traits(config_.model).firings_per_block;
+  const float sequence_fraction = static_cast<float>(sequence_ns_) / static_cast<float>(block_ns_);
 
   if (!dual) {
     out.return_mode = wanted.value_or(packet_mode);
@@ -156,15 +161,14 @@ PacketStatus PacketDecoder::decode(std::span<const std::uint8_t> payload, Decode
       const int base = az[static_cast<std::size_t>(b)];
       for (int s = 0; s < fpb; ++s) {
         const auto f = static_cast<std::size_t>(b * fpb + s);
-        out.firing_azimuth[f] = interpolate(base, advance, s * sequence_us / block_us);
-        out.firing_time_us[f] = static_cast<float>(b * block_us + s * sequence_us);
+        out.firing_azimuth[f] = interpolate(base, advance, static_cast<float>(s) * sequence_fraction);
+        out.firing_time_ns[f] = b * block_ns_ + s * sequence_ns_;
       }
       const wire::RawBlock& block = packet.blocks[b];
+      const std::int32_t block_ns = b * block_ns_;
       for (int ch = 0; ch < wire::kChannelsPerBlock; ++ch) {
         const auto c = static_cast<std::size_t>(ch);
-        const std::uint16_t azimuth = interpolate(base, advance, channel_time_us_[c] / block_us);
-        emit(out, block.channels[ch], channel_laser_[c], azimuth, static_cast<float>(b * block_us + channel_time_us_[c]),
-             type, b * fpb + channel_sequence_[c]);
+        emit(out, block.channels[ch], ch, base, advance, block_ns + channel_time_ns_[c], type, b * fpb + channel_sequence_[c]);
       }
     }
     out.firing_count = wire::kBlocksPerPacket * fpb;
@@ -185,25 +189,24 @@ PacketStatus PacketDecoder::decode(std::span<const std::uint8_t> payload, Decode
     const int base = az[even];
     for (int s = 0; s < fpb; ++s) {
       const auto f = static_cast<std::size_t>(q * fpb + s);
-      out.firing_azimuth[f] = interpolate(base, advance, s * sequence_us / block_us);
-      out.firing_time_us[f] = static_cast<float>(q * block_us + s * sequence_us);
+      out.firing_azimuth[f] = interpolate(base, advance, static_cast<float>(s) * sequence_fraction);
+      out.firing_time_ns[f] = q * block_ns_ + s * sequence_ns_;
     }
     const wire::RawBlock& last = packet.blocks[even];
     const wire::RawBlock& strongest = packet.blocks[even + 1];
     for (int ch = 0; ch < wire::kChannelsPerBlock; ++ch) {
       const auto c = static_cast<std::size_t>(ch);
-      const std::uint16_t azimuth = interpolate(base, advance, channel_time_us_[c] / block_us);
-      const float time = static_cast<float>(q * block_us + channel_time_us_[c]);
+      const std::int32_t time = q * block_ns_ + channel_time_ns_[c];
       const int firing = q * fpb + channel_sequence_[c];
       const wire::RawChannel& a = last.channels[ch];
       const wire::RawChannel& b = strongest.channels[ch];
       const bool same = a.distance[0] == b.distance[0] && a.distance[1] == b.distance[1] && a.reflectivity == b.reflectivity;
       if (same) {
-        emit(out, a, channel_laser_[c], azimuth, time, ReturnType::Both, firing);  // one point for both
+        emit(out, a, ch, base, advance, time, ReturnType::Both, firing);  // one point for both
         continue;
       }
-      if (keep_last) emit(out, a, channel_laser_[c], azimuth, time, ReturnType::Last, firing);
-      if (keep_strongest) emit(out, b, channel_laser_[c], azimuth, time, ReturnType::Strongest, firing);
+      if (keep_last) emit(out, a, ch, base, advance, time, ReturnType::Last, firing);
+      if (keep_strongest) emit(out, b, ch, base, advance, time, ReturnType::Strongest, firing);
     }
   }
   out.firing_count = kPairs * fpb;

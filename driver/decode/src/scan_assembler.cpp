@@ -76,16 +76,23 @@ void ScanAssembler::add(const DecodedPacket& packet, const PacketTime& time, Mod
   packet_counted_ = false;
 
   const std::int64_t packet_ns = time.device.utime * 1000;
+  // Azimuth advance from the previous firing, and whether that passes the cut angle or a full turn.
+  auto advanceTo = [this](int az) {
+    const int d = (az - *prev_azimuth_ + kTurn) % kTurn;
+    return d > kTurn / 2 ? 0 : d;  // a backwards jitter is no advance
+  };
+  auto passesCut = [this](int from, int advance) {
+    const int before = (from - cut_units_ + kTurn) % kTurn;
+    return advance > 0 && before + advance >= kTurn;
+  };
   // Every laser firing, in time order, may be the one that crosses the cut: the first firing of each
   // sequence (so a sequence without returns still counts) and then each point of it.
   auto step = [&](int az, std::int64_t t_ns) {
     bool cut = false;
     if (prev_azimuth_ && open_) {
-      const int d = (az - *prev_azimuth_ + kTurn) % kTurn;
-      const int advance = d > kTurn / 2 ? 0 : d;  // a backwards jitter is no advance
-      const int before = (*prev_azimuth_ - cut_units_ + kTurn) % kTurn;
-      if (advance > 0 && before + advance >= kTurn) cut = true;  // this firing passed the cut angle
-      else if (advance_units_ + advance >= kTurn) cut = true;    // never more than one turn
+      const int advance = advanceTo(az);
+      if (passesCut(*prev_azimuth_, advance)) cut = true;
+      else if (advance_units_ + advance >= kTurn) cut = true;  // never more than one turn
       else advance_units_ += advance;
     }
     prev_azimuth_ = az;
@@ -94,18 +101,47 @@ void ScanAssembler::add(const DecodedPacket& packet, const PacketTime& time, Mod
     countPacket(time);
     last_firing_ns_ = std::max(last_firing_ns_, t_ns);
   };
+  auto append = [this](const Point& p, std::int64_t t_ns) {
+    const std::int64_t offset = t_ns - scan_.device_utime_start * 1000;
+    scan_.points.push_back(ScanPoint{p.x, p.y, p.z, p.distance_m, p.azimuthDeg(),
+                                     static_cast<std::int32_t>(std::clamp<std::int64_t>(offset, 0, INT32_MAX)),
+                                     p.intensity, p.ring, p.laser_id, p.return_type});
+  };
   int point = 0;
   for (int f = 0; f < packet.firing_count; ++f) {
-    step(packet.firing_azimuth[static_cast<std::size_t>(f)],
-         packet_ns + std::llround(packet.firing_time_us[static_cast<std::size_t>(f)] * 1000.0f));
-    for (; point < packet.point_count && packet.points[static_cast<std::size_t>(point)].firing == f; ++point) {
+    const int firing_az = packet.firing_azimuth[static_cast<std::size_t>(f)];
+    const std::int64_t firing_ns = packet_ns + packet.firing_time_ns[static_cast<std::size_t>(f)];
+    int end = point;
+    while (end < packet.point_count && packet.points[static_cast<std::size_t>(end)].firing == f) ++end;
+    // Fast path: a firing whose start and last return neither pass the cut nor complete a turn cannot
+    // hold the crossing (azimuths rise within a firing), so its points are appended without checks.
+    if (open_ && prev_azimuth_) {
+      const int last_az = end > point ? packet.points[static_cast<std::size_t>(end) - 1].azimuth : firing_az;
+      const int to_start = advanceTo(firing_az);
+      const int d = (last_az - firing_az + kTurn) % kTurn;
+      const int within = d > kTurn / 2 ? 0 : d;
+      if (!passesCut(*prev_azimuth_, to_start) && !passesCut(firing_az, within) &&
+          advance_units_ + to_start + within < kTurn) {
+        advance_units_ += to_start + within;
+        prev_azimuth_ = last_az;
+        countPacket(time);
+        for (; point < end; ++point) {
+          const Point& p = packet.points[static_cast<std::size_t>(point)];
+          append(p, packet_ns + p.time_offset_ns);
+        }
+        const std::int64_t last_ns = end > 0 && packet.points[static_cast<std::size_t>(end) - 1].firing == f
+                                         ? packet_ns + packet.points[static_cast<std::size_t>(end) - 1].time_offset_ns
+                                         : firing_ns;
+        last_firing_ns_ = std::max(last_firing_ns_, std::max(firing_ns, last_ns));
+        continue;
+      }
+    }
+    step(firing_az, firing_ns);
+    for (; point < end; ++point) {
       const Point& p = packet.points[static_cast<std::size_t>(point)];
-      const std::int64_t t_ns = packet_ns + std::llround(p.time_offset_us * 1000.0f);
-      step(static_cast<int>(std::lround(p.azimuth_deg * 100.0f)) % kTurn, t_ns);
-      const std::int64_t offset = t_ns - scan_.device_utime_start * 1000;
-      scan_.points.push_back(ScanPoint{p.x, p.y, p.z, p.distance_m, p.azimuth_deg,
-                                       static_cast<std::int32_t>(std::clamp<std::int64_t>(offset, 0, INT32_MAX)),
-                                       p.intensity, p.ring, p.laser_id, p.return_type});
+      const std::int64_t t_ns = packet_ns + p.time_offset_ns;
+      step(p.azimuth, t_ns);
+      append(p, t_ns);
     }
   }
 }

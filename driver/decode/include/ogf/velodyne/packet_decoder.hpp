@@ -30,14 +30,17 @@ struct DecoderConfig {
 
 struct Point {
   float x, y, z;           // metres, REP-103
-  float distance_m;        // raw distance x resolution (before dist_correction)
-  float azimuth_deg;       // interpolated azimuth of the firing, [0, 360)
-  float time_offset_us;    // firing time minus the packet timestamp
-  std::uint8_t intensity;  // calibrated reflectivity
+  float distance_m;             // raw distance x resolution (before dist_correction)
+  std::int32_t time_offset_ns;  // firing time minus the packet timestamp
+  std::uint16_t azimuth;        // interpolated azimuth of the firing, 0.01 degree, [0, 36000)
+  std::uint8_t intensity;       // calibrated reflectivity
   std::uint8_t ring;       // rank by elevation, 0 = lowest
   std::uint8_t laser_id;
   ReturnType return_type;
   std::uint8_t firing;     // index into DecodedPacket::firing_azimuth
+
+  float azimuthDeg() const { return static_cast<float>(azimuth) * 0.01f; }
+  double timeOffsetUs() const { return time_offset_ns * 1e-3; }
 };
 
 enum class PacketStatus : std::uint8_t { Ok, WrongSize, BadBlockFlag, BadAzimuth };
@@ -52,7 +55,7 @@ struct DecodedPacket {
   std::uint8_t product_id = 0;
   int firing_count = 0;        // firing sequences in the packet, in time order
   std::array<std::uint16_t, kMaxFirings> firing_azimuth{};  // 0.01 degree, first laser of the firing
-  std::array<float, kMaxFirings> firing_time_us{};          // from the packet timestamp
+  std::array<std::int32_t, kMaxFirings> firing_time_ns{};   // from the packet timestamp
   int point_count = 0;
   std::array<Point, kMaxPoints> points;  // in firing order; dual: per channel the last, then strongest
 };
@@ -68,7 +71,7 @@ class PacketDecoder {
   const DecoderConfig& config() const { return config_; }
   Model model() const { return config_.model; }
   // Ring of each laser id (rank by elevation).
-  const std::vector<std::uint8_t>& rings() const { return ring_; }
+  std::span<const std::uint8_t> rings() const { return {ring_.data(), static_cast<std::size_t>(traits(config_.model).lasers)}; }
 
  private:
   explicit PacketDecoder(DecoderConfig config) : config_(std::move(config)) {}
@@ -76,16 +79,20 @@ class PacketDecoder {
   struct LaserTable {
     float cos_vert, sin_vert, cos_rot_corr, sin_rot_corr, dist_corr, vert_offset, horiz_offset;
   };
-  void emit(DecodedPacket& out, const wire::RawChannel& ch, int laser, std::uint16_t azimuth, float time_us,
+  // Appends the point of one channel unless its range is zero or outside the limits. The azimuth is
+  // interpolated only for points that are kept.
+  void emit(DecodedPacket& out, const wire::RawChannel& ch, int channel, int base, int advance, std::int32_t time_ns,
             ReturnType type, int firing) const;
 
   DecoderConfig config_;
   double resolution_m_ = 0.002;
-  std::vector<LaserTable> lasers_;
-  std::vector<std::uint8_t> ring_;
-  const float* cos_azimuth_ = nullptr;  // 36000 entries, 0.01 degree steps, shared by all decoders
-  const float* sin_azimuth_ = nullptr;
-  std::array<double, wire::kChannelsPerBlock> channel_time_us_{};
+  float resolution_f_ = 0.002f;
+  std::array<LaserTable, wire::kChannelsPerBlock> lasers_{};
+  std::array<std::uint8_t, wire::kChannelsPerBlock> ring_{};
+  const float* cos_sin_azimuth_ = nullptr;  // cos, sin of every 0.01 degree, shared by all decoders
+  std::array<float, wire::kChannelsPerBlock> channel_fraction_{};  // time in block / block duration
+  std::array<std::int32_t, wire::kChannelsPerBlock> channel_time_ns_{};
+  std::int32_t block_ns_ = 0, sequence_ns_ = 0;
   float min_range_m_ = 0.0f, max_range_m_ = 0.0f;
   std::array<std::uint8_t, wire::kChannelsPerBlock> channel_laser_{};
   std::array<std::uint8_t, wire::kChannelsPerBlock> channel_sequence_{};
