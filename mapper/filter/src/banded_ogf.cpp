@@ -8,6 +8,7 @@
 #include <cstring>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <utility>
 
 #include "ogf/filter/map_checksum.hpp"
@@ -28,20 +29,20 @@ std::uint32_t colourOf(const CellKey& blockKey) {
 
 }  // namespace
 
-// One measurement of a batch, with where it lives.
-struct BandedOgf::Item {
-  std::uint32_t colour = 0;
+// The measurements of a batch in one block.
+struct BandedOgf::Group {
   CellKey block;
-  CellKey cell;
+  std::uint32_t colour = 0;
   std::uint32_t neighbours = 0;  // bit d set: block d of the 3×3×3 neighbourhood is touched
-  std::int8_t y = 1;
+  std::size_t begin = 0;         // range in the sorted measurement keys
+  std::size_t end = 0;
 };
 
-// A run of items in one block.
-struct BandedOgf::Group {
-  std::size_t begin = 0;
-  std::size_t end = 0;
-  std::uint32_t neighbours = 0;
+// Per-thread room for the column Σ[:, i] and the addresses of the stencil cells.
+struct BandedOgf::Scratch {
+  std::vector<float*> base;
+  std::vector<double> column;
+  std::vector<float> columnF;
 };
 
 Result<BandedOgf> BandedOgf::create(const FilterConfig& config) {
@@ -67,15 +68,61 @@ BandedOgf::BandedOgf(const FilterConfig& resolved)
   }
   // Same-colour blocks are one block apart: their measurements touch disjoint cells iff 2·extent ≤ B.
   parallelSafe_ = 2 * stencil_.extent() <= kBlockSide;
+  // Which neighbouring blocks a measurement at each local position reaches.
+  const int e = stencil_.extent();
+  const bool flat = config_.dimensions == 2;
+  neighbourMask_.resize(storage_.cellsPerBlock());
+  for (std::size_t l = 0; l < neighbourMask_.size(); ++l) {
+    const int local[3] = {static_cast<int>(l & 7U), static_cast<int>((l >> 3) & 7U), static_cast<int>(l >> 6)};
+    int lo[3];
+    int hi[3];
+    for (int a = 0; a < 3; ++a) {
+      const int reach = (a == 2 && flat) ? 0 : e;
+      lo[a] = (local[a] - reach) >> 3;
+      hi[a] = (local[a] + reach) >> 3;
+    }
+    std::uint32_t mask = 0;
+    for (int dz = lo[2]; dz <= hi[2]; ++dz) {
+      for (int dy = lo[1]; dy <= hi[1]; ++dy) {
+        for (int dx = lo[0]; dx <= hi[0]; ++dx) {
+          mask |= 1U << static_cast<unsigned>((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1));
+        }
+      }
+    }
+    neighbourMask_[l] = mask;
+  }
+  // Per position in a block and stencil cell: the neighbouring block (5 bits) and the position in it
+  // (9 bits), so a measurement finds its stencil cells by table lookup.
+  const std::size_t cells = stencil_.offsets().size();
+  cellAddress_.resize(neighbourMask_.size() * cells);
+  for (std::size_t l = 0; l < neighbourMask_.size(); ++l) {
+    for (std::size_t c = 0; c < cells; ++c) {
+      const int gx = static_cast<int>(l & 7U) + offsetX_[c];
+      const int gy = static_cast<int>((l >> 3) & 7U) + offsetY_[c];
+      const int gz = static_cast<int>(l >> 6) + offsetZ_[c];
+      const int d = ((gx >> 3) + 1) + 3 * ((gy >> 3) + 1) + 9 * ((gz >> 3) + 1);
+      const int local = (gx & 7) + 8 * ((gy & 7) + 8 * (gz & 7));
+      cellAddress_[l * cells + c] = static_cast<std::uint16_t>((d << 9) | local);
+    }
+  }
+  // The stored pairs grouped by the stencil cell that keeps them (Stencil lists them in that order).
+  pairStart_.assign(cells + 1, 0);
+  for (const StencilPair& pair : stencil_.pairs()) {
+    ++pairStart_[pair.from + 1U];
+    pairTargets_.push_back(static_cast<std::uint32_t>(pair.to) | (static_cast<std::uint32_t>(2 + pair.forward) << 16));
+  }
+  for (std::size_t c = 0; c < cells; ++c) {
+    pairStart_[c + 1] += pairStart_[c];
+  }
 }
 
 void BandedOgf::initialiseBlock(Block& block) {
-  const std::size_t n = block.cells();
+  const std::size_t stride = storage_.floatsPerCell();
   float* d = block.data();
-  std::fill(d, d + n, 0.0F);
-  std::fill(d + n, d + 2 * n, priorVariance_);
-  for (std::size_t f = 0; f < priorSlots_.size(); ++f) {
-    std::fill(d + (2 + f) * n, d + (3 + f) * n, priorSlots_[f]);
+  for (std::size_t l = 0; l < block.cells(); ++l, d += stride) {
+    d[0] = 0.0F;
+    d[1] = priorVariance_;
+    std::copy(priorSlots_.begin(), priorSlots_.end(), d + 2);
   }
 }
 
@@ -91,68 +138,63 @@ Block& BandedOgf::obtainBlock(const CellKey& blockKey, std::size_t& allocated) {
 
 UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* sink) {
   UpdateStats stats;
-  const int e = stencil_.extent();
   const bool flat = config_.dimensions == 2;
 
-  // 1. The deterministic order: colour, block, cell.
-  std::vector<Item> items;
-  items.reserve(batch.size());
+  // 1. The blocks of the batch, and per measurement a key (block, position in block, y).
+  std::unordered_map<CellKey, std::uint32_t, CellKeyHash> blockIndex;
+  std::vector<Group> groups;
+  std::vector<std::uint64_t> keys;
+  keys.reserve(batch.size());
   for (const Measurement& m : batch) {
     if ((m.y != 1 && m.y != -1) || (flat && m.key.z != 0)) {
       ++stats.rejected;
       continue;
     }
-    Item it;
-    it.cell = m.key;
-    it.block = blockKeyOf(m.key);
-    it.colour = colourOf(it.block);
-    it.y = m.y;
-    const int local[3] = {m.key.x & 7, m.key.y & 7, flat ? 0 : (m.key.z & 7)};
-    int lo[3];
-    int hi[3];
-    for (int a = 0; a < 3; ++a) {
-      const int reach = (a == 2 && flat) ? 0 : e;
-      lo[a] = (local[a] - reach) >> 3;
-      hi[a] = (local[a] + reach) >> 3;
+    const CellKey block = blockKeyOf(m.key);
+    const auto [it, inserted] = blockIndex.try_emplace(block, static_cast<std::uint32_t>(groups.size()));
+    if (inserted) {
+      groups.push_back({block, colourOf(block), 0, 0, 0});
     }
-    for (int dz = lo[2]; dz <= hi[2]; ++dz) {
-      for (int dy = lo[1]; dy <= hi[1]; ++dy) {
-        for (int dx = lo[0]; dx <= hi[0]; ++dx) {
-          it.neighbours |= 1U << static_cast<unsigned>((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1));
-        }
-      }
-    }
-    items.push_back(it);
+    const std::size_t local = localIndexOf(m.key);
+    groups[it->second].neighbours |= neighbourMask_[local];
+    keys.push_back((static_cast<std::uint64_t>(it->second) << 32) | (local << 1) | (m.y > 0 ? 1U : 0U));
   }
-  std::sort(items.begin(), items.end(), [](const Item& a, const Item& b) {
-    if (a.colour != b.colour) {
-      return a.colour < b.colour;
-    }
-    if (a.block != b.block) {
-      return a.block < b.block;
-    }
-    return a.cell < b.cell;
-  });
 
-  // 2. Groups of one block, and every block they touch allocated up front (serially, in order).
-  std::vector<Group> groups;
-  for (std::size_t i = 0; i < items.size();) {
-    Group g;
+  // 2. The deterministic order: colour, block key, position in the block (then y).
+  std::vector<std::uint32_t> order(groups.size());
+  for (std::uint32_t g = 0; g < order.size(); ++g) {
+    order[g] = g;
+  }
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return groups[a].colour != groups[b].colour ? groups[a].colour < groups[b].colour
+                                                : groups[a].block < groups[b].block;
+  });
+  std::vector<std::uint32_t> rank(groups.size());
+  std::vector<Group> sorted(groups.size());
+  for (std::uint32_t r = 0; r < order.size(); ++r) {
+    rank[order[r]] = r;
+    sorted[r] = groups[order[r]];
+  }
+  for (std::uint64_t& k : keys) {
+    k = (static_cast<std::uint64_t>(rank[k >> 32]) << 32) | (k & 0xFFFFFFFFU);
+  }
+  std::sort(keys.begin(), keys.end());
+  for (std::size_t i = 0; i < keys.size();) {
+    Group& g = sorted[keys[i] >> 32];
     g.begin = i;
-    while (i < items.size() && items[i].block == items[g.begin].block) {
-      g.neighbours |= items[i].neighbours;
+    while (i < keys.size() && (keys[i] >> 32) == (keys[g.begin] >> 32)) {
       ++i;
     }
     g.end = i;
-    groups.push_back(g);
   }
+
+  // 3. Every block the batch touches, allocated up front (serially, in order).
   std::vector<CellKey> touched;
-  for (const Group& g : groups) {
-    const CellKey& centre = items[g.begin].block;
+  for (const Group& g : sorted) {
     for (unsigned d = 0; d < 27; ++d) {
       if ((g.neighbours >> d) & 1U) {
-        const CellKey key = centre + CellKey{static_cast<int>(d % 3) - 1, static_cast<int>((d / 3) % 3) - 1,
-                                             static_cast<int>(d / 9) - 1};
+        const CellKey key = g.block + CellKey{static_cast<int>(d % 3) - 1, static_cast<int>((d / 3) % 3) - 1,
+                                              static_cast<int>(d / 9) - 1};
         obtainBlock(key, stats.blocksAllocated);
         if (sink != nullptr) {
           touched.push_back(key);
@@ -161,23 +203,28 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
     }
   }
 
-  // 3. Before values of every touched block, to find what changed.
+  // 4. Before values (mean, variance) of every touched block, to find what changed.
   const std::size_t n = storage_.cellsPerBlock();
+  const std::size_t stride = storage_.floatsPerCell();
   std::vector<float> before;
   if (sink != nullptr) {
     std::sort(touched.begin(), touched.end());
     touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
     before.resize(touched.size() * 2 * n);
     for (std::size_t b = 0; b < touched.size(); ++b) {
-      std::memcpy(before.data() + b * 2 * n, storage_.find(touched[b])->data(), 2 * n * sizeof(float));
+      const float* d = storage_.find(touched[b])->data();
+      for (std::size_t l = 0; l < n; ++l) {
+        before[(b * n + l) * 2] = d[l * stride];
+        before[(b * n + l) * 2 + 1] = d[l * stride + 1];
+      }
     }
   }
 
-  // 4. Colour by colour; blocks of one colour in parallel.
-  const std::span<const Item> all(items);
-  for (std::size_t g0 = 0; g0 < groups.size();) {
+  // 5. Colour by colour; blocks of one colour in parallel.
+  const std::span<const std::uint64_t> all(keys);
+  for (std::size_t g0 = 0; g0 < sorted.size();) {
     std::size_t g1 = g0;
-    while (g1 < groups.size() && items[groups[g1].begin].colour == items[groups[g0].begin].colour) {
+    while (g1 < sorted.size() && sorted[g1].colour == sorted[g0].colour) {
       ++g1;
     }
     const std::size_t count = g1 - g0;
@@ -186,8 +233,9 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
       std::atomic<std::size_t> next{g0};
       std::vector<UpdateStats> partial(std::min(workers, count));
       auto work = [&](std::size_t w) {
+        Scratch scratch;
         for (std::size_t g = next.fetch_add(1); g < g1; g = next.fetch_add(1)) {
-          applyGroup(groups[g], all, partial[w]);
+          applyGroup(sorted[g], all, partial[w], scratch);
         }
       };
       {
@@ -202,27 +250,28 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
         stats.skipped += p.skipped;
       }
     } else {
+      Scratch scratch;
       for (std::size_t g = g0; g < g1; ++g) {
-        applyGroup(groups[g], all, stats);
+        applyGroup(sorted[g], all, stats, scratch);
       }
     }
     g0 = g1;
   }
 
-  // 5. Report the cells whose class or quantised probability changed.
+  // 6. Report the cells whose class or quantised probability changed.
   if (sink != nullptr) {
     for (std::size_t b = 0; b < touched.size(); ++b) {
       const float* now = storage_.find(touched[b])->data();
-      const float* old = before.data() + b * 2 * n;
       for (std::size_t l = 0; l < n; ++l) {
-        if (std::memcmp(now + l, old + l, sizeof(float)) == 0 &&
-            std::memcmp(now + n + l, old + n + l, sizeof(float)) == 0) {
+        const float* cell = now + l * stride;
+        const float* old = before.data() + (b * n + l) * 2;
+        if (std::memcmp(cell, old, 2 * sizeof(float)) == 0) {
           continue;
         }
-        const double m1 = static_cast<double>(now[l]);
-        const double s1 = static_cast<double>(now[n + l]);
-        const double m0 = static_cast<double>(old[l]);
-        const double s0 = static_cast<double>(old[n + l]);
+        const double m1 = static_cast<double>(cell[0]);
+        const double s1 = static_cast<double>(cell[1]);
+        const double m0 = static_cast<double>(old[0]);
+        const double s0 = static_cast<double>(old[1]);
         CellChange c;
         c.quantisedProbability = quantiseProbability(predictiveProbability(m1, s1));
         c.occupancyClass = occupancyClass(m1, config_.occupiedThreshold, config_.freeThreshold);
@@ -231,8 +280,8 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
           continue;
         }
         c.key = storage_.cellKey(touched[b], l);
-        c.mean = now[l];
-        c.variance = now[n + l];
+        c.mean = cell[0];
+        c.variance = cell[1];
         sink->cellChanged(c);
       }
     }
@@ -240,18 +289,23 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   return stats;
 }
 
-void BandedOgf::applyGroup(const Group& group, std::span<const Item> items, UpdateStats& stats) {
+void BandedOgf::applyGroup(const Group& group, std::span<const std::uint64_t> keys, UpdateStats& stats,
+                           Scratch& scratch) {
   Block* neighbourhood[27] = {};
-  const CellKey& centre = items[group.begin].block;
   for (unsigned d = 0; d < 27; ++d) {
     if ((group.neighbours >> d) & 1U) {
-      neighbourhood[d] = storage_.find(centre + CellKey{static_cast<int>(d % 3) - 1,
-                                                        static_cast<int>((d / 3) % 3) - 1,
-                                                        static_cast<int>(d / 9) - 1});
+      neighbourhood[d] = storage_.find(group.block + CellKey{static_cast<int>(d % 3) - 1,
+                                                             static_cast<int>((d / 3) % 3) - 1,
+                                                             static_cast<int>(d / 9) - 1});
     }
   }
+  scratch.base.resize(stencil_.offsets().size());
+  scratch.column.resize(stencil_.offsets().size());
+  scratch.columnF.resize(stencil_.offsets().size());
   for (std::size_t i = group.begin; i < group.end; ++i) {
-    if (applyMeasurement(neighbourhood, localIndexOf(items[i].cell), items[i].y)) {
+    const auto local = static_cast<std::size_t>((keys[i] >> 1) & 0x7FFFU);
+    const int y = (keys[i] & 1U) != 0 ? 1 : -1;
+    if (applyMeasurement(neighbourhood, local, y, scratch)) {
       ++stats.applied;
     } else {
       ++stats.skipped;
@@ -259,11 +313,11 @@ void BandedOgf::applyGroup(const Group& group, std::span<const Item> items, Upda
   }
 }
 
-bool BandedOgf::applyMeasurement(Block* const* neighbourhood, std::size_t local, int y) {
-  const std::size_t n = storage_.cellsPerBlock();
-  float* self = neighbourhood[kSelfBlock]->data() + local;
+bool BandedOgf::applyMeasurement(Block* const* neighbourhood, std::size_t local, int y, Scratch& scratch) {
+  const std::size_t stride = storage_.floatsPerCell();
+  float* self = neighbourhood[kSelfBlock]->data() + local * stride;
   const double mean = static_cast<double>(self[0]);
-  const double var = static_cast<double>(self[n]);
+  const double var = static_cast<double>(self[1]);
   const double tolerance = config_.skipTolerance;
   if (tolerance > 0.0 && static_cast<double>(y) * mean / std::sqrt(1.0 + var) > kCertainZ) {
     return false;
@@ -273,47 +327,49 @@ bool BandedOgf::applyMeasurement(Block* const* neighbourhood, std::size_t local,
     return false;
   }
 
-  // Where every stencil cell lives, and its covariance with the measured cell (the column Σ[:, i]).
-  constexpr std::size_t kMaxStencil = 4913;  // (2·8 + 1)³, R < 9
-  float* base[kMaxStencil];
-  double column[kMaxStencil];
-  const std::size_t cells = stencil_.offsets().size();
-  const auto lx = static_cast<int>(local & 7U);
-  const auto ly = static_cast<int>((local >> 3) & 7U);
-  const auto lz = static_cast<int>(local >> 6);
-  const std::span<const std::int16_t> fwd = stencil_.forwardSlot();
-  const std::span<const std::int16_t> bwd = stencil_.backwardSlot();
+  // Where every stencil cell lives (cells are stored contiguously: mean, variance, forward covariances),
+  // and its covariance with the measured cell (the column Σ[:, i]).
+  float** base = scratch.base.data();
+  double* column = scratch.column.data();
+  float* columnF = scratch.columnF.data();
+  const std::size_t cells = scratch.base.size();
+  const std::uint16_t* address = cellAddress_.data() + local * cells;
   for (std::size_t s = 0; s < cells; ++s) {
-    const int gx = lx + offsetX_[s];
-    const int gy = ly + offsetY_[s];
-    const int gz = lz + offsetZ_[s];
-    const auto d = static_cast<std::size_t>(((gx >> 3) + 1) + 3 * ((gy >> 3) + 1) + 9 * ((gz >> 3) + 1));
-    base[s] = neighbourhood[d]->data() + ((gx & 7) + 8 * ((gy & 7) + 8 * (gz & 7)));
+    base[s] = neighbourhood[address[s] >> 9]->data() + static_cast<std::size_t>(address[s] & 511U) * stride;
   }
+  const std::int16_t* fwd = stencil_.forwardSlot().data();
+  const std::int16_t* bwd = stencil_.backwardSlot().data();
   for (std::size_t s = 0; s < cells; ++s) {
     float v;
     if (fwd[s] >= 0) {
-      v = self[(2 + static_cast<std::size_t>(fwd[s])) * n];
+      v = self[2 + fwd[s]];
     } else if (bwd[s] >= 0) {
-      v = base[s][(2 + static_cast<std::size_t>(bwd[s])) * n];
+      v = base[s][2 + bwd[s]];
     } else {
-      v = self[n];
+      v = self[1];
     }
     column[s] = static_cast<double>(v);
+    columnF[s] = v;
   }
 
-  // Eq. (5) inside the band: m += Σ[:, i]·gain, Σ_jk −= shrink·Σ_ji·Σ_ki for every stored pair.
+  // Eq. (5) inside the band: m += Σ[:, i]·gain, Σ_jk −= shrink·Σ_ji·Σ_ki for every stored pair. Means and
+  // variances are accumulated in double, the off-diagonal pairs (most of the work) in float.
   const double gain = u.meanGain;
   const double shrink = u.covShrink;
+  const std::uint32_t* targets = pairTargets_.data();
+  const std::uint32_t* starts = pairStart_.data();
+  const float floor = varianceFloor_;
   for (std::size_t s = 0; s < cells; ++s) {
     float* p = base[s];
     p[0] = static_cast<float>(static_cast<double>(p[0]) + gain * column[s]);
-    const double v = static_cast<double>(p[n]) - shrink * column[s] * column[s];
-    p[n] = std::max(static_cast<float>(v), varianceFloor_);
-  }
-  for (const StencilPair& pair : stencil_.pairs()) {
-    float* p = base[pair.from] + (2 + static_cast<std::size_t>(pair.forward)) * n;
-    *p = static_cast<float>(static_cast<double>(*p) - shrink * column[pair.from] * column[pair.to]);
+    const double v = static_cast<double>(p[1]) - shrink * column[s] * column[s];
+    p[1] = std::max(static_cast<float>(v), floor);
+    const auto scaled = static_cast<float>(shrink * column[s]);
+    const std::uint32_t end = starts[s + 1];
+    for (std::uint32_t k = starts[s]; k < end; ++k) {
+      const std::uint32_t t = targets[k];
+      p[t >> 16] -= scaled * columnF[t & 0xFFFFU];
+    }
   }
   return true;
 }
@@ -323,8 +379,8 @@ CellEstimate BandedOgf::estimate(const CellKey& cell) const {
   if (b == nullptr || (config_.dimensions == 2 && cell.z != 0)) {
     return {0.0, prior_.variance(), false};
   }
-  const std::size_t l = localIndexOf(cell);
-  return {static_cast<double>(b->data()[l]), static_cast<double>(b->data()[b->cells() + l]), true};
+  const float* d = b->data() + localIndexOf(cell) * storage_.floatsPerCell();
+  return {static_cast<double>(d[0]), static_cast<double>(d[1]), true};
 }
 
 double BandedOgf::covariance(const CellKey& a, const CellKey& b) const {
@@ -342,12 +398,12 @@ double BandedOgf::covariance(const CellKey& a, const CellKey& b) const {
   if (blk == nullptr) {
     return prior_(o);
   }
-  const std::size_t n = blk->cells();
-  return static_cast<double>(blk->data()[(2 + static_cast<std::size_t>(slot)) * n + localIndexOf(owner)]);
+  return static_cast<double>(
+      blk->data()[localIndexOf(owner) * storage_.floatsPerCell() + 2 + static_cast<std::size_t>(slot)]);
 }
 
 void BandedOgf::forEachCell(const std::function<void(const CellKey&, float, float)>& visit) const {
-  const std::size_t n = storage_.cellsPerBlock();
+  const std::size_t stride = storage_.floatsPerCell();
   const int side = kBlockSide;
   const int zSide = config_.dimensions == 3 ? kBlockSide : 1;
   for (const CellKey& key : storage_.sortedKeys()) {
@@ -356,7 +412,7 @@ void BandedOgf::forEachCell(const std::function<void(const CellKey&, float, floa
       for (int y = 0; y < side; ++y) {
         for (int z = 0; z < zSide; ++z) {
           const auto l = static_cast<std::size_t>(x + side * (y + side * z));
-          visit(CellKey{key.x * side + x, key.y * side + y, key.z * side + z}, d[l], d[n + l]);
+          visit(CellKey{key.x * side + x, key.y * side + y, key.z * side + z}, d[l * stride], d[l * stride + 1]);
         }
       }
     }

@@ -249,7 +249,7 @@ Result<BandedOgf> decodeMap(std::span<const std::uint8_t> bytes, std::string_vie
     std::memcpy(values.data(), bytes.data() + valuesAt, floatsPerBlock * sizeof(float));
     r.seek(valuesAt + floatsPerBlock * sizeof(float));
     for (std::size_t i = 0; i < floatsPerBlock; ++i) {
-      const bool isVariance = i >= cellsPerBlock && i < 2 * cellsPerBlock;
+      const bool isVariance = i % h.floatsPerCell == 1;
       if (!std::isfinite(values[i]) || (isVariance && !(values[i] > 0.0F))) {
         r.seek(valuesAt + i * sizeof(float));
         return r.fail("block values", std::string(isVariance ? "variance" : "value") + " " +

@@ -4,7 +4,7 @@
 // half of the covariances are floats.
 //
 // Determinism: a batch is applied in a fixed order (colour of its block in a 2×2×2 checkerboard, block key,
-// cell key). Blocks of one colour are more than 2R apart, touch disjoint state and run in parallel; the map
+// position in the block). Blocks of one colour are more than 2R apart, touch disjoint state and run in parallel; the map
 // is bit-identical for any thread count.
 #pragma once
 
@@ -75,13 +75,13 @@ class BandedOgf {
   Status restoreBlock(const CellKey& blockKey, std::span<const float> values);
 
  private:
-  struct Item;
   struct Group;
+  struct Scratch;
   explicit BandedOgf(const FilterConfig& resolved);
   Block& obtainBlock(const CellKey& blockKey, std::size_t& allocated);
   void initialiseBlock(Block& block);
-  void applyGroup(const Group& group, std::span<const Item> items, UpdateStats& stats);
-  bool applyMeasurement(Block* const* neighbourhood, std::size_t local, int y);
+  void applyGroup(const Group& group, std::span<const std::uint64_t> keys, UpdateStats& stats, Scratch& scratch);
+  bool applyMeasurement(Block* const* neighbourhood, std::size_t local, int y, Scratch& scratch);
 
   FilterConfig config_;
   PriorCovariance prior_;
@@ -92,6 +92,11 @@ class BandedOgf {
   float varianceFloor_ = 0.0F;
   // Per stencil offset: the position in a 3×3×3 neighbourhood of blocks and offsets in local coordinates.
   std::vector<std::int32_t> offsetX_, offsetY_, offsetZ_;
+  std::vector<std::uint32_t> neighbourMask_;  // per position in a block: neighbouring blocks reached
+  std::vector<std::uint16_t> cellAddress_;    // per position and stencil cell: block (5 bits), position
+  std::vector<std::uint32_t> pairStart_;      // pairs kept by stencil cell s: [pairStart_[s], [s + 1])
+  // Per pair: the other stencil cell (low 16 bits) and the float index in the keeping cell (high 16).
+  std::vector<std::uint32_t> pairTargets_;
   bool parallelSafe_ = false;
 };
 

@@ -1,6 +1,6 @@
-// Hashed blocks of cells allocated on demand (ogf.md §4): a block is B×B×B cells in 3-D (B×B×1 in 2-D)
-// stored as float arrays (mean, variance, then one array per forward covariance slot), so a measurement
-// touches a few contiguous arrays of at most 8 neighbouring blocks.
+// Hashed blocks of cells allocated on demand (ogf.md §4): a block is B×B×B cells in 3-D (B×B×1 in 2-D),
+// each cell stored contiguously as floats (mean, variance, then one covariance per forward stencil slot), so
+// a measurement touches about one cache line per stencil cell in at most 8 neighbouring blocks.
 #pragma once
 
 #include <ogf/core/cell_key.hpp>
@@ -30,7 +30,7 @@ class Block {
  public:
   Block(std::size_t cells, std::size_t forwardSlots);
   std::size_t cells() const { return cells_; }
-  // Layout: [mean × cells][variance × cells][slot 0 × cells]...[slot F-1 × cells].
+  // Layout: cell-major; cell l at l·(2 + F): [mean, variance, slot 0, ..., slot F-1].
   float* data() { return data_.get(); }
   const float* data() const { return data_.get(); }
   std::span<float> values() { return {data_.get(), size_}; }

@@ -1,0 +1,112 @@
+// Cost of one measurement of the banded OGF in 3-D, free (y = -1) and occupied (y = +1), for stencil radii
+// R = 1, √2, √3, 2 (plain balls) and the default stencil (√2 ball + Manhattan radius 2), on one and two
+// threads; memory per allocated cell. Each iteration applies a scan-sized batch of first measurements to a
+// fresh map (the map is rebuilt outside the timing), so every update is applied, none skipped; a second
+// benchmark re-measures a static scene, where negligible updates are skipped.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "ogf/filter/banded_ogf.hpp"
+
+namespace {
+
+using ogf::CellKey;
+using ogf::filter::BandedOgf;
+using ogf::filter::FilterConfig;
+using ogf::filter::Measurement;
+
+constexpr std::size_t kBatch = 32768;
+
+// Half of the cells of a 64 × 64 × 16 box, each once, in random order (a scan's measurement set).
+std::vector<Measurement> scanBatch(std::int8_t y) {
+  std::mt19937 rng(42);
+  std::vector<Measurement> batch;
+  std::set<CellKey> seen;
+  while (batch.size() < kBatch) {
+    const CellKey k{static_cast<int>(rng() % 64U), static_cast<int>(rng() % 64U), static_cast<int>(rng() % 16U)};
+    if (seen.insert(k).second) {
+      batch.push_back({k, y});
+    }
+  }
+  return batch;
+}
+
+FilterConfig configFor(int radiusSquared, int threads) {
+  FilterConfig config;  // 3-D, 0.2 m cells, σ = 0.1 m
+  config.threads = threads;
+  if (radiusSquared > 0) {
+    config.stencilRadius = std::sqrt(static_cast<double>(radiusSquared));
+    config.stencilManhattanRadius = 0;
+  }
+  return config;
+}
+
+// Args: R² (0 = the default stencil), y, threads.
+void BM_FirstMeasurement(benchmark::State& state) {
+  const auto y = static_cast<std::int8_t>(state.range(1));
+  const FilterConfig config = configFor(static_cast<int>(state.range(0)), static_cast<int>(state.range(2)));
+  const std::vector<Measurement> batch = scanBatch(y);
+  double bytesPerCell = 0.0;
+  std::size_t skipped = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    auto map = BandedOgf::create(config);
+    state.ResumeTiming();
+    const auto stats = map->update(batch);
+    benchmark::DoNotOptimize(stats);
+    state.PauseTiming();
+    skipped += stats.skipped;
+    bytesPerCell = static_cast<double>(map->memoryBytes()) / static_cast<double>(map->allocatedCells());
+    map = ogf::filter::Error{};  // free outside the timing
+    state.ResumeTiming();
+  }
+  state.counters["ns_per_measurement"] = benchmark::Counter(
+      static_cast<double>(kBatch) * 1e-9, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["bytes_per_cell"] = bytesPerCell;
+  state.counters["skipped"] = static_cast<double>(skipped);
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kBatch));
+}
+
+// A static scene measured again and again (the tenth pass onwards): most updates are negligible.
+void BM_RepeatedMeasurement(benchmark::State& state) {
+  const FilterConfig config = configFor(static_cast<int>(state.range(0)), static_cast<int>(state.range(2)));
+  std::vector<Measurement> batch = scanBatch(static_cast<std::int8_t>(state.range(1)));
+  auto map = BandedOgf::create(config);
+  for (int pass = 0; pass < 10; ++pass) {
+    map->update(batch);
+  }
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(map->update(batch));
+  }
+  state.counters["ns_per_measurement"] = benchmark::Counter(
+      static_cast<double>(kBatch) * 1e-9, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kBatch));
+}
+
+void stencils(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"R2", "y", "threads"});
+  for (int threads : {1, 2}) {
+    for (int r2 : {1, 2, 3, 4, 0}) {
+      for (int y : {-1, 1}) {
+        b->Args({r2, y, threads});
+      }
+    }
+  }
+  b->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+
+BENCHMARK(BM_FirstMeasurement)->Apply(stencils);
+BENCHMARK(BM_RepeatedMeasurement)
+    ->ArgNames({"R2", "y", "threads"})
+    ->Args({0, -1, 1})
+    ->Args({0, 1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();
