@@ -1,16 +1,19 @@
 #!/usr/bin/env bash
 # Measures ogf-driver's CPU use at the sensor's live rate: replays a capture to it over UDP on loopback at
-# the capture's own pace (about 754 data packets/s for a VLP-16) for SECONDS, then reads the process's
-# user+system CPU time from /proc/<pid>/stat. Usage: driver_cpu.sh BUILD_DIR CAPTURE [SECONDS]
+# the capture's own pace (about 754 data packets/s for a VLP-16) for SECONDS and reads the process's
+# user+system CPU time from /proc/<pid>/stat over that window (start-up excluded).
+# Usage: driver_cpu.sh BUILD_DIR CAPTURE [SECONDS [extra ogf-driver flags...]]
 set -euo pipefail
 build=${1:?build dir}; capture=${2:?capture file}; seconds=${3:-10}
 port=$((40000 + $$ % 10000))
 url="udpm://239.255.76.67:$((port + 2))?ttl=0"
-"$build/bin/ogf-driver" --bind-address 127.0.0.1 --data-port "$port" --position-port "$((port + 1))" \
+"$build/bin/ogf-driver" "${@:4}" --bind-address 127.0.0.1 --data-port "$port" --position-port "$((port + 1))" \
   --lcm-url "$url" --log-level warn &
 pid=$!
 trap 'kill $pid 2>/dev/null || true' EXIT
 sleep 0.5
+cpu_ticks() { read -r -a stat < "/proc/$pid/stat"; echo $((stat[13] + stat[14])); }
+before=$(cpu_ticks); t0=$(date +%s.%N)
 python3 - "$capture" "$port" "$seconds" <<'PY'
 import socket, struct, sys, time
 path, port, seconds = sys.argv[1], int(sys.argv[2]), float(sys.argv[3])
@@ -35,10 +38,7 @@ while time.monotonic() - start < seconds:
     lap += 1
 print(f"sent {sent} datagrams in {time.monotonic() - start:.1f} s")
 PY
-read -r -a stat < "/proc/$pid/stat"
-ticks=$(getconf CLK_TCK)
-start_ticks=${stat[21]}; utime=${stat[13]}; stime=${stat[14]}
-uptime=$(cut -d' ' -f1 /proc/uptime)
+after=$(cpu_ticks); t1=$(date +%s.%N)
 python3 -c "
-cpu=($utime+$stime)/$ticks; wall=$uptime-$start_ticks/$ticks
-print(f'ogf-driver: {cpu:.2f} s CPU over {wall:.1f} s wall = {100*cpu/wall:.2f} % of one core')"
+cpu=($after-$before)/$(getconf CLK_TCK); wall=$t1-$t0
+print(f'ogf-driver: {cpu:.2f} s CPU over {wall:.1f} s of live-rate input = {100*cpu/wall:.2f} % of one core')"
