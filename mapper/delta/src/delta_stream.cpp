@@ -28,7 +28,8 @@ std::vector<ogf::map_delta_t> DeltaStream::keyframe(std::int64_t utime) const {
   return split(utime, ogf::map_delta_t::KIND_KEYFRAME, -1, cells);
 }
 
-void DeltaStream::reset(std::span<const PublishedCell> cells) {
+void DeltaStream::reset(std::span<const PublishedCell> cells, std::int64_t seq) {
+  seq_ = seq;
   map_.clear();
   for (const PublishedCell& c : cells) map_.set(c);
 }

@@ -1,6 +1,9 @@
 #include "ogf/pipeline/scan_mapper.hpp"
 
+#include <ogf/filter/map_file.hpp>
 #include <ogf/filter/occupancy.hpp>
+
+#include <cmath>
 
 namespace ogf::pipeline {
 namespace {
@@ -56,6 +59,26 @@ filter::UpdateStats ScanMapper::apply(std::span<const Measurement> measurements,
   if (changes == nullptr) return filter_.update(batch_);
   ChangeCollector collector(*changes);
   return filter_.update(batch_, &collector);
+}
+
+Status ScanMapper::restoreFilter(std::span<const std::uint8_t> map_bytes, const std::string& source) {
+  auto loaded = filter::decodeMap(map_bytes, source, filter_.config().threads);
+  if (!loaded) return Error{loaded.error().message};
+  const auto& want = filter_.config();
+  const auto& got = loaded->config();
+  const auto differs = [](double a, double b) { return std::abs(a - b) > 1e-12 * std::max(1.0, std::abs(a)); };
+  const auto mismatch = [&](const char* field, double saved, double configured) -> Status {
+    return Error{source + ": " + field + " " + std::to_string(saved) + " of the saved map differs from the configured " +
+                 std::to_string(configured)};
+  };
+  if (got.dimensions != want.dimensions) return mismatch("dimensions", got.dimensions, want.dimensions);
+  if (differs(got.resolution, want.resolution)) return mismatch("resolution", got.resolution, want.resolution);
+  if (differs(*got.kernelSigma, *want.kernelSigma)) return mismatch("kernel sigma", *got.kernelSigma, *want.kernelSigma);
+  if (differs(*got.kernelAmplitude, *want.kernelAmplitude))
+    return mismatch("kernel amplitude", *got.kernelAmplitude, *want.kernelAmplitude);
+  if (differs(*got.stencilRadius, *want.stencilRadius)) return mismatch("stencil radius", *got.stencilRadius, *want.stencilRadius);
+  filter_ = std::move(*loaded);
+  return okStatus();
 }
 
 std::vector<delta::PublishedCell> ScanMapper::publishedCells() const {

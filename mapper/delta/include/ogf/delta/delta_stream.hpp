@@ -33,9 +33,9 @@ class DeltaStream {
   // The whole published map at seq() as a keyframe (kind KEYFRAME, base_seq -1), in parts.
   std::vector<ogf::map_delta_t> keyframe(std::int64_t utime) const;
 
-  // Replaces the published map wholesale (after a restart from a snapshot) without publishing; clients
-  // learn it from the next keyframe.
-  void reset(std::span<const PublishedCell> cells);
+  // Replaces the published map wholesale (after a restart from a snapshot) and continues numbering after
+  // `seq`, without publishing; clients learn it from the next keyframe.
+  void reset(std::span<const PublishedCell> cells, std::int64_t seq);
 
   std::int64_t seq() const { return seq_; }
   std::int64_t mapId() const { return config_.map_id; }

@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include <span>
+#include <string>
 #include <vector>
 
 #include "ogf/common/result.hpp"
@@ -39,6 +40,10 @@ class ScanMapper {
   // the cells whose class or quantised probability changed are appended to it as delta candidates.
   filter::UpdateStats apply(std::span<const Measurement> measurements,
                             std::vector<delta::PublishedCell>* changes = nullptr);
+
+  // Replaces the filter with a saved map (the filter's map file bytes). Refused, naming the field, when the
+  // saved map was made with another resolution, kernel or stencil than this configuration.
+  Status restoreFilter(std::span<const std::uint8_t> map_bytes, const std::string& source);
 
   filter::BandedOgf& filter() { return filter_; }
   const filter::BandedOgf& filter() const { return filter_; }

@@ -1,0 +1,112 @@
+// ogf-mapper's process: subscribes VELODYNE_SCAN and POSE, holds scans until the odometry covers them,
+// maps them on a worker thread (journal first, then the filter, then OGF_MAP_DELTA), answers keyframe
+// requests, snapshots the map, and publishes OGF_MAPPER_STATUS. The Asio thread only receives and
+// queues, so a slow update never stalls LCM; when mapping falls behind, PendingScans drops whole scans
+// and counts them.
+#pragma once
+
+#include <lcm/lcm-cpp.hpp>
+#include <ogf/fusion/pending_scans.hpp>
+#include <ogf/fusion/pose_buffer.hpp>
+#include <ogf/lidar_scan_t.hpp>
+#include <ogf/map_request_t.hpp>
+#include <ogf/mapper_status_t.hpp>
+
+#include <boost/asio/steady_timer.hpp>
+
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "ogf/common/result.hpp"
+#include "ogf/delta/delta_stream.hpp"
+#include "ogf/mapper_daemon/mapper_options.hpp"
+#include "ogf/persistence/state_directory.hpp"
+#include "ogf/pipeline/scan_mapper.hpp"
+#include "ogf/transport/daemon_loop.hpp"
+#include "ogf/transport/logging.hpp"
+#include "ogf/transport/subscriber.hpp"
+
+namespace ogf::mapper_daemon {
+
+class MapperDaemon {
+ public:
+  // Builds the map (restoring the state directory when one is configured) and subscribes. Fails only on
+  // an invalid configuration; persistence problems are logged, reported in the status, and mapping goes
+  // on in memory.
+  static Result<std::unique_ptr<MapperDaemon>> create(const MapperOptions& options, lcm::LCM& lcm,
+                                                       transport::DaemonLoop& loop);
+  ~MapperDaemon();
+  MapperDaemon(const MapperDaemon&) = delete;
+  MapperDaemon& operator=(const MapperDaemon&) = delete;
+
+  // Starts the worker and the status timer.
+  void start();
+  // Stops the worker after the scan in hand, writes a final snapshot. Idempotent.
+  void stop();
+
+  // True while the worker is alive and not stuck (for the systemd watchdog).
+  bool healthy() const;
+
+ private:
+  using ScanPtr = std::shared_ptr<const ogf::lidar_scan_t>;
+
+  MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, transport::DaemonLoop& loop, pipeline::ScanMapper mapper);
+  void restore();
+  void onScan(const ogf::lidar_scan_t& scan, const lcm::ReceiveBuffer& rbuf);
+  void onPose(const lcm::ReceiveBuffer& rbuf);
+  void workerLoop();
+  void mapScan(const ScanPtr& scan);
+  void publishKeyframe();
+  void takeSnapshot();
+  void persistenceFailed(const std::string& what);
+  void publishStatus();
+  void armStatusTimer();
+  static std::int64_t steadyUtime();
+  static std::int64_t wallUtime();
+
+  MapperOptions options_;
+  lcm::LCM& lcm_;
+  transport::DaemonLoop& loop_;
+
+  // Owned by the worker once started.
+  pipeline::ScanMapper mapper_;
+  delta::DeltaStream deltas_;
+  std::optional<persistence::StateDirectory> state_;
+  std::vector<delta::PublishedCell> changes_;
+  std::int64_t last_snapshot_steady_ = 0;
+  std::int64_t last_keyframe_steady_ = 0;
+  std::int64_t snapshot_seq_ = 0;
+  std::mt19937 drop_rng_;
+
+  // Shared between the Asio thread and the worker.
+  mutable std::mutex mu_;
+  std::condition_variable cv_;
+  fusion::PoseBuffer poses_;
+  fusion::PendingScans<ScanPtr> pending_;
+  bool keyframe_requested_ = false;
+  bool work_ = false;
+  bool stop_ = false;
+  std::int64_t worker_heartbeat_ = 0;
+  ogf::mapper_status_t stats_{};  // counters the worker owns, copied into each status message
+  std::int64_t malformed_scans_ = 0;
+  std::int64_t malformed_poses_ = 0;
+  double update_ms_sum_ = 0;
+  int update_count_ = 0;
+
+  std::unique_ptr<transport::Subscriber<ogf::lidar_scan_t>> scan_sub_;
+  std::unique_ptr<transport::Subscriber<ogf::map_request_t>> request_sub_;
+  lcm::Subscription* pose_sub_ = nullptr;
+  boost::asio::steady_timer status_timer_;
+  transport::LogRateLimiter bad_scan_log_, bad_pose_log_, jump_log_, drop_log_;
+  std::thread worker_;
+  bool started_ = false;
+  bool stopped_ = false;
+};
+
+}  // namespace ogf::mapper_daemon

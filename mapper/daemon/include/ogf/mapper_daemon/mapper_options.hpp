@@ -1,0 +1,50 @@
+// Everything ogf-mapper is configured with: the bus and channels, the map (through MapperConfig), the
+// state directory and the timers. Read from a YAML file (unknown keys are refused, so a typo never
+// silently falls back to a default), then overridden by flags, then validated as a whole.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "ogf/common/result.hpp"
+#include "ogf/pipeline/mapper_config.hpp"
+
+namespace ogf::mapper_daemon {
+
+enum class ScanTimeBase { kDevice, kHost };
+
+struct MapperOptions {
+  std::string lcm_url;  // "" = $LCM_DEFAULT_URL, else LCM's default
+  std::string scan_channel = "VELODYNE_SCAN";
+  std::string pose_channel = "POSE";
+  std::string delta_channel = "OGF_MAP_DELTA";
+  std::string request_channel = "OGF_MAP_REQUEST";
+  std::string status_channel = "OGF_MAPPER_STATUS";
+  // Which scan clock the odometry's utime shares: the sensor's device time (GPS/PPS or top-of-hour +
+  // host hour) or the driver host's receive time.
+  ScanTimeBase time_base = ScanTimeBase::kDevice;
+
+  pipeline::MapperConfig map;
+
+  // Where snapshots and the journal live; empty = map in memory only.
+  std::filesystem::path state_dir;
+  double snapshot_interval_s = 60.0;
+  double keyframe_interval_s = 30.0;
+  double status_interval_s = 1.0;
+
+  // Fault injection for tests: drop this fraction of delta updates before publishing (0 = never).
+  double test_drop_delta_fraction = 0.0;
+  std::uint32_t test_seed = 1;
+
+  Status validate() const;
+};
+
+// Reads a YAML file into `options` (fields not in the file keep their values). Errors name the file,
+// the line and the key.
+Status loadMapperOptions(const std::filesystem::path& path, MapperOptions& options);
+
+// The keys a file may hold, as a YAML example with the defaults (printed by --print-config).
+std::string exampleMapperConfig();
+
+}  // namespace ogf::mapper_daemon

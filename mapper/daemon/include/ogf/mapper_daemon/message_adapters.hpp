@@ -1,0 +1,28 @@
+// From LCM messages to what the fusion layer takes: a Pose from ogf.odometry_t or libbot2's
+// bot_core.pose_t (the POSE channel may carry either; the fingerprint says which), and a scan's points
+// after checking the message is well-formed (array lengths, counts, time offsets).
+#pragma once
+
+#include <lcm/lcm-cpp.hpp>
+#include <ogf/fusion/deskew.hpp>
+#include <ogf/fusion/pose.hpp>
+#include <ogf/lidar_scan_t.hpp>
+
+#include <string>
+
+#include "ogf/common/result.hpp"
+#include "ogf/mapper_daemon/mapper_options.hpp"
+
+namespace ogf::mapper_daemon {
+
+// Decodes a POSE message of either type. Errors say why ("fingerprint matches neither ...", "truncated").
+Result<fusion::Pose> decodePose(const void* data, std::size_t size);
+
+// Checks a decoded scan: point count within limits and equal to every array's length, non-negative time
+// offsets, end not before start. The error names the field.
+Status validateScan(const ogf::lidar_scan_t& scan);
+
+// The scan's points as the fusion layer reads them, timed on `base`. The spans point into `scan`.
+fusion::ScanPoints scanPointsOf(const ogf::lidar_scan_t& scan, ScanTimeBase base);
+
+}  // namespace ogf::mapper_daemon

@@ -1,0 +1,116 @@
+// ogf-mapper: the mapping daemon. Scans (VELODYNE_SCAN) and the robot's odometry (POSE, ogf.odometry_t or
+// bot_core.pose_t) in; the OGF map out as deltas on OGF_MAP_DELTA, keyframes on request, status on
+// OGF_MAPPER_STATUS; the map kept in a state directory so a restart resumes it.
+#include <CLI/CLI.hpp>
+#include <lcm/lcm-cpp.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+
+#include "ogf/mapper_daemon/mapper_daemon.hpp"
+#include "ogf/mapper_daemon/mapper_options.hpp"
+#include "ogf/transport/daemon_loop.hpp"
+#include "ogf/transport/lcm_asio_bridge.hpp"
+#include "ogf/transport/lcm_url.hpp"
+#include "ogf/transport/logging.hpp"
+
+int main(int argc, char** argv) {
+  using ogf::mapper_daemon::MapperOptions;
+  CLI::App app{"ogf-mapper: fuses lidar scans with the robot's odometry through the Occupancy Grid Filter "
+               "(Sun et al. 2018) and streams the map on LCM."};
+  std::string config_path;
+  std::string url, state_dir, time_base, log_level = "info";
+  std::optional<double> resolution, max_range, min_range, snapshot_s, keyframe_s, drop_fraction;
+  std::optional<int> threads;
+  std::optional<std::string> scan_ch, pose_ch, delta_ch, request_ch, status_ch;
+  bool in_memory = false;
+  bool print_config = false;
+  app.add_option("--config", config_path, "YAML configuration file (see --print-config)")->check(CLI::ExistingFile);
+  app.add_option("--lcm-url", url, "LCM URL (default: the file's lcm_url, $LCM_DEFAULT_URL, LCM's default)");
+  app.add_option("--state-dir", state_dir,
+                 "Directory for snapshots and the journal (default: the file's state_dir, else $STATE_DIRECTORY)");
+  app.add_flag("--in-memory", in_memory, "Keep the map in memory only, ignoring any state directory");
+  app.add_option("--resolution", resolution, "Cell size, metres")->check(CLI::PositiveNumber);
+  app.add_option("--min-range", min_range, "Returns closer than this are ignored, metres")->check(CLI::NonNegativeNumber);
+  app.add_option("--max-range", max_range, "Returns beyond are cut here (free cells only), metres")->check(CLI::PositiveNumber);
+  app.add_option("--threads", threads, "Filter update threads (the map is identical for any count)")->check(CLI::PositiveNumber);
+  app.add_option("--time-base", time_base, "Scan clock the odometry shares: device or host")->check(CLI::IsMember({"device", "host"}));
+  app.add_option("--snapshot-interval", snapshot_s, "Seconds between snapshots")->check(CLI::PositiveNumber);
+  app.add_option("--keyframe-interval", keyframe_s, "Seconds between unsolicited keyframes")->check(CLI::PositiveNumber);
+  app.add_option("--scan-channel", scan_ch, "Scan channel (default VELODYNE_SCAN)");
+  app.add_option("--pose-channel", pose_ch, "Odometry channel (default POSE)");
+  app.add_option("--delta-channel", delta_ch, "Delta channel (default OGF_MAP_DELTA)");
+  app.add_option("--request-channel", request_ch, "Keyframe request channel (default OGF_MAP_REQUEST)");
+  app.add_option("--status-channel", status_ch, "Status channel (default OGF_MAPPER_STATUS)");
+  app.add_option("--test-drop-deltas", drop_fraction, "Testing: drop this fraction of delta updates (gap injection)")
+      ->check(CLI::Range(0.0, 0.99));
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
+  app.add_flag("--print-config", print_config, "Print an example configuration with the defaults and exit");
+  CLI11_PARSE(app, argc, argv);
+
+  if (print_config) {
+    std::cout << ogf::mapper_daemon::exampleMapperConfig();
+    return 0;
+  }
+  const auto level = ogf::transport::parseLogLevel(log_level);
+  if (!level) {
+    std::fprintf(stderr, "--log-level: unknown level '%s'\n", log_level.c_str());
+    return 2;
+  }
+  ogf::transport::setupLogging("ogf-mapper", *level);
+
+  MapperOptions options;
+  if (!config_path.empty()) {
+    if (auto st = ogf::mapper_daemon::loadMapperOptions(config_path, options); !st) {
+      spdlog::critical("configuration: {}", st.error().message);
+      return 2;
+    }
+  }
+  if (!url.empty()) options.lcm_url = url;
+  if (!state_dir.empty()) options.state_dir = state_dir;
+  if (options.state_dir.empty()) {
+    if (const char* sd = std::getenv("STATE_DIRECTORY"); sd != nullptr && *sd != '\0') options.state_dir = sd;
+  }
+  if (in_memory) options.state_dir.clear();
+  if (resolution) options.map.setResolution(*resolution);
+  if (min_range) options.map.fusion.measurement.min_range_m = *min_range;
+  if (max_range) options.map.fusion.measurement.max_range_m = *max_range;
+  if (threads) options.map.filter.threads = *threads;
+  if (!time_base.empty())
+    options.time_base = time_base == "host" ? ogf::mapper_daemon::ScanTimeBase::kHost : ogf::mapper_daemon::ScanTimeBase::kDevice;
+  if (snapshot_s) options.snapshot_interval_s = *snapshot_s;
+  if (keyframe_s) options.keyframe_interval_s = *keyframe_s;
+  if (scan_ch) options.scan_channel = *scan_ch;
+  if (pose_ch) options.pose_channel = *pose_ch;
+  if (delta_ch) options.delta_channel = *delta_ch;
+  if (request_ch) options.request_channel = *request_ch;
+  if (status_ch) options.status_channel = *status_ch;
+  if (drop_fraction) options.test_drop_delta_fraction = *drop_fraction;
+  if (auto st = options.validate(); !st) {
+    spdlog::critical("configuration: {}", st.error().message);
+    return 2;
+  }
+
+  const std::string resolved = ogf::transport::withReceiveBuffer(ogf::transport::resolveLcmUrl(options.lcm_url));
+  lcm::LCM lcm(resolved);
+  if (!lcm.good()) {
+    spdlog::critical("cannot join the LCM bus {} (udpm needs a multicast route)", resolved);
+    return 3;
+  }
+  ogf::transport::DaemonLoop loop;
+  ogf::transport::LcmAsioBridge bridge(loop.io(), lcm, [&loop] { loop.requestStop(4); });
+  auto daemon = ogf::mapper_daemon::MapperDaemon::create(options, lcm, loop);
+  if (!daemon) {
+    spdlog::critical("{}", daemon.error().message);
+    return 2;
+  }
+  auto& d = **daemon;
+  loop.onShutdown([&d] { d.stop(); });
+  loop.setHealthCheck([&d] { return d.healthy(); });
+  d.start();
+  spdlog::info("mapping {} + {} on {} at {} m; deltas on {}", options.scan_channel, options.pose_channel, resolved,
+               options.map.filter.resolution, options.delta_channel);
+  loop.ready("mapping");
+  return loop.run();
+}

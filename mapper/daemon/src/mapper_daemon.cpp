@@ -1,0 +1,362 @@
+#include "ogf/mapper_daemon/mapper_daemon.hpp"
+
+#include <ogf/filter/map_file.hpp>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <filesystem>
+
+#include "ogf/mapper_daemon/message_adapters.hpp"
+
+namespace ogf::mapper_daemon {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// A worker that has not come round its loop for this long is stuck (the watchdog stops being fed).
+constexpr std::int64_t kWorkerStuckUs = 10'000'000;
+// Keyframe parts are sent in bursts of this many (~1 MB), with a pause so receivers' kernel buffers drain.
+constexpr int kKeyframeBurst = 16;
+
+std::int64_t newMapId() {
+  std::random_device rd;
+  const std::uint64_t hi = rd(), lo = rd();
+  return static_cast<std::int64_t>(((hi << 32) | lo) & 0x7FFFFFFFFFFFFFFFULL) | 1;
+}
+
+}  // namespace
+
+std::int64_t MapperDaemon::steadyUtime() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(Clock::now().time_since_epoch()).count();
+}
+
+std::int64_t MapperDaemon::wallUtime() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+Result<std::unique_ptr<MapperDaemon>> MapperDaemon::create(const MapperOptions& options, lcm::LCM& lcm,
+                                                           transport::DaemonLoop& loop) {
+  if (auto st = options.validate(); !st) return st.error();
+  auto mapper = pipeline::ScanMapper::create(options.map);
+  if (!mapper) return mapper.error();
+  std::unique_ptr<MapperDaemon> d(new MapperDaemon(options, lcm, loop, std::move(*mapper)));
+  d->restore();
+  return d;
+}
+
+MapperDaemon::MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, transport::DaemonLoop& loop,
+                           pipeline::ScanMapper mapper)
+    : options_(options),
+      lcm_(lcm),
+      loop_(loop),
+      mapper_(std::move(mapper)),
+      deltas_({options.map.filter.resolution, newMapId(), ogf::messages::kMaxDeltaCellsPerMessage}),
+      drop_rng_(options.test_seed),
+      poses_(options.map.fusion.pose_buffer),
+      pending_(options.map.fusion.pending),
+      status_timer_(loop.io()) {
+  stats_.persistence_ok = true;
+}
+
+MapperDaemon::~MapperDaemon() { stop(); }
+
+void MapperDaemon::persistenceFailed(const std::string& what) {
+  spdlog::error("persistence: {}; mapping goes on in memory", what);
+  std::lock_guard lk(mu_);
+  stats_.persistence_ok = false;
+  stats_.persistence_error = what;
+}
+
+void MapperDaemon::restore() {
+  std::int64_t seq = 0;
+  if (!options_.state_dir.empty()) {
+    auto dir = persistence::StateDirectory::open(options_.state_dir);
+    if (!dir) {
+      persistenceFailed(dir.error().message);
+    } else {
+      auto rec = dir->recover(newMapId());
+      if (!rec) {
+        // Never half-load a map, and never overwrite one that could still be rescued: set it aside.
+        const auto aside = options_.state_dir / ("damaged-" + std::to_string(wallUtime()));
+        std::error_code ec;
+        std::filesystem::create_directories(aside, ec);
+        std::filesystem::rename(dir->snapshotPath(), aside / dir->snapshotPath().filename(), ec);
+        std::filesystem::rename(dir->journalPath(), aside / dir->journalPath().filename(), ec);
+        spdlog::error("state directory: {}; moved to {} and starting a new map", rec.error().message, aside.string());
+        rec = dir->recover(newMapId());
+      }
+      if (!rec) {
+        persistenceFailed(rec.error().message);
+      } else {
+        for (const auto& note : rec->notes) spdlog::warn("state directory: {}", note);
+        bool ok = true;
+        if (!rec->snapshot_map.empty()) {
+          if (auto st = mapper_.restoreFilter(rec->snapshot_map, dir->snapshotPath().string()); !st) {
+            spdlog::error("state directory: {}; starting a new map", st.error().message);
+            ok = false;
+          }
+        }
+        if (ok) {
+          for (const auto& r : rec->replay) mapper_.apply(r.measurements);
+          seq = rec->last_seq;
+          snapshot_seq_ = rec->snapshot_seq;
+          state_.emplace(std::move(*dir));
+          spdlog::info("restored map {} at seq {} (snapshot {} + {} journal records): {} cells, checksum {:016x}",
+                       rec->map_id, seq, rec->snapshot_seq, rec->replay.size(), mapper_.filter().allocatedCells(),
+                       mapper_.filter().checksum());
+        } else {
+          persistenceFailed("the saved map does not fit the configuration (see the log); not persisting");
+        }
+      }
+    }
+  }
+  const auto cells = mapper_.publishedCells();
+  deltas_.reset(cells, seq);
+  std::lock_guard lk(mu_);
+  stats_.delta_seq = seq;
+  stats_.cells = static_cast<std::int64_t>(mapper_.filter().allocatedCells());
+  stats_.memory_bytes = static_cast<std::int64_t>(mapper_.filter().memoryBytes());
+  stats_.filter_checksum = static_cast<std::int64_t>(mapper_.filter().checksum());
+}
+
+void MapperDaemon::start() {
+  if (started_) return;
+  started_ = true;
+  scan_sub_ = std::make_unique<transport::Subscriber<ogf::lidar_scan_t>>(
+      lcm_, options_.scan_channel,
+      [this](const ogf::lidar_scan_t& s, const lcm::ReceiveBuffer& rb, const std::string&) { onScan(s, rb); },
+      [this](const std::string& ch, std::size_t size, std::string_view why) {
+        {
+          std::lock_guard lk(mu_);
+          ++malformed_scans_;
+        }
+        if (auto n = bad_scan_log_.allow()) spdlog::warn("scan on {} ({} bytes) {} ({} more)", ch, size, why, *n);
+      });
+  request_sub_ = std::make_unique<transport::Subscriber<ogf::map_request_t>>(
+      lcm_, options_.request_channel,
+      [this](const ogf::map_request_t& r, const lcm::ReceiveBuffer&, const std::string&) {
+        spdlog::debug("keyframe requested by {} (last seq {})", r.requester, r.last_seq);
+        std::lock_guard lk(mu_);
+        keyframe_requested_ = true;
+        work_ = true;
+        cv_.notify_one();
+      },
+      transport::Subscriber<ogf::map_request_t>::ErrorHandler{});
+  pose_sub_ = lcm_.subscribeFunction(
+      options_.pose_channel,
+      +[](const lcm::ReceiveBuffer* rb, const std::string&, MapperDaemon* self) { self->onPose(*rb); }, this);
+  if (pose_sub_ != nullptr) pose_sub_->setQueueCapacity(transport::kSubscriptionQueueCapacity);
+  {
+    std::lock_guard lk(mu_);
+    worker_heartbeat_ = steadyUtime();
+  }
+  worker_ = std::thread([this] { workerLoop(); });
+  armStatusTimer();
+}
+
+void MapperDaemon::stop() {
+  if (!started_ || stopped_) return;
+  stopped_ = true;
+  {
+    std::lock_guard lk(mu_);
+    stop_ = true;
+    cv_.notify_one();
+  }
+  if (worker_.joinable()) worker_.join();
+  boost::system::error_code ec;
+  status_timer_.cancel(ec);
+  if (pose_sub_ != nullptr) lcm_.unsubscribe(pose_sub_);
+  pose_sub_ = nullptr;
+  scan_sub_.reset();
+  request_sub_.reset();
+  takeSnapshot();
+}
+
+bool MapperDaemon::healthy() const {
+  std::lock_guard lk(mu_);
+  return !stop_ && steadyUtime() - worker_heartbeat_ < kWorkerStuckUs;
+}
+
+void MapperDaemon::onScan(const ogf::lidar_scan_t& scan, const lcm::ReceiveBuffer&) {
+  if (auto st = validateScan(scan); !st) {
+    {
+      std::lock_guard lk(mu_);
+      ++malformed_scans_;
+    }
+    if (auto n = bad_scan_log_.allow()) spdlog::warn("scan seq {} rejected: {} ({} more)", scan.seq, st.error().message, *n);
+    return;
+  }
+  auto owned = std::make_shared<const ogf::lidar_scan_t>(scan);
+  const fusion::ScanTimeSpan span = fusion::timeSpanOf(scanPointsOf(*owned, options_.time_base));
+  std::lock_guard lk(mu_);
+  const auto outcome = pending_.push({span.begin_utime, span.end_utime, static_cast<std::size_t>(scan.num_points)},
+                                     std::move(owned), steadyUtime());
+  if (outcome == fusion::PushOutcome::kLate) {
+    if (auto n = bad_scan_log_.allow()) spdlog::warn("scan seq {} arrived after a newer one: dropped ({} more)", scan.seq, *n);
+  }
+  work_ = true;
+  cv_.notify_one();
+}
+
+void MapperDaemon::onPose(const lcm::ReceiveBuffer& rb) {
+  auto pose = decodePose(rb.data, rb.data_size);
+  if (!pose) {
+    {
+      std::lock_guard lk(mu_);
+      ++malformed_poses_;
+    }
+    if (auto n = bad_pose_log_.allow())
+      spdlog::warn("message on {} ({} bytes): {} ({} more)", options_.pose_channel, rb.data_size, pose.error().message, *n);
+    return;
+  }
+  fusion::PoseInsertResult r;
+  {
+    std::lock_guard lk(mu_);
+    r = poses_.insert(*pose);
+    work_ = true;
+    cv_.notify_one();
+  }
+  if (!r.accepted()) {
+    static constexpr const char* kWhy[] = {"", "out of order", "at a duplicate time", "not finite", "not a unit quaternion"};
+    if (auto n = bad_pose_log_.allow())
+      spdlog::warn("pose at {} rejected: {} ({} more)", pose->utime, kWhy[static_cast<int>(r.rejection)], *n);
+  } else if (r.jump) {
+    if (auto n = jump_log_.allow())
+      spdlog::warn("odometry jumped {:.3f} m / {:.3f} rad at {} ({} more)", r.step_translation_m, r.step_rotation_rad,
+                   pose->utime, *n);
+  }
+}
+
+void MapperDaemon::workerLoop() {
+  const auto snapshot_us = static_cast<std::int64_t>(options_.snapshot_interval_s * 1e6);
+  const auto keyframe_us = static_cast<std::int64_t>(options_.keyframe_interval_s * 1e6);
+  last_snapshot_steady_ = last_keyframe_steady_ = steadyUtime();
+  std::unique_lock lk(mu_);
+  while (!stop_) {
+    cv_.wait_for(lk, std::chrono::milliseconds(20), [this] { return stop_ || work_; });
+    work_ = false;
+    worker_heartbeat_ = steadyUtime();
+    // Scans whose poses have arrived, oldest first; waiting ones expire inside popReady.
+    while (!stop_) {
+      auto entry = pending_.popReady(poses_, steadyUtime());
+      if (!entry) break;
+      const ScanPtr scan = std::move(entry->payload);
+      const auto t0 = Clock::now();
+      const auto coverage = mapper_.measure(scanPointsOf(*scan, options_.time_base), poses_);
+      lk.unlock();
+      if (coverage == fusion::PoseCoverage::kCovered) mapScan(scan);
+      const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      lk.lock();
+      worker_heartbeat_ = steadyUtime();
+      if (coverage == fusion::PoseCoverage::kCovered) {
+        stats_.update_ms_last = static_cast<float>(ms);
+        update_ms_sum_ += ms;
+        ++update_count_;
+        stats_.lag_ms = static_cast<float>(static_cast<double>(wallUtime() - scan->host_utime_end) / 1000.0);
+      }
+    }
+    const bool keyframe = keyframe_requested_;
+    keyframe_requested_ = false;
+    lk.unlock();
+    const auto now = steadyUtime();
+    if (keyframe || now - last_keyframe_steady_ > keyframe_us) publishKeyframe();
+    if (state_ && now - last_snapshot_steady_ > snapshot_us) takeSnapshot();
+    lk.lock();
+  }
+}
+
+void MapperDaemon::mapScan(const ScanPtr& scan) {
+  const auto measurements = mapper_.measurements();
+  const std::int64_t seq = deltas_.seq() + 1;
+  // Write-ahead: the journal holds the scan before the map changes, so what a client is told exists on disk.
+  if (state_) {
+    if (auto st = state_->journal(seq, scan->utime, measurements); !st) {
+      state_.reset();
+      persistenceFailed(st.error().message);
+    }
+  }
+  changes_.clear();
+  mapper_.apply(measurements, &changes_);
+  auto msgs = deltas_.update(scan->utime, changes_);
+  const bool drop = options_.test_drop_delta_fraction > 0 &&
+                    std::uniform_real_distribution<double>(0, 1)(drop_rng_) < options_.test_drop_delta_fraction;
+  if (!drop) {
+    for (const auto& m : msgs) lcm_.publish(options_.delta_channel, &m);
+  }
+  std::lock_guard lk(mu_);
+  ++stats_.scans_mapped;
+  stats_.measurements += static_cast<std::int64_t>(measurements.size());
+  stats_.delta_seq = deltas_.seq();
+  stats_.cells = static_cast<std::int64_t>(mapper_.filter().allocatedCells());
+  stats_.memory_bytes = static_cast<std::int64_t>(mapper_.filter().memoryBytes());
+  stats_.filter_checksum = static_cast<std::int64_t>(mapper_.filter().checksum());
+}
+
+void MapperDaemon::publishKeyframe() {
+  last_keyframe_steady_ = steadyUtime();
+  const auto parts = deltas_.keyframe(wallUtime());
+  int sent = 0;
+  for (const auto& m : parts) {
+    lcm_.publish(options_.delta_channel, &m);
+    if (++sent % kKeyframeBurst == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  std::lock_guard lk(mu_);
+  ++stats_.keyframes_sent;
+}
+
+void MapperDaemon::takeSnapshot() {
+  last_snapshot_steady_ = steadyUtime();
+  if (!state_ && !options_.state_dir.empty()) {
+    // Persistence failed earlier: try the directory again, starting over with a full snapshot.
+    auto dir = persistence::StateDirectory::open(options_.state_dir);
+    if (!dir) return;
+    auto rec = dir->recover(deltas_.mapId());
+    if (!rec) return;
+    state_.emplace(std::move(*dir));
+    snapshot_seq_ = -1;
+  }
+  if (!state_ || snapshot_seq_ == deltas_.seq()) return;
+  const auto bytes = filter::encodeMap(mapper_.filter());
+  if (auto st = state_->snapshot(deltas_.seq(), bytes); !st) {
+    state_.reset();
+    persistenceFailed(st.error().message);
+    return;
+  }
+  snapshot_seq_ = deltas_.seq();
+  spdlog::info("snapshot at seq {}: {} bytes", snapshot_seq_, bytes.size());
+  std::lock_guard lk(mu_);
+  stats_.persistence_ok = true;
+  stats_.persistence_error.clear();
+}
+
+void MapperDaemon::armStatusTimer() {
+  status_timer_.expires_after(std::chrono::microseconds(static_cast<std::int64_t>(options_.status_interval_s * 1e6)));
+  status_timer_.async_wait([this](const boost::system::error_code& ec) {
+    if (ec) return;
+    publishStatus();
+    armStatusTimer();
+  });
+}
+
+void MapperDaemon::publishStatus() {
+  ogf::mapper_status_t s;
+  {
+    std::lock_guard lk(mu_);
+    s = stats_;
+    const auto& pc = pending_.counts();
+    s.scans_in = pc.scans_in + malformed_scans_;
+    s.scans_dropped_behind = pc.scans_dropped_behind;
+    s.scans_dropped_no_pose = pc.scans_dropped_no_pose;
+    s.scans_late = pc.scans_late;
+    s.scans_rejected = pc.scans_rejected + malformed_scans_;
+    s.poses_in = poses_.counts().accepted + poses_.counts().rejected() + malformed_poses_;
+    s.poses_rejected = poses_.counts().rejected() + malformed_poses_;
+    s.update_ms_mean = update_count_ > 0 ? static_cast<float>(update_ms_sum_ / update_count_) : 0.0f;
+    update_ms_sum_ = 0;
+    update_count_ = 0;
+  }
+  s.utime = wallUtime();
+  lcm_.publish(options_.status_channel, &s);
+}
+
+}  // namespace ogf::mapper_daemon

@@ -1,0 +1,199 @@
+#include "ogf/mapper_daemon/mapper_options.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <set>
+#include <sstream>
+
+namespace ogf::mapper_daemon {
+namespace {
+
+std::string where(const std::filesystem::path& path, const YAML::Node& node, const std::string& key) {
+  return path.string() + ":" + std::to_string(node.Mark().line + 1) + ": " + key;
+}
+
+// Refuses keys this section does not know.
+Status checkKeys(const std::filesystem::path& path, const YAML::Node& node, const std::string& section,
+                 const std::set<std::string>& known) {
+  if (!node.IsMap()) return Error{where(path, node, section) + ": expected a mapping"};
+  for (const auto& kv : node) {
+    const auto key = kv.first.as<std::string>();
+    if (known.count(key) == 0)
+      return Error{where(path, kv.first, section.empty() ? key : section + "." + key) + ": unknown key"};
+  }
+  return okStatus();
+}
+
+template <class T>
+Status read(const std::filesystem::path& path, const YAML::Node& parent, const std::string& section,
+            const char* key, T& out) {
+  const YAML::Node n = parent[key];
+  if (!n) return okStatus();
+  try {
+    out = n.as<T>();
+  } catch (const YAML::Exception&) {
+    return Error{where(path, n, section.empty() ? key : section + "." + key) + ": cannot read '" + n.Scalar() + "'"};
+  }
+  return okStatus();
+}
+
+template <class T>
+Status readOptional(const std::filesystem::path& path, const YAML::Node& parent, const std::string& section,
+                    const char* key, std::optional<T>& out) {
+  if (!parent[key]) return okStatus();
+  T v{};
+  if (auto st = read(path, parent, section, key, v); !st) return st;
+  out = v;
+  return okStatus();
+}
+
+Status readVector3(const std::filesystem::path& path, const YAML::Node& parent, const std::string& section,
+                   const char* key, Eigen::Vector3d& out) {
+  const YAML::Node n = parent[key];
+  if (!n) return okStatus();
+  if (!n.IsSequence() || n.size() != 3) return Error{where(path, n, section + "." + key) + ": expected [x, y, z]"};
+  for (std::size_t i = 0; i < 3; ++i) {
+    try {
+      out[static_cast<Eigen::Index>(i)] = n[i].as<double>();
+    } catch (const YAML::Exception&) {
+      return Error{where(path, n[i], section + "." + key) + ": cannot read '" + n[i].Scalar() + "'"};
+    }
+  }
+  return okStatus();
+}
+
+#define OGF_TRY(expr)                  \
+  if (auto st_ = (expr); !st_) return st_
+
+}  // namespace
+
+Status MapperOptions::validate() const {
+  if (auto st = map.validate(); !st) return Error{"map: " + st.error().message};
+  for (const auto* ch : {&scan_channel, &pose_channel, &delta_channel, &request_channel, &status_channel}) {
+    if (ch->empty() || ch->size() > 63) return Error{"channels: '" + *ch + "' must be 1 to 63 characters"};
+  }
+  if (!(snapshot_interval_s > 0)) return Error{"snapshot_interval_s: must be > 0"};
+  if (!(keyframe_interval_s > 0)) return Error{"keyframe_interval_s: must be > 0"};
+  if (!(status_interval_s > 0)) return Error{"status_interval_s: must be > 0"};
+  if (!(test_drop_delta_fraction >= 0 && test_drop_delta_fraction < 1))
+    return Error{"test_drop_delta_fraction: must be in [0, 1)"};
+  return okStatus();
+}
+
+Status loadMapperOptions(const std::filesystem::path& path, MapperOptions& o) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path.string());
+  } catch (const YAML::BadFile&) {
+    return Error{path.string() + ": cannot read the file"};
+  } catch (const YAML::ParserException& e) {
+    return Error{path.string() + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg};
+  }
+  if (!root || root.IsNull()) return okStatus();
+  OGF_TRY(checkKeys(path, root, "", {"lcm_url", "channels", "time_base", "state_dir", "snapshot_interval_s",
+                                     "keyframe_interval_s", "status_interval_s", "map", "filter", "fusion"}));
+  OGF_TRY(read(path, root, "", "lcm_url", o.lcm_url));
+  std::string state_dir = o.state_dir.string();
+  OGF_TRY(read(path, root, "", "state_dir", state_dir));
+  o.state_dir = state_dir;
+  OGF_TRY(read(path, root, "", "snapshot_interval_s", o.snapshot_interval_s));
+  OGF_TRY(read(path, root, "", "keyframe_interval_s", o.keyframe_interval_s));
+  OGF_TRY(read(path, root, "", "status_interval_s", o.status_interval_s));
+  if (const auto tb = root["time_base"]) {
+    const auto v = tb.as<std::string>();
+    if (v == "device") o.time_base = ScanTimeBase::kDevice;
+    else if (v == "host") o.time_base = ScanTimeBase::kHost;
+    else return Error{where(path, tb, "time_base") + ": 'device' or 'host', got '" + v + "'"};
+  }
+  if (const auto ch = root["channels"]) {
+    OGF_TRY(checkKeys(path, ch, "channels", {"scan", "pose", "delta", "request", "status"}));
+    OGF_TRY(read(path, ch, "channels", "scan", o.scan_channel));
+    OGF_TRY(read(path, ch, "channels", "pose", o.pose_channel));
+    OGF_TRY(read(path, ch, "channels", "delta", o.delta_channel));
+    OGF_TRY(read(path, ch, "channels", "request", o.request_channel));
+    OGF_TRY(read(path, ch, "channels", "status", o.status_channel));
+  }
+  auto& m = o.map.fusion.measurement;
+  if (const auto map = root["map"]) {
+    OGF_TRY(checkKeys(path, map, "map", {"resolution", "min_range", "max_range", "free_space_for_no_return", "extrinsic"}));
+    double res = m.resolution_m;
+    OGF_TRY(read(path, map, "map", "resolution", res));
+    o.map.setResolution(res);
+    OGF_TRY(read(path, map, "map", "min_range", m.min_range_m));
+    OGF_TRY(read(path, map, "map", "max_range", m.max_range_m));
+    OGF_TRY(read(path, map, "map", "free_space_for_no_return", m.free_space_for_no_return));
+    if (const auto ex = map["extrinsic"]) {
+      OGF_TRY(checkKeys(path, ex, "map.extrinsic", {"translation", "rpy", "quaternion"}));
+      OGF_TRY(readVector3(path, ex, "map.extrinsic", "translation", o.map.fusion.extrinsic.translation_m));
+      OGF_TRY(readVector3(path, ex, "map.extrinsic", "rpy", o.map.fusion.extrinsic.rpy_rad));
+      if (const auto q = ex["quaternion"]) {
+        if (!q.IsSequence() || q.size() != 4) return Error{where(path, q, "map.extrinsic.quaternion") + ": expected [w, x, y, z]"};
+        o.map.fusion.extrinsic.quaternion = Eigen::Quaterniond(q[0].as<double>(), q[1].as<double>(), q[2].as<double>(), q[3].as<double>());
+      }
+    }
+  }
+  if (const auto f = root["filter"]) {
+    auto& fc = o.map.filter;
+    OGF_TRY(checkKeys(path, f, "filter", {"sigma", "amplitude", "stencil_radius", "taper_support", "occupied_threshold",
+                                          "free_threshold", "skip_tolerance", "threads"}));
+    OGF_TRY(readOptional(path, f, "filter", "sigma", fc.kernelSigma));
+    OGF_TRY(readOptional(path, f, "filter", "amplitude", fc.kernelAmplitude));
+    OGF_TRY(readOptional(path, f, "filter", "stencil_radius", fc.stencilRadius));
+    OGF_TRY(readOptional(path, f, "filter", "taper_support", fc.taperSupport));
+    OGF_TRY(read(path, f, "filter", "occupied_threshold", fc.occupiedThreshold));
+    OGF_TRY(read(path, f, "filter", "free_threshold", fc.freeThreshold));
+    OGF_TRY(read(path, f, "filter", "skip_tolerance", fc.skipTolerance));
+    OGF_TRY(read(path, f, "filter", "threads", fc.threads));
+  }
+  if (const auto fu = root["fusion"]) {
+    auto& fc = o.map.fusion;
+    OGF_TRY(checkKeys(path, fu, "fusion", {"max_pose_wait_s", "pose_buffer_capacity", "max_pending_scans",
+                                           "max_pending_points", "jump_translation_m", "jump_rotation_rad",
+                                           "quaternion_tolerance"}));
+    OGF_TRY(read(path, fu, "fusion", "max_pose_wait_s", fc.pending.max_pose_wait_s));
+    OGF_TRY(read(path, fu, "fusion", "pose_buffer_capacity", fc.pose_buffer.capacity));
+    OGF_TRY(read(path, fu, "fusion", "max_pending_scans", fc.pending.max_pending_scans));
+    OGF_TRY(read(path, fu, "fusion", "max_pending_points", fc.pending.max_pending_points));
+    OGF_TRY(read(path, fu, "fusion", "jump_translation_m", fc.pose_buffer.jump_translation_m));
+    OGF_TRY(read(path, fu, "fusion", "jump_rotation_rad", fc.pose_buffer.jump_rotation_rad));
+    OGF_TRY(read(path, fu, "fusion", "quaternion_tolerance", fc.pose_buffer.quaternion_tolerance));
+  }
+  return okStatus();
+}
+
+std::string exampleMapperConfig() {
+  const MapperOptions d;
+  const auto& m = d.map.fusion.measurement;
+  std::ostringstream s;
+  s << "# ogf-mapper configuration (YAML). Every key is optional; shown with its default.\n"
+    << "lcm_url: \"\"                # empty: $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0\n"
+    << "channels: {scan: " << d.scan_channel << ", pose: " << d.pose_channel << ", delta: " << d.delta_channel
+    << ", request: " << d.request_channel << ", status: " << d.status_channel << "}\n"
+    << "time_base: device          # the scan clock odometry utime shares: device or host\n"
+    << "state_dir: \"\"              # snapshots + journal; empty keeps the map in memory only\n"
+    << "snapshot_interval_s: " << d.snapshot_interval_s << "\n"
+    << "keyframe_interval_s: " << d.keyframe_interval_s << "\n"
+    << "status_interval_s: " << d.status_interval_s << "\n"
+    << "map:\n"
+    << "  resolution: " << m.resolution_m << "          # metres per cell\n"
+    << "  min_range: " << m.min_range_m << "\n"
+    << "  max_range: " << m.max_range_m << "\n"
+    << "  free_space_for_no_return: false\n"
+    << "  extrinsic: {translation: [0, 0, 0], rpy: [0, 0, 0]}   # sensor -> body; or quaternion: [w, x, y, z]\n"
+    << "filter:                     # Sun et al. Sec. VI defaults\n"
+    << "  # sigma: resolution/2, amplitude: 1/(sigma*sqrt(2*pi)), stencil_radius and taper_support derived\n"
+    << "  occupied_threshold: 0.65\n"
+    << "  free_threshold: 0.35\n"
+    << "  skip_tolerance: 1e-4\n"
+    << "  threads: 1\n"
+    << "fusion:\n"
+    << "  max_pose_wait_s: " << d.map.fusion.pending.max_pose_wait_s << "\n"
+    << "  pose_buffer_capacity: " << d.map.fusion.pose_buffer.capacity << "\n"
+    << "  max_pending_scans: " << d.map.fusion.pending.max_pending_scans << "\n"
+    << "  max_pending_points: " << d.map.fusion.pending.max_pending_points << "\n"
+    << "  jump_translation_m: " << d.map.fusion.pose_buffer.jump_translation_m << "\n"
+    << "  jump_rotation_rad: " << d.map.fusion.pose_buffer.jump_rotation_rad << "\n";
+  return s.str();
+}
+
+}  // namespace ogf::mapper_daemon

@@ -1,0 +1,72 @@
+#include "ogf/mapper_daemon/message_adapters.hpp"
+
+#include <bot_core/pose_t.hpp>
+#include <ogf/odometry_t.hpp>
+
+#include <cstring>
+
+#include "ogf/messages/limits.hpp"
+
+namespace ogf::mapper_daemon {
+namespace {
+
+std::int64_t fingerprintOf(const void* data, std::size_t size) {
+  if (size < 8) return 0;
+  const auto* p = static_cast<const std::uint8_t*>(data);
+  std::uint64_t v = 0;
+  for (int i = 0; i < 8; ++i) v = (v << 8) | p[i];  // LCM encodes big-endian
+  return static_cast<std::int64_t>(v);
+}
+
+template <class Message>
+Result<Message> decodeExactly(const void* data, std::size_t size, const char* type) {
+  Message m;
+  const int used = m.decode(data, 0, static_cast<int>(size));
+  if (used < 0) return Error{std::string(type) + ": truncated or malformed"};
+  if (static_cast<std::size_t>(used) != size) return Error{std::string(type) + ": trailing bytes after the message"};
+  return m;
+}
+
+}  // namespace
+
+Result<fusion::Pose> decodePose(const void* data, std::size_t size) {
+  const std::int64_t fp = fingerprintOf(data, size);
+  fusion::Pose pose;
+  if (fp == ogf::odometry_t::getHash()) {
+    auto m = decodeExactly<ogf::odometry_t>(data, size, "odometry_t");
+    if (!m) return m.error();
+    pose.utime = m->utime;
+    pose.position = {m->position[0], m->position[1], m->position[2]};
+    pose.orientation = Eigen::Quaterniond(m->orientation[0], m->orientation[1], m->orientation[2], m->orientation[3]);
+    return pose;
+  }
+  if (fp == bot_core::pose_t::getHash()) {
+    auto m = decodeExactly<bot_core::pose_t>(data, size, "bot_core.pose_t");
+    if (!m) return m.error();
+    pose.utime = m->utime;
+    pose.position = {m->pos[0], m->pos[1], m->pos[2]};
+    pose.orientation = Eigen::Quaterniond(m->orientation[0], m->orientation[1], m->orientation[2], m->orientation[3]);
+    return pose;
+  }
+  return Error{"fingerprint matches neither ogf.odometry_t nor bot_core.pose_t"};
+}
+
+Status validateScan(const ogf::lidar_scan_t& s) {
+  if (s.num_points < 0 || s.num_points > ogf::messages::kMaxScanPoints)
+    return Error{"num_points: " + std::to_string(s.num_points) + " outside [0, " +
+                 std::to_string(ogf::messages::kMaxScanPoints) + "]"};
+  const auto n = static_cast<std::size_t>(s.num_points);
+  if (s.x.size() != n || s.y.size() != n || s.z.size() != n || s.time_offset_ns.size() != n)
+    return Error{"arrays: lengths differ from num_points " + std::to_string(n)};
+  if (s.device_utime_end < s.device_utime_start) return Error{"device_utime_end: before device_utime_start"};
+  if (s.host_utime_end < s.host_utime_start) return Error{"host_utime_end: before host_utime_start"};
+  for (std::size_t i = 0; i < n; ++i)
+    if (s.time_offset_ns[i] < 0) return Error{"time_offset_ns[" + std::to_string(i) + "]: negative"};
+  return okStatus();
+}
+
+fusion::ScanPoints scanPointsOf(const ogf::lidar_scan_t& s, ScanTimeBase base) {
+  return {base == ScanTimeBase::kDevice ? s.device_utime_start : s.host_utime_start, s.x, s.y, s.z, s.time_offset_ns};
+}
+
+}  // namespace ogf::mapper_daemon
