@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <lcm/lcm-cpp.hpp>
+#include <fstream>
 #include <thread>
 
 #include "capture_decoding.hpp"
@@ -221,4 +222,32 @@ TEST(DriverProcess, UdpSourceCountsGarbageAndForeignSendersAndKeepsDecoding) {
   // Decoding went on through the garbage: the capture's 4 wraps give at least 4 scans before SIGTERM.
   EXPECT_GE(bus.scans.size(), 4u);
   EXPECT_NE(driver.log().find("expected 1206"), std::string::npos);
+}
+
+TEST(DriverProcess, BadConfigurationStopsAtStartUpNamingTheSetting) {
+  const std::string yaml = tempPath("ogf-driver-bad.yaml");
+  {
+    std::ofstream(yaml) << "data_port: 2368\nmin_range: 5\nmax_range: 1\n";
+  }
+  ChildProcess ranges({OGF_DRIVER_BINARY, "--config", yaml}, tempPath("ogf-driver-bad.log"));
+  EXPECT_EQ(ranges.wait(std::chrono::seconds(10)), 2);
+  EXPECT_NE(ranges.log().find("min_range"), std::string::npos) << ranges.log();
+  {
+    std::ofstream(yaml) << "data_port: 2368\ncut_angel: 90\n";
+  }
+  ChildProcess unknown({OGF_DRIVER_BINARY, "--config", yaml}, tempPath("ogf-driver-bad.log"));
+  EXPECT_EQ(unknown.wait(std::chrono::seconds(10)), 2);
+  EXPECT_NE(unknown.log().find(":2: cut_angel: unknown setting"), std::string::npos) << unknown.log();
+  {
+    std::ofstream(yaml) << "model: HDL-64E\n";
+  }
+  ChildProcess model({OGF_DRIVER_BINARY, "--config", yaml, "--data-port", "2400"}, tempPath("ogf-driver-bad.log"));
+  EXPECT_EQ(model.wait(std::chrono::seconds(10)), 2);
+  EXPECT_NE(model.log().find("model: 'HDL-64E'"), std::string::npos) << model.log();
+  // A flag overrides the file.
+  ChildProcess fixed({OGF_DRIVER_BINARY, "--config", yaml, "--model", "VLP-16", "--pcap", "/nonexistent.pcap"},
+                     tempPath("ogf-driver-bad.log"));
+  EXPECT_EQ(fixed.wait(std::chrono::seconds(10)), 1);  // past validation, then the file is missing
+  EXPECT_NE(fixed.log().find("/nonexistent.pcap"), std::string::npos) << fixed.log();
+  std::filesystem::remove(yaml);
 }
