@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "ogf/filter/banded_ogf.hpp"
+#include "ogf/filter/map_checksum.hpp"
 #include "ogf/filter/map_file.hpp"
 
 namespace ogf::filter {
@@ -107,6 +109,27 @@ TEST(MapFile, SaveIntoAMissingDirectoryFailsCleanly) {
   const auto st = saveMapFile(sampleMap(2), "/nonexistent/dir/x.map");
   ASSERT_FALSE(st.ok());
   EXPECT_NE(st.error().message.find("/nonexistent/dir/x.map"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ogf::filter
+
+namespace ogf::filter {
+namespace {
+
+TEST(MapFile, LayoutConstantsMatchTheEncoder) {
+  const std::vector<std::uint8_t> bytes = encodeMap(sampleMap(2));
+  const auto sum = [](std::span<const std::uint8_t> b) {
+    MapChecksum c;
+    c.add(std::as_bytes(b));
+    return c.value();
+  };
+  std::uint64_t payload = 0;
+  std::uint64_t header = 0;
+  std::memcpy(&payload, bytes.data() + kMapFilePayloadChecksumAt, 8);
+  std::memcpy(&header, bytes.data() + kMapFileHeaderChecksumAt, 8);
+  EXPECT_EQ(payload, sum(std::span(bytes).subspan(kMapFilePayloadAt)));
+  EXPECT_EQ(header, sum(std::span(bytes).first(kMapFileHeaderChecksumAt)));
 }
 
 }  // namespace

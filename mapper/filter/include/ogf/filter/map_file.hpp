@@ -5,6 +5,7 @@
 // refused with an error naming the file, the offset and the field; nothing is half-loaded.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <span>
@@ -17,6 +18,11 @@
 namespace ogf::filter {
 
 inline constexpr std::uint32_t kMapFileVersion = 1;
+// Layout of version 1: header fields [0, 112) ending with the payload checksum at [104, 112), the header
+// checksum (over [0, 112)) at [112, 120), blocks from 120 on.
+inline constexpr std::size_t kMapFilePayloadChecksumAt = 104;
+inline constexpr std::size_t kMapFileHeaderChecksumAt = 112;
+inline constexpr std::size_t kMapFilePayloadAt = 120;
 
 std::vector<std::uint8_t> encodeMap(const BandedOgf& map);
 // `source` names the bytes in error messages (a path, or "<memory>"). `threads` is a runtime setting the
