@@ -251,3 +251,47 @@ TEST(DriverProcess, BadConfigurationStopsAtStartUpNamingTheSetting) {
   EXPECT_NE(fixed.log().find("/nonexistent.pcap"), std::string::npos) << fixed.log();
   std::filesystem::remove(yaml);
 }
+
+TEST(DriverProcess, LiveCaptureOnLoopbackDecodesTheSensorTraffic) {
+  OGF_REQUIRE_SHARED_FILE(capture, kCapture);
+  if (::geteuid() != 0) GTEST_SKIP() << "live capture needs CAP_NET_RAW (run as root)";
+  if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << *why;
+  const std::string url = ogf::testing::loopbackUdpmUrl(41);
+  Bus bus(url);
+  auto on_error = [](const std::string&, std::size_t, std::string_view) {};
+  ogf::transport::Subscriber<ogf::driver_status_t> status(
+      bus.lcm, "LIVE_TEST_STATUS", [&](const auto& m, const auto&, const auto&) { bus.statuses.push_back(m); }, on_error);
+  const int data_port = 35000 + static_cast<int>(::getpid() % 20000);
+  ChildProcess driver({OGF_DRIVER_BINARY, "--interface", "lo", "--data-port", std::to_string(data_port),
+                       "--position-port", std::to_string(data_port + 1), "--lcm-url", url, "--status-channel",
+                       "LIVE_TEST_STATUS", "--scan-channel", "LIVE_TEST_SCAN", "--no-packets"},
+                      tempPath("ogf-driver-live.log"));
+  bus.pump([&] { return !bus.statuses.empty(); }, std::chrono::seconds(10));
+  ASSERT_FALSE(bus.statuses.empty()) << driver.log();
+  const int sock = ::socket(AF_INET, SOCK_DGRAM, 0);
+  auto reader = ogf::driver_sources::PcapFileReader::open(capture);
+  ASSERT_TRUE(reader);
+  ogf::driver_sources::PcapRecord record;
+  std::int64_t data_sent = 0, position_sent = 0;
+  while ((*reader)->next(record) == ogf::driver_sources::ReadStatus::Datagram && data_sent < 150) {
+    const auto& d = record.datagram;
+    const bool data = d.destination_port == 2368;
+    sockaddr_in to{};
+    to.sin_family = AF_INET;
+    to.sin_port = htons(static_cast<std::uint16_t>(data ? data_port : data_port + 1));
+    to.sin_addr.s_addr = htonl(0x7F000001);
+    ::sendto(sock, d.payload.data(), d.payload.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof(to));
+    (data ? data_sent : position_sent) += 1;
+    std::this_thread::sleep_for(std::chrono::microseconds(300));
+  }
+  ::close(sock);
+  bus.pump([&] { return bus.statuses.back().data_packets >= data_sent; }, std::chrono::seconds(10));
+  driver.signal(SIGTERM);
+  EXPECT_EQ(driver.wait(std::chrono::seconds(10)), 0) << driver.log();
+  bus.drain(std::chrono::milliseconds(300));
+  const auto& s = bus.statuses.back();
+  EXPECT_EQ(s.data_packets, data_sent);
+  EXPECT_EQ(s.position_packets, position_sent);
+  EXPECT_EQ(s.source, "pcap-live lo");
+  EXPECT_GT(s.scans_published, 0);
+}

@@ -101,7 +101,7 @@ void ScanAssembler::add(const DecodedPacket& packet, const PacketTime& time, Mod
     countPacket(time);
     last_firing_ns_ = std::max(last_firing_ns_, t_ns);
   };
-  auto append = [this](const Point& p, std::int64_t t_ns) {
+  auto append = [this](const Point& p, std::int64_t t_ns) __attribute__((always_inline)) {
     const std::int64_t offset = t_ns - scan_.device_utime_start * 1000;
     scan_.points.push_back(ScanPoint{p.x, p.y, p.z, p.distance_m, p.azimuthDeg(),
                                      static_cast<std::int32_t>(std::clamp<std::int64_t>(offset, 0, INT32_MAX)),
@@ -125,9 +125,17 @@ void ScanAssembler::add(const DecodedPacket& packet, const PacketTime& time, Mod
         advance_units_ += to_start + within;
         prev_azimuth_ = last_az;
         countPacket(time);
-        for (; point < end; ++point) {
+        // One size change per firing, then plain stores (the capacity is reserved up front).
+        const std::size_t first = scan_.points.size();
+        scan_.points.resize(first + static_cast<std::size_t>(end - point));
+        ScanPoint* out = scan_.points.data() + first;
+        const std::int64_t base_ns = packet_ns - scan_.device_utime_start * 1000;
+        for (; point < end; ++point, ++out) {
           const Point& p = packet.points[static_cast<std::size_t>(point)];
-          append(p, packet_ns + p.time_offset_ns);
+          const std::int64_t offset = base_ns + p.time_offset_ns;
+          *out = ScanPoint{p.x, p.y, p.z, p.distance_m, p.azimuthDeg(),
+                           static_cast<std::int32_t>(std::clamp<std::int64_t>(offset, 0, INT32_MAX)),
+                           p.intensity, p.ring, p.laser_id, p.return_type};
         }
         const std::int64_t last_ns = end > 0 && packet.points[static_cast<std::size_t>(end) - 1].firing == f
                                          ? packet_ns + packet.points[static_cast<std::size_t>(end) - 1].time_offset_ns
