@@ -52,6 +52,23 @@ std::string tempPath(const std::string& name) {
   return (std::filesystem::temp_directory_path() / (name + "-" + std::to_string(::getpid()))).string();
 }
 
+// Sends one datagram from `sock` to 127.0.0.1:`port`.
+void sendToLoopback(int sock, int port, const std::uint8_t* data, std::size_t n) {
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(static_cast<std::uint16_t>(port));
+  to.sin_addr.s_addr = htonl(0x7F000001);
+  ::sendto(sock, data, n, 0, reinterpret_cast<sockaddr*>(&to), sizeof(to));
+}
+
+// Stops the driver with SIGTERM, expects a clean exit and returns its last status.
+ogf::driver_status_t stopAndLastStatus(ChildProcess& driver, Bus& bus) {
+  driver.signal(SIGTERM);
+  EXPECT_EQ(driver.wait(std::chrono::seconds(10)), 0) << driver.log();
+  bus.drain(std::chrono::milliseconds(300));
+  return bus.statuses.back();
+}
+
 void expectSameScans(const std::vector<ov::Scan>& expected, const std::vector<ogf::lidar_scan_t>& got) {
   ASSERT_EQ(got.size(), expected.size());
   for (std::size_t i = 0; i < got.size(); ++i) {
@@ -165,13 +182,7 @@ TEST(DriverProcess, UdpSourceCountsGarbageAndForeignSendersAndKeepsDecoding) {
   from.sin_family = AF_INET;
   from.sin_addr.s_addr = htonl(0x7F000002);  // 127.0.0.2: another host on the lidar LAN
   ASSERT_EQ(::bind(foreign, reinterpret_cast<sockaddr*>(&from), sizeof(from)), 0);
-  auto sendTo = [&](int s, int port, const std::uint8_t* data, std::size_t n) {
-    sockaddr_in to{};
-    to.sin_family = AF_INET;
-    to.sin_port = htons(static_cast<std::uint16_t>(port));
-    to.sin_addr.s_addr = htonl(0x7F000001);
-    ::sendto(s, data, n, 0, reinterpret_cast<sockaddr*>(&to), sizeof(to));
-  };
+  auto sendTo = sendToLoopback;
   auto reader = ogf::driver_sources::PcapFileReader::open(capture);
   ASSERT_TRUE(reader);
   ogf::driver_sources::PcapRecord record;
@@ -207,10 +218,7 @@ TEST(DriverProcess, UdpSourceCountsGarbageAndForeignSendersAndKeepsDecoding) {
                s.foreign_sender == garbage_sent && s.bad_block_flag == 1;
       },
       std::chrono::seconds(15));
-  driver.signal(SIGTERM);
-  EXPECT_EQ(driver.wait(std::chrono::seconds(10)), 0) << driver.log();
-  bus.drain(std::chrono::milliseconds(300));
-  const auto& s = bus.statuses.back();
+  const auto s = stopAndLastStatus(driver, bus);
   EXPECT_EQ(s.data_packets, data_sent);
   EXPECT_EQ(s.position_packets, position_sent);
   EXPECT_EQ(s.bad_size, garbage_sent);
@@ -276,20 +284,13 @@ TEST(DriverProcess, LiveCaptureOnLoopbackDecodesTheSensorTraffic) {
   while ((*reader)->next(record) == ogf::driver_sources::ReadStatus::Datagram && data_sent < 150) {
     const auto& d = record.datagram;
     const bool data = d.destination_port == 2368;
-    sockaddr_in to{};
-    to.sin_family = AF_INET;
-    to.sin_port = htons(static_cast<std::uint16_t>(data ? data_port : data_port + 1));
-    to.sin_addr.s_addr = htonl(0x7F000001);
-    ::sendto(sock, d.payload.data(), d.payload.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof(to));
+    sendToLoopback(sock, data ? data_port : data_port + 1, d.payload.data(), d.payload.size());
     (data ? data_sent : position_sent) += 1;
     std::this_thread::sleep_for(std::chrono::microseconds(300));
   }
   ::close(sock);
   bus.pump([&] { return bus.statuses.back().data_packets >= data_sent; }, std::chrono::seconds(10));
-  driver.signal(SIGTERM);
-  EXPECT_EQ(driver.wait(std::chrono::seconds(10)), 0) << driver.log();
-  bus.drain(std::chrono::milliseconds(300));
-  const auto& s = bus.statuses.back();
+  const auto s = stopAndLastStatus(driver, bus);
   EXPECT_EQ(s.data_packets, data_sent);
   EXPECT_EQ(s.position_packets, position_sent);
   EXPECT_EQ(s.source, "pcap-live lo");
