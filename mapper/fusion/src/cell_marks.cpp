@@ -2,6 +2,7 @@
 #include <ogf/fusion/cell_marks.hpp>
 
 #include <algorithm>
+#include <bit>
 
 namespace ogf::fusion {
 
@@ -79,11 +80,11 @@ void CellMarks::appendSorted(std::vector<Measurement>& out) {
             const auto occupied = static_cast<unsigned>((brick.occupied[w] >> shift) & 0xFFU);
             const auto any = static_cast<unsigned>(((brick.free[w] | brick.occupied[w]) >> shift) & 0xFFU);
             if (any == 0U) continue;
-            for (std::int32_t lz = 0; lz < 8; ++lz) {
-              const unsigned bit = 1U << static_cast<unsigned>(lz);
-              if ((any & bit) == 0U) continue;
+            // Only the set bits, lowest z first.
+            for (unsigned rest = any; rest != 0U; rest &= rest - 1U) {
+              const int lz = std::countr_zero(rest);
               out.push_back({CellKey{bx * 8 + lx, by * 8 + ly, brick.key.z * 8 + lz},
-                             (occupied & bit) != 0U ? Measurement::kOccupied : Measurement::kFree});
+                             ((occupied >> lz) & 1U) != 0U ? Measurement::kOccupied : Measurement::kFree});
             }
           }
         }
