@@ -154,3 +154,35 @@ TEST(BandedOgf, SkippingNegligibleUpdatesChangesDByLessThanATenthOfAPercent) {
 
 }  // namespace
 }  // namespace ogf::filter
+
+namespace ogf::filter {
+namespace {
+
+TEST(BandedOgf, CellMeasuredOneHundredThousandTimesStaysFiniteInFloatStorage) {
+  for (double tolerance : {0.0, 1e-4}) {
+    for (int y : {-1, 1}) {
+      FilterConfig config;
+      config.skipTolerance = tolerance;
+      BandedOgf map = makeBanded(config);
+      const Measurement m{{3, 4, 5}, static_cast<std::int8_t>(y)};
+      for (int k = 0; k < 100000; ++k) {
+        map.update(m);
+      }
+      // Then the opposite reading, deep in the tail of λ.
+      for (int k = 0; k < 100; ++k) {
+        map.update(Measurement{{3, 4, 5}, static_cast<std::int8_t>(-y)});
+      }
+      bool finite = true;
+      bool positive = true;
+      map.forEachCell([&](const CellKey&, float mean, float var) {
+        finite = finite && std::isfinite(mean) && std::isfinite(var);
+        positive = positive && var > 0.0F;
+      });
+      EXPECT_TRUE(finite) << "tolerance " << tolerance << ", y " << y;
+      EXPECT_TRUE(positive) << "tolerance " << tolerance << ", y " << y;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace ogf::filter
