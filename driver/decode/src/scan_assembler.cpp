@@ -27,7 +27,6 @@ void ScanAssembler::begin(std::int64_t start_ns, const PacketTime& time, Model m
   last_firing_ns_ = start_ns;
   scan_.device_utime_start = start_ns / 1000;
   scan_.host_utime_start = time.host_utime;
-  first_packet_utime_ = time.device.utime;
   advance_units_ = 0;
   packet_counted_ = false;
 }
@@ -36,7 +35,8 @@ void ScanAssembler::countPacket(const PacketTime& time) {
   if (packet_counted_) return;
   packet_counted_ = true;
   ++scan_.packets_received;
-  last_packet_utime_ = time.device.utime;
+  scan_.packets_lost += pending_lost_;
+  pending_lost_ = 0;
   scan_.host_utime_end = time.host_utime;
 }
 
@@ -45,8 +45,8 @@ void ScanAssembler::finish(const Sink& sink, bool at_cut) {
   open_ = false;
   scan_.ends_at_cut = at_cut;
   scan_.device_utime_end = last_firing_ns_ / 1000;
-  scan_.packets_expected =
-      static_cast<std::int32_t>(std::llround(static_cast<double>(last_packet_utime_ - first_packet_utime_) / period_us_)) + 1;
+  // The packets the scan's span should hold at the fixed packet period: those that came and those lost.
+  scan_.packets_expected = scan_.packets_received + scan_.packets_lost;
   const double span_us = static_cast<double>(last_firing_ns_ - start_ns_) / 1000.0;
   scan_.rpm = span_us > 0 ? static_cast<float>(static_cast<double>(advance_units_) / kTurn / (span_us / 60e6)) : 0.0f;
   if (scan_.rpm > 0) last_rpm_ = scan_.rpm;
@@ -63,9 +63,9 @@ void ScanAssembler::add(const DecodedPacket& packet, const PacketTime& time, Mod
       finish(sink, false);
       prev_azimuth_.reset();
     } else if (gap > 1.5 * period_us_) {
-      const auto lost = static_cast<std::int32_t>(std::llround(gap / period_us_) - 1);
-      if (open_) scan_.packets_lost += lost;
-      lost_total_ += lost;
+      // Counted in the scan that receives the packet after the gap.
+      pending_lost_ = static_cast<std::int32_t>(std::llround(gap / period_us_) - 1);
+      lost_total_ += pending_lost_;
     }
   }
   prev_packet_utime_ = time.device.utime;

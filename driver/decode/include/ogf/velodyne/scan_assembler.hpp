@@ -52,7 +52,7 @@ class ScanAssembler {
   Scan scan_;
   bool open_ = false;
   std::int64_t start_ns_ = 0;
-  std::int64_t first_packet_utime_ = 0, last_packet_utime_ = 0;
+  std::int32_t pending_lost_ = 0;  // lost before the next packet, not yet given to a scan
   std::int64_t last_firing_ns_ = 0;
   std::int64_t advance_units_ = 0;  // azimuth covered by the open scan
   bool packet_counted_ = false;
