@@ -67,13 +67,18 @@ Result<FilterConfig> FilterConfig::resolved() const {
   if (!c.stencilRadius) {
     c.stencilRadius = defaultStencilRadius(*c.kernelSigma / c.resolution);
   }
-  // The stencil must reach no further than the neighbouring block on each axis.
-  if (!std::isfinite(*c.stencilRadius) || *c.stencilRadius < 1.0 ||
-      *c.stencilRadius >= static_cast<double>(kBlockSide + 1)) {
-    return fieldError("stencilRadius", *c.stencilRadius, "must lie in [1, 9) cells");
+  // The stencil must reach no further than the neighbouring block on each axis; in 3-D it is also kept
+  // below 5 cells (515 neighbours, 1 KB per cell) so a configuration, or a map file header, cannot ask for
+  // gigabytes per block.
+  const double largestRadius = c.dimensions == 3 ? 5.0 : static_cast<double>(kBlockSide + 1);
+  if (!std::isfinite(*c.stencilRadius) || *c.stencilRadius < 1.0 || *c.stencilRadius >= largestRadius) {
+    return fieldError("stencilRadius", *c.stencilRadius,
+                      c.dimensions == 3 ? "must lie in [1, 5) cells in 3-D" : "must lie in [1, 9) cells in 2-D");
   }
-  if (c.stencilManhattanRadius < 0 || c.stencilManhattanRadius > kBlockSide) {
-    return fieldError("stencilManhattanRadius", c.stencilManhattanRadius, "must lie in [0, 8] cells");
+  const int largestManhattan = c.dimensions == 3 ? 4 : kBlockSide;
+  if (c.stencilManhattanRadius < 0 || c.stencilManhattanRadius > largestManhattan) {
+    return fieldError("stencilManhattanRadius", c.stencilManhattanRadius,
+                      c.dimensions == 3 ? "must lie in [0, 4] cells in 3-D" : "must lie in [0, 8] cells in 2-D");
   }
   // The longest support that drops nothing: the shortest offset outside the stencil. Then Σ0 = K ∘ T
   // exactly and the Schur product theorem makes it positive definite; but T also damps the correlations

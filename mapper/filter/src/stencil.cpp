@@ -35,14 +35,27 @@ Stencil::Stencil(int dimensions, StencilShape shape) {
     forwardSlot_.push_back(static_cast<std::int16_t>(forwardIndexOf(o)));
     backwardSlot_.push_back(static_cast<std::int16_t>(forwardIndexOf(CellKey{} - o)));
   }
-  // Every stored pair (cell a, cell a + f) with both ends inside the stencil.
+  // Every stored pair (cell a, cell a + f) with both ends inside the stencil, found through a dense index
+  // of the box [-reach, reach]³ so large stencils build in O(cells · forward).
+  const int side = 2 * reach + 1;
+  std::vector<int> indexOf(static_cast<std::size_t>(side) * static_cast<std::size_t>(side) *
+                               static_cast<std::size_t>(2 * zReach + 1),
+                           -1);
+  const auto boxIndex = [&](const CellKey& o) {
+    return static_cast<std::size_t>((o.x + reach) + side * ((o.y + reach) + side * (o.z + zReach)));
+  };
+  for (std::size_t a = 0; a < offsets_.size(); ++a) {
+    indexOf[boxIndex(offsets_[a])] = static_cast<int>(a);
+  }
   for (std::size_t a = 0; a < offsets_.size(); ++a) {
     for (std::size_t f = 0; f < forward_.size(); ++f) {
       const CellKey b = offsets_[a] + forward_[f];
-      const auto it = std::find(offsets_.begin(), offsets_.end(), b);
-      if (it != offsets_.end()) {
-        pairs_.push_back({static_cast<std::uint16_t>(a), static_cast<std::uint16_t>(f),
-                          static_cast<std::uint16_t>(it - offsets_.begin())});
+      if (std::abs(b.x) > reach || std::abs(b.y) > reach || std::abs(b.z) > zReach) {
+        continue;
+      }
+      const int t = indexOf[boxIndex(b)];
+      if (t >= 0) {
+        pairs_.push_back({static_cast<std::uint16_t>(a), static_cast<std::uint16_t>(f), static_cast<std::uint16_t>(t)});
       }
     }
   }
