@@ -1,0 +1,37 @@
+// ogf-map's --config file (YAML): the mapping settings in one place, applied on top of the defaults, with
+// the command-line flags applied after it. Unknown keys are errors (a misspelt key silently ignored is a
+// map made with the wrong settings); every error names the file, the line and the key.
+//
+//   resolution: 0.2            # metres per cell (fusion and filter share it)
+//   min_range: 0.4             # metres
+//   max_range: 30.0            # metres; farther returns give free cells only
+//   free_space_for_no_return: false
+//   extrinsic:                 # sensor -> body
+//     translation: [0, 0, 0]   # metres
+//     rpy: [0, 0, 0]           # radians, R = Rz(yaw) Ry(pitch) Rx(roll)
+//     quaternion: [1, 0, 0, 0] # w, x, y, z; replaces rpy when given
+//   filter:
+//     kernel_sigma: 0.1        # metres (default resolution / 2)
+//     kernel_amplitude: 3.99   # default 1 / (sigma sqrt(2 pi))
+//     stencil_radius: 1.414    # cells
+//     stencil_manhattan_radius: 2
+//     taper_support: 2.0       # cells
+//     occupied_threshold: 0.65
+//     free_threshold: 0.35
+//     skip_tolerance: 1e-4
+//     threads: 1
+#pragma once
+
+#include <ogf/common/result.hpp>
+#include <ogf/pipeline/mapper_config.hpp>
+
+#include <filesystem>
+#include <string_view>
+
+namespace ogf::map_io {
+
+// Applies the YAML text onto `config`; `source` names it in errors ("map.yaml:3: filter.threads: ...").
+Status applyMapConfigYaml(std::string_view yaml, std::string_view source, pipeline::MapperConfig& config);
+Status applyMapConfigFile(const std::filesystem::path& path, pipeline::MapperConfig& config);
+
+}  // namespace ogf::map_io

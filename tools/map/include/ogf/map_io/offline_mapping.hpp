@@ -1,0 +1,67 @@
+// The offline run behind ogf-map: the whole odometry loaded first (a file holds it all, so nothing has to
+// wait for poses), then every scan placed with the poses at its points' times (or from a fixed pose for a
+// tripod, or from a PCD's viewpoint), turned into measurements and folded into the filter through the same
+// pipeline::ScanMapper the daemon runs. A scan the odometry does not cover is counted and left out: never
+// extrapolated.
+#pragma once
+
+#include <ogf/common/result.hpp>
+#include <ogf/fusion/pose_buffer.hpp>
+#include <ogf/pipeline/scan_mapper.hpp>
+
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "ogf/map_io/scan_record.hpp"
+
+namespace ogf::map_io {
+
+struct OfflineCounts {
+  std::int64_t scans_in = 0;         // scans offered
+  std::int64_t scans_mapped = 0;     // folded into the map
+  std::int64_t scans_uncovered = 0;  // outside the odometry's time span, left out
+  std::int64_t scans_empty = 0;      // no point gave a measurement
+  std::int64_t points = 0;           // points of mapped scans
+  std::int64_t measurements = 0;     // cell measurements folded in
+  std::int64_t poses_accepted = 0;
+  std::int64_t poses_rejected = 0;   // out of order, duplicate time, NaN, not a unit quaternion
+};
+
+enum class ScanOutcome { kMapped, kUncovered, kEmpty };
+
+class OfflineMapping {
+ public:
+  static Result<OfflineMapping> create(const pipeline::MapperConfig& config);
+
+  // Loads the whole odometry (in order); rejected poses are counted. Call once before addScan.
+  void setOdometry(std::span<const fusion::Pose> poses);
+  // The odometry's time span; nullopt when it holds fewer than one pose.
+  std::optional<std::pair<std::int64_t, std::int64_t>> odometrySpan() const;
+
+  // A moving sensor: every point placed with the body pose at its own time.
+  ScanOutcome addScan(const ScanRecord& scan, TimeBase base);
+  // A sensor that does not move: the body at `odom_from_body`, the sensor at body · extrinsic.
+  ScanOutcome addStaticScan(const ScanRecord& scan, const Eigen::Isometry3d& odom_from_body);
+  // Rays from one origin to points given in the map frame (a PCD cloud with its viewpoint).
+  ScanOutcome addCloud(const Eigen::Vector3d& origin, std::span<const Eigen::Vector3d> points);
+
+  const OfflineCounts& counts() const { return counts_; }
+  pipeline::ScanMapper& mapper() { return mapper_; }
+  const pipeline::ScanMapper& mapper() const { return mapper_; }
+
+ private:
+  OfflineMapping(pipeline::ScanMapper mapper, const pipeline::MapperConfig& config);
+  ScanOutcome fold(std::size_t points);
+
+  pipeline::ScanMapper mapper_;
+  pipeline::MapperConfig config_;
+  std::optional<fusion::PoseBuffer> poses_;
+  ScanRecord cloud_;  // addCloud's points as a sensor-frame scan
+  OfflineCounts counts_;
+};
+
+}  // namespace ogf::map_io

@@ -1,0 +1,41 @@
+// The scans of a Velodyne capture file, decoded with the driver's own reader and decoder
+// (driver_sources::PcapFileReader, velodyne::PacketStream), exactly as ogf-decode and ogf-driver see them,
+// handed to a visitor one at a time. A damaged tail ends the reading with a warning; what came before it
+// is kept.
+#pragma once
+
+#include <ogf/common/result.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "ogf/map_io/scan_record.hpp"
+
+namespace ogf::map_io {
+
+struct PcapScanConfig {
+  std::optional<std::filesystem::path> calibration;  // VeloView XML or ROS YAML; default: nominal table
+  double min_range_m = 0.4;    // the decoder drops closer returns
+  double max_range_m = 250.0;  // and farther ones (the mapper cuts rays at its own max range)
+  int data_port = 2368;
+  int position_port = 8308;
+};
+
+struct PcapScanCounts {
+  std::int64_t scans = 0;
+  std::int64_t points = 0;
+  std::int64_t data_packets = 0;
+  std::int64_t packets_lost = 0;
+  std::int64_t bad_packets = 0;  // wrong size, bad block flag, bad azimuth
+  std::string warning;           // a damaged capture: where reading stopped
+};
+
+// `progress` (optional) receives an estimate of the fraction of the file read after each scan.
+Result<PcapScanCounts> readPcapScans(const std::filesystem::path& path, const PcapScanConfig& config,
+                                     const std::function<void(const ScanRecord&)>& visit,
+                                     const std::function<void(double)>& progress = {});
+
+}  // namespace ogf::map_io

@@ -1,0 +1,309 @@
+// ogf-map: the mapping pipeline offline, as fast as the machine allows. Scans from a PCAP (with odometry
+// from a file, or a tripod), an LCM log or PCD files go through the same ScanMapper the daemon runs; the
+// result is a map file and optional CSV, PLY, OctoMap and PNG exports. This file owns the command line,
+// the logs, the progress bar and the exit code; the work is in ogf_map_io.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <ogf/filter/map_file.hpp>
+#include <ogf/transport/logging.hpp>
+
+#include "ogf/map_io/cell_csv.hpp"
+#include "ogf/map_io/cell_ply.hpp"
+#include "ogf/map_io/lcm_log_scans.hpp"
+#include "ogf/map_io/map_cells.hpp"
+#include "ogf/map_io/map_config_file.hpp"
+#include "ogf/map_io/octomap_export.hpp"
+#include "ogf/map_io/odometry_file.hpp"
+#include "ogf/map_io/offline_mapping.hpp"
+#include "ogf/map_io/pcap_scans.hpp"
+#include "ogf/map_io/pcd_file.hpp"
+#include "ogf/map_io/topdown_png.hpp"
+
+namespace {
+
+namespace mio = ogf::map_io;
+using Clock = std::chrono::steady_clock;
+
+constexpr int kExitOk = 0;
+constexpr int kExitNothingMapped = 1;  // also: an output could not be written
+constexpr int kExitUsage = 2;          // bad flags or configuration
+constexpr int kUncoveredWarnings = 5;  // scans described one by one; the rest only counted
+
+// A one-line bar on stderr, redrawn at most 10 times a second, only when stderr is a terminal.
+class ProgressBar {
+ public:
+  ProgressBar() : enabled_(isatty(STDERR_FILENO) == 1) {}
+  void update(double fraction, std::int64_t scans) {
+    if (!enabled_) return;
+    const auto now = Clock::now();
+    if (drawn_ && now - last_ < std::chrono::milliseconds(100)) return;
+    last_ = now;
+    drawn_ = true;
+    constexpr int kWidth = 40;
+    const double f = fraction < 0.0 ? 0.0 : (fraction > 1.0 ? 1.0 : fraction);
+    const int filled = static_cast<int>(f * kWidth);
+    std::fprintf(stderr, "\r[%s%s] %3d%% scans %lld", std::string(static_cast<std::size_t>(filled), '#').c_str(),
+                 std::string(static_cast<std::size_t>(kWidth - filled), ' ').c_str(), static_cast<int>(f * 100.0),
+                 static_cast<long long>(scans));
+    std::fflush(stderr);
+  }
+  void finish() {
+    if (enabled_ && drawn_) std::fprintf(stderr, "\r%s\r", std::string(70, ' ').c_str());
+  }
+
+ private:
+  bool enabled_;
+  bool drawn_ = false;
+  Clock::time_point last_;
+};
+
+struct Options {
+  std::string out, config_path, pcap, calib, odometry, lcm_log, time_base = "device";
+  std::string scan_channel = "VELODYNE_SCAN", pose_channel = "POSE";
+  std::vector<std::string> pcd;
+  bool is_static = false;
+  double resolution = 0.2, max_range = 30.0, min_range = 0.4;
+  int threads = 1;
+  std::string export_ply, export_csv, export_bt, png_dir;
+  double png_zmin = 0.0, png_zmax = 2.0;
+  std::string log_level = "info";
+};
+
+void logProblems(const std::vector<std::string>& problems, std::int64_t total) {
+  for (const auto& p : problems) spdlog::warn("{}", p);
+  if (total > static_cast<std::int64_t>(problems.size()))
+    spdlog::warn("{} more problems like these not shown", total - static_cast<std::int64_t>(problems.size()));
+}
+
+// Reads odometry into the run; false when the file cannot be read at all.
+bool loadOdometry(const std::string& path, const std::string& channel, mio::OfflineMapping& run) {
+  auto odo = mio::readOdometry(path, channel);
+  if (!odo) {
+    spdlog::error("{}", odo.error().message);
+    return false;
+  }
+  logProblems(odo->problems, odo->skipped);
+  run.setOdometry(odo->poses);
+  const auto& c = run.counts();
+  if (c.poses_rejected > 0)
+    spdlog::warn("{}: {} poses rejected (out of order, duplicate time, NaN or not a unit quaternion)", path,
+                 c.poses_rejected);
+  if (const auto span = run.odometrySpan())
+    spdlog::info("{}: {} poses, utime {} .. {} ({:.1f} s)", path, c.poses_accepted, span->first, span->second,
+                 static_cast<double>(span->second - span->first) * 1e-6);
+  else
+    spdlog::warn("{}: no usable pose: every scan will be left out", path);
+  return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  CLI::App app{
+      "Builds an Occupancy Grid Filter map offline, from one input:\n"
+      "  --pcap FILE [--calib FILE] (--odometry FILE | --static)   a Velodyne capture\n"
+      "  --lcm-log FILE                                             lidar_scan_t and poses as lcm-logger records them\n"
+      "  --pcd FILE...                                              PCL point clouds (rays from each VIEWPOINT)\n"
+      "Odometry: CSV `utime,x,y,z,qw,qx,qy,qz` (utime in us on the capture's clock; the scan's device time\n"
+      "unless --time host) or an LCM log with ogf.odometry_t or bot_core.pose_t on POSE. Scans the odometry\n"
+      "does not cover are counted and left out, never extrapolated. --static holds the body at the origin.\n"
+      "At the end one line on stdout:\n"
+      "  scans <mapped> measurements <cell measurements> cells <allocated cells> seconds <wall time>\n"
+      "Exit 0 when at least one scan was mapped and every output written, 1 when nothing could be mapped or\n"
+      "an output failed, 2 on bad flags or configuration."};
+  app.add_option("--out", o.out, "Map file to write (ogf map format, see ogf/filter/map_file.hpp)")->required();
+  app.add_option("--config", o.config_path, "YAML settings (resolution, min_range, max_range, extrinsic, filter); flags override it")
+      ->check(CLI::ExistingFile);
+  auto* res_opt = app.add_option("--resolution", o.resolution, "Cell size, metres")->capture_default_str();
+  auto* max_opt = app.add_option("--max-range", o.max_range, "Rays are cut here (free cells only beyond), metres")
+                      ->capture_default_str();
+  auto* min_opt = app.add_option("--min-range", o.min_range, "Returns closer than this are ignored, metres")
+                      ->capture_default_str();
+  auto* pcap_opt = app.add_option("--pcap", o.pcap, "Velodyne capture (pcap or pcapng)");
+  app.add_option("--calib", o.calib, "Calibration for --pcap: VeloView XML or ROS YAML")->needs(pcap_opt);
+  auto* odo_opt = app.add_option("--odometry", o.odometry, "Odometry: CSV or LCM log (POSE)");
+  auto* static_opt = app.add_flag("--static", o.is_static, "The sensor does not move (a tripod): body at the origin");
+  auto* lcm_opt = app.add_option("--lcm-log", o.lcm_log, "LCM log with scans (VELODYNE_SCAN) and poses (POSE)");
+  auto* pcd_opt = app.add_option("--pcd", o.pcd, "PCD files, one scan each");
+  app.add_option("--time", o.time_base, "Clock the odometry is on: device (scan device time) or host (receive time)")
+      ->check(CLI::IsMember({"device", "host"}))
+      ->capture_default_str();
+  app.add_option("--scan-channel", o.scan_channel, "Scan channel in --lcm-log")->capture_default_str();
+  app.add_option("--pose-channel", o.pose_channel, "Pose channel in LCM logs")->capture_default_str();
+  app.add_option("--export-csv", o.export_csv, "Every allocated cell: x,y,z,p,class,variance (cell centres, metres)");
+  app.add_option("--export-ply", o.export_ply, "Occupied cells as binary PLY (x, y, z, p, variance)");
+  app.add_option("--export-bt", o.export_bt, "OctoMap binary tree (.bt) for octovis");
+  auto* png_opt = app.add_option("--png", o.png_dir, "Folder for top-down occupancy.png and entropy.png");
+  app.add_option("--png-zmin", o.png_zmin, "Bottom of the height band of --png, metres")->capture_default_str()->needs(png_opt);
+  app.add_option("--png-zmax", o.png_zmax, "Top of the height band of --png, metres")->capture_default_str()->needs(png_opt);
+  auto* threads_opt = app.add_option("--threads", o.threads, "Filter threads (the map is the same for any count)")
+                          ->capture_default_str()
+                          ->check(CLI::Range(1, 256));
+  app.add_option("--log-level", o.log_level, "trace|debug|info|warn|error")->capture_default_str();
+  odo_opt->excludes(static_opt);
+  pcd_opt->excludes(pcap_opt)->excludes(lcm_opt)->excludes(odo_opt)->excludes(static_opt);
+  lcm_opt->excludes(pcap_opt);
+  CLI11_PARSE(app, argc, argv);
+
+  const auto level = ogf::transport::parseLogLevel(o.log_level);
+  if (!level) {
+    std::fprintf(stderr, "ogf-map: --log-level: unknown level '%s'\n", o.log_level.c_str());
+    return kExitUsage;
+  }
+  ogf::transport::setupLogging("ogf-map", *level);
+  if (o.pcap.empty() && o.lcm_log.empty() && o.pcd.empty()) {
+    spdlog::error("no input: give --pcap, --lcm-log or --pcd");
+    return kExitUsage;
+  }
+  if (!o.pcap.empty() && o.odometry.empty() && !o.is_static) {
+    spdlog::error("--pcap needs --odometry FILE or --static");
+    return kExitUsage;
+  }
+
+  ogf::pipeline::MapperConfig config;
+  if (!o.config_path.empty()) {
+    if (auto st = mio::applyMapConfigFile(o.config_path, config); !st) {
+      spdlog::error("--config: {}", st.error().message);
+      return kExitUsage;
+    }
+  }
+  if (o.config_path.empty() || res_opt->count() > 0) config.setResolution(o.resolution);
+  if (o.config_path.empty() || max_opt->count() > 0) config.fusion.measurement.max_range_m = o.max_range;
+  if (o.config_path.empty() || min_opt->count() > 0) config.fusion.measurement.min_range_m = o.min_range;
+  if (threads_opt->count() > 0) config.filter.threads = o.threads;
+  auto created = mio::OfflineMapping::create(config);
+  if (!created) {
+    spdlog::error("configuration: {}", created.error().message);
+    return kExitUsage;
+  }
+  mio::OfflineMapping& run = *created;
+  const auto& m = config.fusion.measurement;
+  spdlog::info("resolution {} m, range {} .. {} m, filter threads {}", m.resolution_m, m.min_range_m, m.max_range_m,
+               run.mapper().filter().config().threads);
+
+  const auto start = Clock::now();
+  ProgressBar bar;
+  const mio::TimeBase base = o.time_base == "host" ? mio::TimeBase::kHost : mio::TimeBase::kDevice;
+  int uncovered_told = 0;
+  std::string odometry_source;
+  const auto addScan = [&](const mio::ScanRecord& scan) {
+    if (o.is_static) {
+      run.addStaticScan(scan, Eigen::Isometry3d::Identity());
+      return;
+    }
+    if (run.addScan(scan, base) == mio::ScanOutcome::kUncovered && uncovered_told++ < kUncoveredWarnings) {
+      const auto span = run.odometrySpan();
+      const std::int64_t t = scan.points(base).start_utime;
+      spdlog::warn("scan {} at utime {} ({} time) is not covered by the odometry of {} ({}); left out", scan.seq, t,
+                   o.time_base, odometry_source,
+                   span ? fmt::format("utime {} .. {}", span->first, span->second) : std::string("no poses"));
+    }
+  };
+  const auto progress = [&](double f) { bar.update(f, run.counts().scans_in); };
+
+  bool input_failed = false;
+  if (!o.pcap.empty() || !o.lcm_log.empty()) {
+    if (!o.is_static) {
+      odometry_source = o.odometry.empty() ? o.lcm_log : o.odometry;
+      if (!loadOdometry(odometry_source, o.pose_channel, run)) return kExitNothingMapped;
+    }
+    if (!o.pcap.empty()) {
+      mio::PcapScanConfig pc;
+      if (!o.calib.empty()) pc.calibration = o.calib;
+      pc.min_range_m = m.min_range_m;
+      auto counts = mio::readPcapScans(o.pcap, pc, addScan, progress);
+      if (!counts) {
+        spdlog::error("{}", counts.error().message);
+        input_failed = true;
+      } else {
+        if (!counts->warning.empty()) spdlog::warn("{}", counts->warning);
+        spdlog::info("{}: {} scans, {} points, {} data packets, {} lost, {} bad", o.pcap, counts->scans,
+                     counts->points, counts->data_packets, counts->packets_lost, counts->bad_packets);
+      }
+    } else {
+      auto counts = mio::readLcmLogScans(o.lcm_log, o.scan_channel, addScan, progress);
+      if (!counts) {
+        spdlog::error("{}", counts.error().message);
+        input_failed = true;
+      } else {
+        logProblems(counts->problems, counts->skipped);
+        spdlog::info("{}: {} events, {} scans on {}", o.lcm_log, counts->events, counts->scans, o.scan_channel);
+      }
+    }
+  } else {
+    for (std::size_t i = 0; i < o.pcd.size(); ++i) {
+      auto cloud = mio::readPcdFile(o.pcd[i]);
+      if (!cloud) {
+        spdlog::error("{}; file skipped", cloud.error().message);
+        continue;
+      }
+      if (cloud->non_finite > 0) spdlog::info("{}: {} non-finite points dropped", o.pcd[i], cloud->non_finite);
+      run.addCloud(cloud->viewpoint_translation, cloud->points);
+      progress(static_cast<double>(i + 1) / static_cast<double>(o.pcd.size()));
+    }
+  }
+  bar.finish();
+
+  const mio::OfflineCounts& c = run.counts();
+  if (c.scans_uncovered > 0)
+    spdlog::warn("{} of {} scans not covered by the odometry of {}: left out (never extrapolated)",
+                 c.scans_uncovered, c.scans_in, odometry_source);
+  if (c.scans_empty > 0) spdlog::info("{} scans gave no measurement (no return within range)", c.scans_empty);
+  if (c.scans_mapped == 0) {
+    spdlog::error("nothing could be mapped ({} scans read{})", c.scans_in, input_failed ? ", input unreadable" : "");
+    return kExitNothingMapped;
+  }
+
+  // Output folders are created as needed, as --png's is.
+  for (const std::string* path : {&o.out, &o.export_csv, &o.export_ply, &o.export_bt}) {
+    const auto parent = std::filesystem::path(*path).parent_path();
+    std::error_code ec;
+    if (!path->empty() && !parent.empty()) std::filesystem::create_directories(parent, ec);
+  }
+  int rc = kExitOk;
+  const auto& filter = run.mapper().filter();
+  if (auto st = ogf::filter::saveMapFile(filter, o.out); !st) {
+    spdlog::error("--out: {}", st.error().message);
+    rc = kExitNothingMapped;
+  }
+  if (!o.export_csv.empty() || !o.export_ply.empty() || !o.export_bt.empty() || !o.png_dir.empty()) {
+    const mio::MapCells cells = mio::collectCells(filter);
+    const auto report = [&](const char* flag, const ogf::Status& st) {
+      if (!st) {
+        spdlog::error("{}: {}", flag, st.error().message);
+        rc = kExitNothingMapped;
+      }
+    };
+    if (!o.export_csv.empty()) report("--export-csv", mio::writeCellCsv(cells, o.export_csv));
+    if (!o.export_ply.empty()) report("--export-ply", mio::writeOccupiedPly(cells, o.export_ply));
+    if (!o.export_bt.empty()) {
+      auto bt = mio::writeOctomapBinary(cells, o.export_bt);
+      if (!bt) report("--export-bt", bt.error());
+      else
+        spdlog::info("{}: {} occupied and {} free leaves{}", o.export_bt, bt->occupied, bt->free,
+                     bt->out_of_range > 0 ? fmt::format(", {} cells beyond OctoMap's extent left out", bt->out_of_range)
+                                          : std::string());
+    }
+    if (!o.png_dir.empty()) {
+      auto png = mio::writeTopDownPngs(cells, {o.png_zmin, o.png_zmax}, o.png_dir);
+      if (!png) report("--png", png.error());
+      else spdlog::info("{}: occupancy.png and entropy.png, {} x {} pixels", o.png_dir, png->width, png->height);
+    }
+  }
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  std::printf("scans %lld measurements %lld cells %zu seconds %.2f\n", static_cast<long long>(c.scans_mapped),
+              static_cast<long long>(c.measurements), filter.allocatedCells(), seconds);
+  return rc;
+}

@@ -1,0 +1,76 @@
+#include "ogf/map_io/offline_mapping.hpp"
+
+#include <algorithm>
+
+namespace ogf::map_io {
+
+Result<OfflineMapping> OfflineMapping::create(const pipeline::MapperConfig& config) {
+  auto mapper = pipeline::ScanMapper::create(config);
+  if (!mapper) return mapper.error();
+  return OfflineMapping(std::move(*mapper), config);
+}
+
+OfflineMapping::OfflineMapping(pipeline::ScanMapper mapper, const pipeline::MapperConfig& config)
+    : mapper_(std::move(mapper)), config_(config) {}
+
+void OfflineMapping::setOdometry(std::span<const fusion::Pose> poses) {
+  // The buffer holds the whole file: offline nothing needs evicting.
+  fusion::PoseBufferConfig cfg = config_.fusion.pose_buffer;
+  cfg.capacity = std::max<std::size_t>(poses.size(), 2);
+  poses_.emplace(cfg);
+  for (const fusion::Pose& p : poses) poses_->insert(p);
+  counts_.poses_accepted = poses_->counts().accepted;
+  counts_.poses_rejected = poses_->counts().rejected();
+}
+
+std::optional<std::pair<std::int64_t, std::int64_t>> OfflineMapping::odometrySpan() const {
+  if (!poses_ || poses_->empty()) return std::nullopt;
+  return std::make_pair(poses_->oldest().utime, poses_->newest().utime);
+}
+
+ScanOutcome OfflineMapping::fold(std::size_t points) {
+  if (mapper_.measurements().empty()) {
+    ++counts_.scans_empty;
+    return ScanOutcome::kEmpty;
+  }
+  mapper_.apply(mapper_.measurements());
+  ++counts_.scans_mapped;
+  counts_.points += static_cast<std::int64_t>(points);
+  counts_.measurements += static_cast<std::int64_t>(mapper_.measurements().size());
+  return ScanOutcome::kMapped;
+}
+
+ScanOutcome OfflineMapping::addScan(const ScanRecord& scan, TimeBase base) {
+  ++counts_.scans_in;
+  if (!poses_ || mapper_.measure(scan.points(base), *poses_) != fusion::PoseCoverage::kCovered) {
+    ++counts_.scans_uncovered;
+    return ScanOutcome::kUncovered;
+  }
+  return fold(scan.size());
+}
+
+ScanOutcome OfflineMapping::addStaticScan(const ScanRecord& scan, const Eigen::Isometry3d& odom_from_body) {
+  ++counts_.scans_in;
+  mapper_.measureStatic(scan.points(TimeBase::kDevice), odom_from_body * config_.fusion.extrinsic.bodyFromSensor());
+  return fold(scan.size());
+}
+
+ScanOutcome OfflineMapping::addCloud(const Eigen::Vector3d& origin, std::span<const Eigen::Vector3d> points) {
+  // measureStatic places sensor-frame points with one pose; a pure translation to `origin` makes the
+  // points (given relative to it) land back where the cloud has them, and the rays start at `origin`.
+  ++counts_.scans_in;
+  cloud_.x.resize(points.size());
+  cloud_.y.resize(points.size());
+  cloud_.z.resize(points.size());
+  cloud_.time_offset_ns.assign(points.size(), 0);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d d = points[i] - origin;
+    cloud_.x[i] = static_cast<float>(d.x());
+    cloud_.y[i] = static_cast<float>(d.y());
+    cloud_.z[i] = static_cast<float>(d.z());
+  }
+  mapper_.measureStatic(cloud_.points(TimeBase::kDevice), Eigen::Isometry3d(Eigen::Translation3d(origin)));
+  return fold(points.size());
+}
+
+}  // namespace ogf::map_io

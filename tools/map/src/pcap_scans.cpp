@@ -1,0 +1,68 @@
+#include "ogf/map_io/pcap_scans.hpp"
+
+#include <ogf/driver_sources/pcap_file_reader.hpp>
+#include <ogf/velodyne/calibration.hpp>
+#include <ogf/velodyne/packet_stream.hpp>
+
+#include <fmt/format.h>
+
+namespace ogf::map_io {
+namespace {
+
+namespace ov = ogf::velodyne;
+namespace os = ogf::driver_sources;
+
+// Bytes a capture spends on one data packet: 16 (record header) + 42 (Ethernet, IPv4, UDP) + 1206.
+constexpr double kBytesPerPacket = 1264.0;
+
+}  // namespace
+
+Result<PcapScanCounts> readPcapScans(const std::filesystem::path& path, const PcapScanConfig& config,
+                                     const std::function<void(const ScanRecord&)>& visit,
+                                     const std::function<void(double)>& progress) {
+  ov::StreamConfig stream_config;
+  if (config.calibration) {
+    auto calib = ov::loadCalibrationFile(*config.calibration);
+    if (!calib) return Error{"--calib: " + calib.error().message};
+    stream_config.calibration = std::move(*calib);
+  }
+  stream_config.min_range_m = config.min_range_m;
+  stream_config.max_range_m = config.max_range_m;
+  auto stream = ov::PacketStream::create(stream_config);
+  if (!stream) return Error{stream.error().message};
+  auto reader = os::PcapFileReader::open(path);
+  if (!reader) return Error{reader.error().message};
+
+  std::error_code ec;
+  const auto file_size = std::filesystem::file_size(path, ec);
+  const double expected_records = ec ? 0.0 : static_cast<double>(file_size) / kBytesPerPacket;
+
+  PcapScanCounts counts;
+  ScanRecord record;
+  stream->setScanSink([&](const ov::Scan& scan) {
+    assignScan(scan, record);
+    ++counts.scans;
+    counts.points += static_cast<std::int64_t>(scan.points.size());
+    counts.packets_lost += scan.packets_lost;
+    visit(record);
+    if (progress && expected_records > 0.0)
+      progress(std::min(1.0, static_cast<double>((*reader)->records()) / expected_records));
+  });
+  os::PcapRecord rec;
+  os::ReadStatus status;
+  while ((status = (*reader)->next(rec)) != os::ReadStatus::End && status != os::ReadStatus::Error) {
+    if (status != os::ReadStatus::Datagram) continue;
+    const os::UdpDatagram& d = rec.datagram;
+    if (d.destination_port == config.data_port) stream->addDataPacket(d.payload, d.utime);
+    else if (d.destination_port == config.position_port) stream->addPositionPacket(d.payload, d.utime);
+  }
+  stream->finish();
+  if (status == os::ReadStatus::Error)
+    counts.warning = fmt::format("{}; kept the {} records before it", (*reader)->error(), (*reader)->records());
+  const ov::StreamCounters& c = stream->counters();
+  counts.data_packets = c.data_packets;
+  counts.bad_packets = c.bad_size + c.bad_block_flag + c.bad_other;
+  return counts;
+}
+
+}  // namespace ogf::map_io
