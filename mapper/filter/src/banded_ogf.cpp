@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <thread>
 #include <unordered_map>
@@ -19,8 +20,6 @@ namespace ogf::filter {
 
 namespace {
 
-// Beyond this z the update is below 1e-22 of the prior: skipped without evaluating λ when skipping is on.
-constexpr double kCertainZ = 10.0;
 constexpr std::size_t kSelfBlock = 13;  // (1, 1, 1) in the 3×3×3 neighbourhood of blocks
 
 std::uint32_t colourOf(const CellKey& blockKey) {
@@ -61,6 +60,7 @@ BandedOgf::BandedOgf(const FilterConfig& resolved)
   }
   priorVariance_ = static_cast<float>(prior_.variance());
   varianceFloor_ = priorVariance_ * 1e-9F;
+  clampZ_ = resolved.clampZ > 0.0 ? resolved.clampZ : std::numeric_limits<double>::infinity();
   for (const CellKey& o : stencil_.offsets()) {
     offsetX_.push_back(o.x);
     offsetY_.push_back(o.y);
@@ -319,7 +319,7 @@ bool BandedOgf::applyMeasurement(Block* const* neighbourhood, std::size_t local,
   const double mean = static_cast<double>(self[0]);
   const double var = static_cast<double>(self[1]);
   const double tolerance = config_.skipTolerance;
-  if (tolerance > 0.0 && static_cast<double>(y) * mean / std::sqrt(1.0 + var) > kCertainZ) {
+  if (static_cast<double>(y) * mean / std::sqrt(1.0 + var) > clampZ_) {
     return false;
   }
   const ProbitUpdate u = probitUpdate(y, mean, var);

@@ -112,6 +112,9 @@ Result<FilterConfig> FilterConfig::resolved() const {
   if (!std::isfinite(c.skipTolerance) || c.skipTolerance < 0.0) {
     return fieldError("skipTolerance", c.skipTolerance, "must be >= 0");
   }
+  if (!std::isfinite(c.clampZ) || c.clampZ < 0.0) {
+    return fieldError("clampZ", c.clampZ, "must be >= 0 (0: never clamp)");
+  }
   if (c.threads < 1 || c.threads > 256) {
     return fieldError("threads", c.threads, "must lie in [1, 256]");
   }

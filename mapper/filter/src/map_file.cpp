@@ -72,6 +72,7 @@ struct Header {
   double occupiedThreshold = 0.0;
   double freeThreshold = 0.0;
   double skipTolerance = 0.0;
+  double clampZ = 0.0;
   std::int32_t manhattanRadius = 0;
   std::uint32_t blockSide = 0;
   std::uint32_t floatsPerCell = 0;
@@ -100,6 +101,7 @@ void writeHeaderFields(Writer& w, const Header& h) {
   w.put(h.occupiedThreshold);
   w.put(h.freeThreshold);
   w.put(h.skipTolerance);
+  w.put(h.clampZ);
   w.put(h.manhattanRadius);
   w.put(h.blockSide);
   w.put(h.floatsPerCell);
@@ -118,7 +120,7 @@ bool readHeaderFields(Reader& r, Header& h) {
          r.get(h.sigma, "kernel sigma") && r.get(h.amplitude, "kernel amplitude") &&
          r.get(h.stencilRadius, "stencil radius") && r.get(h.taperSupport, "taper support") &&
          r.get(h.occupiedThreshold, "occupied threshold") && r.get(h.freeThreshold, "free threshold") &&
-         r.get(h.skipTolerance, "skip tolerance") && r.get(h.manhattanRadius, "stencil Manhattan radius") &&
+         r.get(h.skipTolerance, "skip tolerance") && r.get(h.clampZ, "clamp z") && r.get(h.manhattanRadius, "stencil Manhattan radius") &&
          r.get(h.blockSide, "block side") && r.get(h.floatsPerCell, "floats per cell") &&
          r.get(h.cellsPerBlock, "cells per block") && r.get(h.blockCount, "block count") &&
          r.get(h.payloadChecksum, "payload checksum");
@@ -163,6 +165,7 @@ std::vector<std::uint8_t> encodeMap(const BandedOgf& map) {
   h.occupiedThreshold = c.occupiedThreshold;
   h.freeThreshold = c.freeThreshold;
   h.skipTolerance = c.skipTolerance;
+  h.clampZ = c.clampZ;
   h.manhattanRadius = c.stencilManhattanRadius;
   h.blockSide = kBlockSide;
   h.cellsPerBlock = c.dimensions == 3 ? 512U : 64U;
@@ -210,6 +213,7 @@ Result<BandedOgf> decodeMap(std::span<const std::uint8_t> bytes, std::string_vie
   config.occupiedThreshold = h.occupiedThreshold;
   config.freeThreshold = h.freeThreshold;
   config.skipTolerance = h.skipTolerance;
+  config.clampZ = h.clampZ;
   config.threads = std::clamp(threads, 1, 256);
   auto created = BandedOgf::create(config);
   if (!created) {

@@ -90,6 +90,7 @@ class BandedOgf {
   std::vector<float> priorSlots_;  // Σ0 for each forward slot
   float priorVariance_ = 0.0F;
   float varianceFloor_ = 0.0F;
+  double clampZ_ = 0.0;
   // Per stencil offset: the position in a 3×3×3 neighbourhood of blocks and offsets in local coordinates.
   std::vector<std::int32_t> offsetX_, offsetY_, offsetZ_;
   std::vector<std::uint32_t> neighbourMask_;  // per position in a block: neighbouring blocks reached

@@ -31,6 +31,10 @@ struct FilterConfig {
   // An update whose change to the measured cell's mean and variance is below this is skipped
   // (ogf.md §4, the counterpart of OctoMap's clamping). 0 applies every update.
   double skipTolerance = 1e-4;
+  // A measurement that agrees with a confidently classified cell, y·m/√(1+s) > clampZ, is skipped without
+  // evaluating λ: the OGF's OctoMap-style clamping. The probit update converges only logarithmically, so
+  // without it a static scene never falls below skipTolerance. 0 disables (the exact filter).
+  double clampZ = 3.0;
   int threads = 1;  // worker threads of BandedOgf::update; the map is bit-identical for any count
 
   // Every optional field filled in, and every field checked. The error names the field.

@@ -1,5 +1,5 @@
 // The banded map on disk. A header (magic, version, dimensions, resolution, kernel σ and amplitude, stencil
-// R and L, taper support, thresholds, block layout, block count), a 64-bit checksum of the payload and one
+// R and L, taper support, thresholds, skip tolerance and clamp, block layout, block count), a 64-bit checksum of the payload and one
 // of the header, then every block (key, then its floats) in key order; all little-endian. Written
 // atomically (temporary file, fsync, rename, fsync of the directory). A truncated or corrupted file is
 // refused with an error naming the file, the offset and the field; nothing is half-loaded.
@@ -18,11 +18,11 @@
 namespace ogf::filter {
 
 inline constexpr std::uint32_t kMapFileVersion = 1;
-// Layout of version 1: header fields [0, 112) ending with the payload checksum at [104, 112), the header
-// checksum (over [0, 112)) at [112, 120), blocks from 120 on.
-inline constexpr std::size_t kMapFilePayloadChecksumAt = 104;
-inline constexpr std::size_t kMapFileHeaderChecksumAt = 112;
-inline constexpr std::size_t kMapFilePayloadAt = 120;
+// Layout of version 1: header fields [0, 120) ending with the payload checksum at [112, 120), the header
+// checksum (over [0, 120)) at [120, 128), blocks from 128 on.
+inline constexpr std::size_t kMapFilePayloadChecksumAt = 112;
+inline constexpr std::size_t kMapFileHeaderChecksumAt = 120;
+inline constexpr std::size_t kMapFilePayloadAt = 128;
 
 std::vector<std::uint8_t> encodeMap(const BandedOgf& map);
 // `source` names the bytes in error messages (a path, or "<memory>"). `threads` is a runtime setting the
