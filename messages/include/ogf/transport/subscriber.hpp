@@ -5,10 +5,12 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <exception>
 #include <functional>
 #include <string>
 #include <string_view>
 
+#include "ogf/messages/encoded_size_check.hpp"
 #include "ogf/transport/lcm_url.hpp"
 
 namespace ogf::transport {
@@ -20,7 +22,7 @@ class Subscriber {
                                      const std::string& channel)>;
   // Called with the channel, the received size and a reason when a message does not decode.
   using ErrorHandler =
-      std::function<void(const std::string& channel, std::size_t size, std::string_view reason)>;
+      std::function<void(const std::string& channel, std::size_t size, const std::string& reason)>;
 
   Subscriber(lcm::LCM& lcm, const std::string& channel, Handler on_message, ErrorHandler on_error,
              int queue_capacity = kSubscriptionQueueCapacity)
@@ -43,8 +45,18 @@ class Subscriber {
   void dispatch(const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
     // Reused between messages: generated decode() leaves stale elements for zero-length arrays, so
     // every message decodes into a fresh object.
+    // Counts first: decode() would allocate whatever a corrupt count claims before noticing.
+    if (auto bad = ogf::messages::EncodedSizeCheck<Message>::check(rbuf.data, rbuf.data_size)) {
+      if (on_error_) on_error_(channel, rbuf.data_size, "is malformed: " + *bad);
+      return;
+    }
     Message msg;
-    const int used = msg.decode(rbuf.data, 0, static_cast<int>(rbuf.data_size));
+    int used = -1;
+    try {
+      used = msg.decode(rbuf.data, 0, static_cast<int>(rbuf.data_size));
+    } catch (const std::exception&) {
+      used = -1;  // a count the check does not cover made a vector throw: the message is malformed
+    }
     if (used < 0) {
       if (on_error_) on_error_(channel, rbuf.data_size, "does not decode (wrong type or truncated)");
       return;
