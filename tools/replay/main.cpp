@@ -1,0 +1,235 @@
+// ogf-replay: replays a Velodyne capture onto UDP without root, as tcpreplay would for a driver listening
+// on a socket: each record's UDP payload is sent to --dest at the data or position port, paced by the
+// capture timestamps divided by --speed on a steady clock (sleep_until from the start, so no drift), with
+// loops and a packet-rate limit; optionally the robot's odometry is published on LCM on the same clock, so
+// ogf-driver and ogf-mapper see a live robot. Records that are not usable UDP are skipped and counted.
+#include <CLI/CLI.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/udp.hpp>
+#include <lcm/lcm-cpp.hpp>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "ogf/driver_sources/pcap_file_reader.hpp"
+#include "ogf/replay/destination_ports.hpp"
+#include "ogf/replay/pose_events.hpp"
+#include "ogf/replay/replay_clock.hpp"
+#include "ogf/transport/lcm_url.hpp"
+#include "ogf/transport/logging.hpp"
+
+namespace {
+
+namespace ds = ogf::driver_sources;
+using Clock = std::chrono::steady_clock;
+
+constexpr int kExitOk = 0;
+constexpr int kExitNothingSent = 1;
+constexpr int kExitUsage = 2;
+
+struct Counts {
+  std::int64_t data = 0;
+  std::int64_t position = 0;
+  std::int64_t other = 0;
+  std::int64_t skipped = 0;      // records that are not a whole IPv4/UDP datagram
+  std::int64_t send_errors = 0;  // sendto failures (counted, the replay goes on)
+  std::int64_t poses = 0;
+  std::int64_t pose_errors = 0;
+  std::int64_t late_us_max = 0;  // worst lateness of a send behind its due time
+  std::int64_t packets() const { return data + position + other; }
+};
+
+const char* kindName(ds::FrameKind k) {
+  switch (k) {
+    case ds::FrameKind::Udp: return "udp";
+    case ds::FrameKind::NotUdp: return "not UDP";
+    case ds::FrameKind::Fragment: return "IPv4 fragment";
+    case ds::FrameKind::Truncated: return "truncated";
+    case ds::FrameKind::UnsupportedLink: return "unsupported link type";
+  }
+  return "?";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "Replays a capture's UDP payloads onto the network (no root needed), optionally with the robot's odometry "
+      "on LCM on the same clock.\n"
+      "Data packets (captured to 2368) go to --data-port, position packets (8308) to --position-port, others to "
+      "their captured port. Pacing: capture time / --speed, on a steady clock; --fast sends as fast as possible; "
+      "--max-rate caps packets per second. Each odometry pose is published when the replay clock reaches its "
+      "utime (capture clock).\n"
+      "At the end one line on stdout:\n"
+      "  packets N data N position N other N skipped N send_errors N poses N loops N seconds S rate R\n"
+      "Exit 0 when packets were sent, 1 when none could be, 2 on bad flags or unreadable inputs."};
+  std::string pcap, dest = "127.0.0.1", odometry, lcm_url, pose_channel = "POSE", log_level = "info";
+  int data_port = 2368, position_port = 8308, loops = 1;
+  double speed = 1.0, max_rate = 0.0, start_delay = 0.0, loop_gap = 0.0;
+  bool fast = false;
+  app.add_option("--pcap", pcap, "Capture file (pcap or pcapng)")->required()->check(CLI::ExistingFile);
+  app.add_option("--dest", dest, "Destination IPv4 address")->capture_default_str();
+  app.add_option("--data-port", data_port, "Port for data packets (captured to 2368)")
+      ->capture_default_str()->check(CLI::Range(1, 65535));
+  app.add_option("--position-port", position_port, "Port for position packets (captured to 8308)")
+      ->capture_default_str()->check(CLI::Range(1, 65535));
+  auto* speed_opt = app.add_option("--speed", speed, "Pacing factor: capture time / speed")
+                        ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_flag("--fast", fast, "As fast as possible (no pacing by the capture clock)")->excludes(speed_opt);
+  app.add_option("--loop", loops, "Play the capture this many times")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--loop-gap", loop_gap, "Seconds between loops")->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_option("--max-rate", max_rate, "At most this many packets per second (0: no limit)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  auto* odo_opt = app.add_option("--odometry", odometry,
+                                 "Odometry to publish: CSV utime,x,y,z,qw,qx,qy,qz (as ogf.odometry_t) or an LCM log "
+                                 "(events on --pose-channel, republished as they are)")
+                      ->check(CLI::ExistingFile);
+  app.add_option("--lcm-url", lcm_url, "LCM URL for the odometry (default $LCM_DEFAULT_URL, else LCM's default)")
+      ->needs(odo_opt);
+  app.add_option("--pose-channel", pose_channel, "Odometry channel")->capture_default_str();
+  app.add_option("--start-delay", start_delay, "Seconds to wait before the first packet (let listeners start)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_option("--log-level", log_level, "trace|debug|info|warn|error")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+
+  const auto level = ogf::transport::parseLogLevel(log_level);
+  if (!level) {
+    std::fprintf(stderr, "ogf-replay: --log-level: unknown level '%s'\n", log_level.c_str());
+    return kExitUsage;
+  }
+  ogf::transport::setupLogging("ogf-replay", *level);
+
+  boost::system::error_code ec;
+  const auto address = boost::asio::ip::make_address_v4(dest, ec);
+  if (ec) {
+    spdlog::error("--dest: '{}' is not an IPv4 address", dest);
+    return kExitUsage;
+  }
+  const ogf::replay::DestinationPorts ports{static_cast<std::uint16_t>(data_port), static_cast<std::uint16_t>(position_port)};
+
+  std::optional<ogf::replay::PoseEvents> poses;
+  std::unique_ptr<lcm::LCM> lcm;
+  if (!odometry.empty()) {
+    auto loaded = ogf::replay::loadPoseEvents(odometry, pose_channel);
+    if (!loaded) {
+      spdlog::error("--odometry: {}", loaded.error().message);
+      return kExitUsage;
+    }
+    for (const auto& p : loaded->problems) spdlog::warn("{}; skipped", p);
+    if (loaded->skipped > static_cast<std::int64_t>(loaded->problems.size()))
+      spdlog::warn("{} more malformed odometry lines skipped", loaded->skipped - static_cast<std::int64_t>(loaded->problems.size()));
+    poses = std::move(*loaded);
+    // Publish only: no subscription, so LCM opens no receive socket.
+    const std::string url = ogf::transport::resolveLcmUrl(lcm_url);
+    lcm = std::make_unique<lcm::LCM>(url);
+    if (!lcm->good()) {
+      spdlog::error("cannot join the LCM bus {} (udpm needs a multicast route: scripts/multicast-loopback.sh)", url);
+      return kExitUsage;
+    }
+    spdlog::info("{}: {} poses to publish on {} ({})", odometry, poses->events.size(), pose_channel, url);
+  }
+
+  boost::asio::io_context io;
+  boost::asio::ip::udp::socket socket(io);
+  socket.open(boost::asio::ip::udp::v4(), ec);
+  if (ec) {
+    spdlog::error("cannot open a UDP socket: {}", ec.message());
+    return kExitNothingSent;
+  }
+  socket.set_option(boost::asio::socket_base::send_buffer_size(4 * 1024 * 1024), ec);  // best effort
+
+  ogf::replay::ReplayClock clock({fast ? 0.0 : speed, max_rate});
+  Counts counts;
+  std::string damage;
+  bool origin_set = false;
+
+  if (start_delay > 0) std::this_thread::sleep_for(std::chrono::duration<double>(start_delay));
+  const Clock::time_point start = Clock::now();
+  const auto waitUntil = [&](std::int64_t due_us) {
+    const auto due = start + std::chrono::microseconds(due_us);
+    const auto now = Clock::now();
+    if (now < due) std::this_thread::sleep_until(due);
+    else counts.late_us_max = std::max<std::int64_t>(counts.late_us_max, std::chrono::duration_cast<std::chrono::microseconds>(now - due).count());
+  };
+  const auto publishPose = [&](const ogf::replay::PoseEvent& e) {
+    if (lcm->publish(pose_channel, e.bytes.data(), static_cast<unsigned>(e.bytes.size())) == 0) ++counts.poses;
+    else ++counts.pose_errors;
+  };
+
+  int loop = 0;
+  for (; loop < loops; ++loop) {
+    auto reader = ds::PcapFileReader::open(pcap);
+    if (!reader) {
+      spdlog::error("--pcap: {}", reader.error().message);
+      return loop == 0 ? kExitUsage : kExitNothingSent;
+    }
+    if (loop > 0) clock.nextLoop(static_cast<std::int64_t>(loop_gap * 1e6));
+    std::size_t next_pose = 0;
+    ds::PcapRecord record;
+    bool ended = false;
+    while (!ended) {
+      const ds::ReadStatus st = (*reader)->next(record);
+      if (st == ds::ReadStatus::End) break;
+      if (st == ds::ReadStatus::Error) {
+        damage = (*reader)->error();
+        break;
+      }
+      if (st == ds::ReadStatus::Skipped || record.kind != ds::FrameKind::Udp) {
+        ++counts.skipped;
+        spdlog::debug("record {} skipped: {}", record.index, kindName(record.kind));
+        continue;
+      }
+      const ds::UdpDatagram& d = record.datagram;
+      if (!origin_set) {
+        std::int64_t origin = d.utime;
+        if (poses && !poses->events.empty()) origin = std::min(origin, poses->events.front().utime);
+        clock.setOrigin(origin);
+        origin_set = true;
+      }
+      // Poses due before this packet go first, each at its own time.
+      while (poses && next_pose < poses->events.size() && poses->events[next_pose].utime <= d.utime) {
+        waitUntil(clock.dueEvent(poses->events[next_pose].utime));
+        publishPose(poses->events[next_pose++]);
+      }
+      waitUntil(clock.duePacket(d.utime));
+      const std::uint16_t port = ports.forCaptured(d.destination_port);
+      socket.send_to(boost::asio::buffer(d.payload.data(), d.payload.size()), boost::asio::ip::udp::endpoint(address, port), 0, ec);
+      if (ec) {
+        ++counts.send_errors;
+        spdlog::debug("send to {}:{} failed: {}", dest, port, ec.message());
+        continue;
+      }
+      if (d.destination_port == ports.kCapturedData) ++counts.data;
+      else if (d.destination_port == ports.kCapturedPosition) ++counts.position;
+      else ++counts.other;
+    }
+    // Poses after the last packet: the mapper needs the pose after a scan's end to place its last points.
+    while (poses && next_pose < poses->events.size()) {
+      waitUntil(clock.dueEvent(poses->events[next_pose].utime));
+      publishPose(poses->events[next_pose++]);
+    }
+    if (!damage.empty()) break;
+  }
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+
+  if (!damage.empty()) spdlog::warn("{}: reading stopped at damage: {}; the records before it were sent", pcap, damage);
+  if (counts.skipped > 0) spdlog::warn("{} records skipped (not a whole IPv4/UDP datagram)", counts.skipped);
+  if (counts.send_errors > 0) spdlog::warn("{} datagrams could not be sent", counts.send_errors);
+  if (counts.pose_errors > 0) spdlog::warn("{} poses could not be published", counts.pose_errors);
+  if (!fast && counts.late_us_max > 20000)
+    spdlog::warn("fell behind the capture clock by up to {:.1f} ms", static_cast<double>(counts.late_us_max) / 1000.0);
+  const double rate = seconds > 0 ? static_cast<double>(counts.packets()) / seconds : 0.0;
+  std::printf("packets %lld data %lld position %lld other %lld skipped %lld send_errors %lld poses %lld loops %d "
+              "seconds %.3f rate %.1f\n",
+              static_cast<long long>(counts.packets()), static_cast<long long>(counts.data),
+              static_cast<long long>(counts.position), static_cast<long long>(counts.other),
+              static_cast<long long>(counts.skipped), static_cast<long long>(counts.send_errors),
+              static_cast<long long>(counts.poses), loop == loops ? loops : loop + 1, seconds, rate);
+  return counts.packets() > 0 ? kExitOk : kExitNothingSent;
+}
