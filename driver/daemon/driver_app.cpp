@@ -1,7 +1,6 @@
 #include "driver_app.hpp"
 
 #include <spdlog/spdlog.h>
-
 #include <sys/time.h>
 
 namespace ogf::driver {
@@ -15,8 +14,13 @@ std::int64_t nowUtime() {
 
 }  // namespace
 
-DriverApp::DriverApp(transport::DaemonLoop& loop, lcm::LCM& lcm, DriverConfig config, velodyne::PacketStream stream)
-    : loop_(loop), lcm_(lcm), config_(std::move(config)), stream_(std::move(stream)), status_timer_(loop.io()) {
+DriverApp::DriverApp(transport::DaemonLoop& loop, lcm::LCM& lcm, DriverConfig config,
+                     velodyne::PacketStream stream)
+    : loop_(loop),
+      lcm_(lcm),
+      config_(std::move(config)),
+      stream_(std::move(stream)),
+      status_timer_(loop.io()) {
   if (!config_.sensor_address.empty()) driver_sources::parseIpv4(config_.sensor_address, sensor_ip_);
   stream_.setScanSink([this](const velodyne::Scan& scan) { onScan(scan); });
 }
@@ -37,9 +41,11 @@ std::optional<velodyne::Error> DriverApp::start() {
       position_socket_ = std::move(*position);
       // Linux grants at most net.core.rmem_max and reports twice what it grants (socket(7)).
       if (data_socket_->grantedReceiveBuffer() < 2 * static_cast<std::int64_t>(config_.receive_buffer_bytes))
-        spdlog::warn("the kernel granted a {} byte receive buffer, less than the {} asked for; raise "
-                     "net.core.rmem_max (sysctl -w net.core.rmem_max={}) or bursts may be dropped",
-                     data_socket_->grantedReceiveBuffer() / 2, config_.receive_buffer_bytes, config_.receive_buffer_bytes);
+        spdlog::warn(
+            "the kernel granted a {} byte receive buffer, less than the {} asked for; raise "
+            "net.core.rmem_max (sysctl -w net.core.rmem_max={}) or bursts may be dropped",
+            data_socket_->grantedReceiveBuffer() / 2, config_.receive_buffer_bytes,
+            config_.receive_buffer_bytes);
       source_description_ = "udp " + config_.bind_address + ":" + std::to_string(data_socket_->port());
       break;
     }
@@ -47,8 +53,10 @@ std::optional<velodyne::Error> DriverApp::start() {
       auto live = driver_sources::LiveCapture::open(
           loop_.io(), config_.interface, data_port, position_port,
           [this](driver_sources::FrameKind kind, const driver_sources::UdpDatagram& d) {
-            if (kind == driver_sources::FrameKind::Udp) onDatagram(d);
-            else countMalformed(kind);
+            if (kind == driver_sources::FrameKind::Udp)
+              onDatagram(d);
+            else
+              countMalformed(kind);
           });
       if (!live) return live.error();
       live_ = std::move(*live);
@@ -61,8 +69,10 @@ std::optional<velodyne::Error> DriverApp::start() {
       replay_ = std::make_unique<driver_sources::PcapReplay>(
           loop_.io(), std::move(*reader), config_.speed,
           [this](const driver_sources::PcapRecord& r) {
-            if (r.kind == driver_sources::FrameKind::Udp) onDatagram(r.datagram);
-            else countMalformed(r.kind);
+            if (r.kind == driver_sources::FrameKind::Udp)
+              onDatagram(r.datagram);
+            else
+              countMalformed(r.kind);
           },
           [this](const std::string& error) { onCaptureEnd(error); });
       replay_->start();
@@ -73,7 +83,8 @@ std::optional<velodyne::Error> DriverApp::start() {
   last_status_time_ = std::chrono::steady_clock::now();
   armStatusTimer();
   spdlog::info("reading {}; publishing {}, {}{} on the LCM bus", source_description_, config_.scan_channel,
-               config_.status_channel, config_.publish_packets ? ", " + config_.packets_channel : std::string());
+               config_.status_channel,
+               config_.publish_packets ? ", " + config_.packets_channel : std::string());
   return std::nullopt;
 }
 
@@ -83,7 +94,9 @@ void DriverApp::countMalformed(driver_sources::FrameKind kind) {
   ++malformed_frames_;
   if (auto n = other_log_.allow())
     spdlog::warn("skipped a captured frame that is {} ({} more since the last report)",
-                 kind == driver_sources::FrameKind::Fragment ? "an IPv4 fragment" : "cut short or of an unknown link type", *n);
+                 kind == driver_sources::FrameKind::Fragment ? "an IPv4 fragment"
+                                                             : "cut short or of an unknown link type",
+                 *n);
 }
 
 void DriverApp::onDatagram(const driver_sources::UdpDatagram& d) {
@@ -111,27 +124,33 @@ void DriverApp::onDatagram(const driver_sources::UdpDatagram& d) {
     }
     batch_.add(d.payload, d.utime, d.destination_port, current_sender_);
   }
-  if (data) stream_.addDataPacket(d.payload, d.utime);
-  else stream_.addPositionPacket(d.payload, d.utime);
+  if (data)
+    stream_.addDataPacket(d.payload, d.utime);
+  else
+    stream_.addPositionPacket(d.payload, d.utime);
   const velodyne::StreamCounters& after = stream_.counters();
   if (after.bad_size > before.bad_size) {
     if (auto n = size_log_.allow())
-      spdlog::warn("skipped a {} byte datagram on port {} from {}: expected {} ({} more since the last report)",
-                   d.payload.size(), d.destination_port, driver_sources::formatIpv4(d.source_ip), expected, *n);
+      spdlog::warn(
+          "skipped a {} byte datagram on port {} from {}: expected {} ({} more since the last report)",
+          d.payload.size(), d.destination_port, driver_sources::formatIpv4(d.source_ip), expected, *n);
   } else if (after.bad_block_flag > before.bad_block_flag) {
     if (auto n = flag_log_.allow())
       spdlog::warn("skipped a data packet from {} with a bad block flag ({} more since the last report)",
                    driver_sources::formatIpv4(d.source_ip), *n);
   } else if (after.bad_other > before.bad_other) {
     if (auto n = other_log_.allow())
-      spdlog::warn("skipped a malformed packet on port {} ({} more since the last report)", d.destination_port, *n);
+      spdlog::warn("skipped a malformed packet on port {} ({} more since the last report)",
+                   d.destination_port, *n);
   }
 }
 
 void DriverApp::onScan(const velodyne::Scan& scan) {
   fillScanMessage(scan, config_.frame_id, scan_msg_);
-  if (lcm_.publish(config_.scan_channel, &scan_msg_) == 0) ++scans_published_;
-  else ++publish_errors_;
+  if (lcm_.publish(config_.scan_channel, &scan_msg_) == 0)
+    ++scans_published_;
+  else
+    ++publish_errors_;
   if (config_.publish_packets && !batch_.empty()) {
     if (lcm_.publish(config_.packets_channel, &batch_.message()) != 0) ++publish_errors_;
     batch_.clear();
@@ -177,10 +196,15 @@ void DriverApp::publishStatus() {
   s.utime = nowUtime();
   s.source = source_description_;
   s.model = static_cast<std::int8_t>(stream_.model().value_or(velodyne::Model::Unknown));
-  s.return_mode = static_cast<std::int8_t>(stream_.returnMode() ? static_cast<int>(*stream_.returnMode()) : 0);
+  s.return_mode =
+      static_cast<std::int8_t>(stream_.returnMode() ? static_cast<int>(*stream_.returnMode()) : 0);
   s.rpm = stream_.rpm();
-  s.packet_rate_hz = elapsed > 0 ? static_cast<float>(static_cast<double>(c.data_packets - last_status_packets_) / elapsed) : 0.0f;
-  s.scan_rate_hz = elapsed > 0 ? static_cast<float>(static_cast<double>(scans_published_ - last_status_scans_) / elapsed) : 0.0f;
+  s.packet_rate_hz =
+      elapsed > 0 ? static_cast<float>(static_cast<double>(c.data_packets - last_status_packets_) / elapsed)
+                  : 0.0f;
+  s.scan_rate_hz =
+      elapsed > 0 ? static_cast<float>(static_cast<double>(scans_published_ - last_status_scans_) / elapsed)
+                  : 0.0f;
   s.data_packets = c.data_packets;
   s.position_packets = c.position_packets;
   s.packets_lost = stream_.packetsLost();

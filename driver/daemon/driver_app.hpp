@@ -4,9 +4,8 @@
 #pragma once
 
 #include <boost/asio/steady_timer.hpp>
-#include <lcm/lcm-cpp.hpp>
-
 #include <chrono>
+#include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <optional>
 

@@ -11,7 +11,8 @@
 namespace ogf::driver {
 namespace {
 
-velodyne::Error at(const std::string& path, const YAML::Node& node, const std::string& key, const std::string& what) {
+velodyne::Error at(const std::string& path, const YAML::Node& node, const std::string& key,
+                   const std::string& what) {
   return velodyne::Error{path + ":" + std::to_string(node.Mark().line + 1) + ": " + key + ": " + what};
 }
 
@@ -19,9 +20,12 @@ velodyne::Error at(const std::string& path, const YAML::Node& node, const std::s
 
 const char* sourceName(SourceKind kind) {
   switch (kind) {
-    case SourceKind::Udp: return "udp";
-    case SourceKind::PcapLive: return "pcap-live";
-    case SourceKind::PcapFile: return "pcap-file";
+    case SourceKind::Udp:
+      return "udp";
+    case SourceKind::PcapLive:
+      return "pcap-live";
+    case SourceKind::PcapFile:
+      return "pcap-file";
   }
   return "udp";
 }
@@ -74,18 +78,24 @@ velodyne::Result<DriverConfig> loadDriverConfig(const std::string& path, DriverC
     }
   }
   if (!source.empty()) {
-    if (source == "udp") c.source = SourceKind::Udp;
-    else if (source == "pcap-live") c.source = SourceKind::PcapLive;
-    else if (source == "pcap-file") c.source = SourceKind::PcapFile;
-    else return at(path, root["source"], "source", "not one of udp, pcap-live, pcap-file");
+    if (source == "udp")
+      c.source = SourceKind::Udp;
+    else if (source == "pcap-live")
+      c.source = SourceKind::PcapLive;
+    else if (source == "pcap-file")
+      c.source = SourceKind::PcapFile;
+    else
+      return at(path, root["source"], "source", "not one of udp, pcap-live, pcap-file");
   }
   return c;
 }
 
 velodyne::Result<velodyne::StreamConfig> validate(const DriverConfig& c) {
   velodyne::StreamConfig s;
-  if (c.source == SourceKind::PcapFile && c.pcap_file.empty()) return velodyne::Error{"pcap_file: needed by source pcap-file"};
-  if (c.source == SourceKind::PcapLive && c.interface.empty()) return velodyne::Error{"interface: needed by source pcap-live"};
+  if (c.source == SourceKind::PcapFile && c.pcap_file.empty())
+    return velodyne::Error{"pcap_file: needed by source pcap-file"};
+  if (c.source == SourceKind::PcapLive && c.interface.empty())
+    return velodyne::Error{"interface: needed by source pcap-live"};
   if (!(c.speed >= 0.0)) return velodyne::Error{"speed: must be >= 0 (0 = as fast as possible)"};
   if (c.data_port < 1 || c.data_port > 65535) return velodyne::Error{"data_port: not a port number"};
   if (c.position_port < 1 || c.position_port > 65535 || c.position_port == c.data_port)
@@ -96,11 +106,14 @@ velodyne::Result<velodyne::StreamConfig> validate(const DriverConfig& c) {
   if (c.receive_buffer_bytes < 65536) return velodyne::Error{"receive_buffer_bytes: at least 65536"};
   if (c.model != "auto") {
     s.model = velodyne::parseModelName(c.model);
-    if (!s.model) return velodyne::Error{"model: '" + c.model + "' is none of auto, VLP-16, VLP-16-HiRes, VLP-32C, HDL-32E"};
+    if (!s.model)
+      return velodyne::Error{"model: '" + c.model +
+                             "' is none of auto, VLP-16, VLP-16-HiRes, VLP-32C, HDL-32E"};
   }
   if (c.return_mode != "auto") {
     s.return_mode = velodyne::parseReturnModeName(c.return_mode);
-    if (!s.return_mode) return velodyne::Error{"return_mode: '" + c.return_mode + "' is none of auto, strongest, last, dual"};
+    if (!s.return_mode)
+      return velodyne::Error{"return_mode: '" + c.return_mode + "' is none of auto, strongest, last, dual"};
   }
   if (!c.calibration.empty()) {
     auto calib = velodyne::loadCalibrationFile(c.calibration);
@@ -111,7 +124,8 @@ velodyne::Result<velodyne::StreamConfig> validate(const DriverConfig& c) {
     return velodyne::Error{"min_range/max_range: need 0 <= min_range < max_range"};
   s.min_range_m = c.min_range_m;
   s.max_range_m = c.max_range_m;
-  if (!(c.cut_angle_deg >= -360.0 && c.cut_angle_deg <= 360.0)) return velodyne::Error{"cut_angle: degrees in [-360, 360]"};
+  if (!(c.cut_angle_deg >= -360.0 && c.cut_angle_deg <= 360.0))
+    return velodyne::Error{"cut_angle: degrees in [-360, 360]"};
   s.assembler.cut_angle_deg = c.cut_angle_deg;
   for (const auto* channel : {&c.scan_channel, &c.packets_channel, &c.status_channel})
     if (channel->empty() || channel->size() > 63) return velodyne::Error{"channel names: 1 to 63 characters"};

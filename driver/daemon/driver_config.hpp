@@ -15,24 +15,24 @@ enum class SourceKind { Udp, PcapLive, PcapFile };
 
 struct DriverConfig {
   SourceKind source = SourceKind::Udp;
-  std::string pcap_file;          // source pcap-file
-  std::string interface;          // source pcap-live
-  double speed = 1.0;             // pcap-file pacing: capture time / speed; 0 = as fast as possible
+  std::string pcap_file;  // source pcap-file
+  std::string interface;  // source pcap-live
+  double speed = 1.0;     // pcap-file pacing: capture time / speed; 0 = as fast as possible
   std::string bind_address = "0.0.0.0";
   int data_port = 2368;
   int position_port = 8308;
-  std::string sensor_address;     // accept only this sender ("" = any)
+  std::string sensor_address;  // accept only this sender ("" = any)
   int receive_buffer_bytes = 8 * 1024 * 1024;
 
-  std::string model = "auto";     // auto, VLP-16, VLP-16-HiRes, VLP-32C, HDL-32E
-  std::string calibration;        // VeloView XML or ROS YAML; "" = nominal
+  std::string model = "auto";  // auto, VLP-16, VLP-16-HiRes, VLP-32C, HDL-32E
+  std::string calibration;     // VeloView XML or ROS YAML; "" = nominal
   std::string return_mode = "auto";
   double min_range_m = 0.4;
   double max_range_m = 250.0;
   double cut_angle_deg = 0.0;
   std::string frame_id = "velodyne";
 
-  std::string lcm_url;            // "" = $LCM_DEFAULT_URL or LCM's default
+  std::string lcm_url;  // "" = $LCM_DEFAULT_URL or LCM's default
   std::string scan_channel = "VELODYNE_SCAN";
   std::string packets_channel = "VELODYNE_PACKETS";
   std::string status_channel = "VELODYNE_STATUS";

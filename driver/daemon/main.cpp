@@ -1,8 +1,8 @@
 // ogf-driver: the Velodyne driver daemon. Reads the sensor over UDP (or a live interface, or a capture
 // file), decodes scans and publishes them with the raw packets and a 1 Hz status on LCM.
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include <CLI/CLI.hpp>
 #include <lcm/lcm-cpp.hpp>
 
 #include "driver_app.hpp"
@@ -23,29 +23,59 @@ int main(int argc, char** argv) {
   DriverConfig defaults;
   std::string config_path, source;
   app.add_option("--config", config_path, "YAML configuration file (flags override it)");
-  app.add_option("--source", source, "udp, pcap-live or pcap-file")->check(CLI::IsMember({"udp", "pcap-live", "pcap-file"}));
-  auto* pcap = app.add_option("--pcap", defaults.pcap_file, "Replay this capture file (implies --source pcap-file)");
-  auto* iface = app.add_option("--interface", defaults.interface, "Capture live on this interface (implies pcap-live)");
-  auto* speed = app.add_option("--speed", defaults.speed, "Capture-file pacing factor; 0 = as fast as possible");
-  auto* bind = app.add_option("--bind-address", defaults.bind_address, "UDP bind address");
-  auto* data_port = app.add_option("--data-port", defaults.data_port, "Data packet port");
-  auto* position_port = app.add_option("--position-port", defaults.position_port, "Position packet port");
-  auto* sensor = app.add_option("--sensor-ip", defaults.sensor_address, "Accept packets only from this address");
-  auto* rcvbuf = app.add_option("--receive-buffer", defaults.receive_buffer_bytes, "SO_RCVBUF to ask for, bytes");
-  auto* model = app.add_option("--model", defaults.model, "auto, VLP-16, VLP-16-HiRes, VLP-32C, HDL-32E");
-  auto* calib = app.add_option("--calib", defaults.calibration, "Calibration: VeloView XML or ROS YAML");
-  auto* mode = app.add_option("--return-mode", defaults.return_mode, "auto, strongest, last, dual");
-  auto* min_range = app.add_option("--min-range", defaults.min_range_m, "Minimum range, metres (default 0.4)");
-  auto* max_range = app.add_option("--max-range", defaults.max_range_m, "Maximum range, metres");
-  auto* cut = app.add_option("--cut-angle", defaults.cut_angle_deg, "Scan cut azimuth, degrees clockwise from x");
-  auto* frame = app.add_option("--frame-id", defaults.frame_id, "Frame name in lidar_scan_t");
-  auto* url = app.add_option("--lcm-url", defaults.lcm_url, "LCM URL (default $LCM_DEFAULT_URL or LCM's default)");
-  auto* scan_ch = app.add_option("--scan-channel", defaults.scan_channel, "Channel of decoded scans");
-  auto* packets_ch = app.add_option("--packets-channel", defaults.packets_channel, "Channel of raw packet batches");
-  auto* status_ch = app.add_option("--status-channel", defaults.status_channel, "Channel of the 1 Hz status");
+  app.add_option("--source", source, "udp, pcap-live or pcap-file")
+      ->check(CLI::IsMember({"udp", "pcap-live", "pcap-file"}));
+  auto* pcap =
+      app.add_option("--pcap", defaults.pcap_file, "Replay this capture file (implies --source pcap-file)")
+          ->capture_default_str();
+  auto* iface =
+      app.add_option("--interface", defaults.interface, "Capture live on this interface (implies pcap-live)")
+          ->capture_default_str();
+  auto* speed =
+      app.add_option("--speed", defaults.speed, "Capture-file pacing factor; 0 = as fast as possible")
+          ->capture_default_str();
+  auto* bind =
+      app.add_option("--bind-address", defaults.bind_address, "UDP bind address")->capture_default_str();
+  auto* data_port =
+      app.add_option("--data-port", defaults.data_port, "Data packet port")->capture_default_str();
+  auto* position_port = app.add_option("--position-port", defaults.position_port, "Position packet port")
+                            ->capture_default_str();
+  auto* sensor =
+      app.add_option("--sensor-ip", defaults.sensor_address, "Accept packets only from this address")
+          ->capture_default_str();
+  auto* rcvbuf =
+      app.add_option("--receive-buffer", defaults.receive_buffer_bytes, "SO_RCVBUF to ask for, bytes")
+          ->capture_default_str();
+  auto* model = app.add_option("--model", defaults.model, "auto, VLP-16, VLP-16-HiRes, VLP-32C, HDL-32E")
+                    ->capture_default_str();
+  auto* calib = app.add_option("--calib", defaults.calibration, "Calibration: VeloView XML or ROS YAML")
+                    ->capture_default_str();
+  auto* mode = app.add_option("--return-mode", defaults.return_mode, "auto, strongest, last, dual")
+                   ->capture_default_str();
+  auto* min_range = app.add_option("--min-range", defaults.min_range_m,
+                                   "Minimum range, metres (0 keeps every non-zero return)")
+                        ->capture_default_str();
+  auto* max_range =
+      app.add_option("--max-range", defaults.max_range_m, "Maximum range, metres")->capture_default_str();
+  auto* cut =
+      app.add_option("--cut-angle", defaults.cut_angle_deg, "Scan cut azimuth, degrees clockwise from x")
+          ->capture_default_str();
+  auto* frame =
+      app.add_option("--frame-id", defaults.frame_id, "Frame name in lidar_scan_t")->capture_default_str();
+  auto* url =
+      app.add_option("--lcm-url", defaults.lcm_url, "LCM URL (default $LCM_DEFAULT_URL or LCM's default)")
+          ->capture_default_str();
+  auto* scan_ch = app.add_option("--scan-channel", defaults.scan_channel, "Channel of decoded scans")
+                      ->capture_default_str();
+  auto* packets_ch =
+      app.add_option("--packets-channel", defaults.packets_channel, "Channel of raw packet batches")
+          ->capture_default_str();
+  auto* status_ch = app.add_option("--status-channel", defaults.status_channel, "Channel of the 1 Hz status")
+                        ->capture_default_str();
   bool no_packets = false;
   app.add_flag("--no-packets", no_packets, "Do not publish raw packet batches");
-  auto* level = app.add_option("--log-level", defaults.log_level, "trace, debug, info, warn, error");
+  auto* level = app.add_option("--log-level", defaults.log_level, "trace, debug, info, warn, error")
+                    ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
   DriverConfig config;
@@ -107,7 +137,9 @@ int main(int argc, char** argv) {
   const std::string lcm_url = ogf::transport::resolveLcmUrl(config.lcm_url);
   lcm::LCM lcm(lcm_url);  // publish only: no subscription, so LCM starts no receive thread
   if (!lcm.good()) {
-    spdlog::error("cannot open the LCM bus {} (udpm needs a multicast route; see scripts/multicast-loopback.sh)", lcm_url);
+    spdlog::error(
+        "cannot open the LCM bus {} (udpm needs a multicast route; see scripts/multicast-loopback.sh)",
+        lcm_url);
     return 1;
   }
   ogf::transport::DaemonLoop loop;

@@ -37,7 +37,8 @@ void fillScanMessage(const velodyne::Scan& scan, const std::string& frame_id, og
   }
 }
 
-void PacketBatch::add(std::span<const std::uint8_t> payload, std::int64_t host_utime, int port, const std::string& sensor) {
+void PacketBatch::add(std::span<const std::uint8_t> payload, std::int64_t host_utime, int port,
+                      const std::string& sensor) {
   if (msg_.num_packets == 0) {
     msg_.utime = host_utime;
     msg_.sensor_address = sensor;

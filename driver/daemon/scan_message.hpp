@@ -18,7 +18,8 @@ void fillScanMessage(const velodyne::Scan& scan, const std::string& frame_id, og
 
 class PacketBatch {
  public:
-  void add(std::span<const std::uint8_t> payload, std::int64_t host_utime, int port, const std::string& sensor);
+  void add(std::span<const std::uint8_t> payload, std::int64_t host_utime, int port,
+           const std::string& sensor);
   bool empty() const { return msg_.num_packets == 0; }
   const ogf::velodyne_packets_t& message() const { return msg_; }
   void clear();

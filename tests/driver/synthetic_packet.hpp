@@ -26,7 +26,8 @@ class SyntheticPacket {
   }
   // Azimuths start, start+step, ... (mod 36000), or pairs in dual mode.
   SyntheticPacket& azimuths(int start, int step, bool pairs = false) {
-    for (int b = 0; b < 12; ++b) azimuth(b, static_cast<std::uint16_t>((start + step * (pairs ? b / 2 : b)) % 36000));
+    for (int b = 0; b < 12; ++b)
+      azimuth(b, static_cast<std::uint16_t>((start + step * (pairs ? b / 2 : b)) % 36000));
     return *this;
   }
   SyntheticPacket& channel(int block, int ch, std::uint16_t raw_distance, std::uint8_t reflectivity) {

@@ -29,7 +29,8 @@ TEST(Calibration, RingsRankLasersByElevation) {
   auto d = ov::PacketDecoder::create(config);
   ASSERT_TRUE(d);
   const auto& rings = d->rings();
-  for (int id = 0; id < 16; ++id) EXPECT_EQ(rings[static_cast<std::size_t>(id)], id % 2 == 0 ? id / 2 : 8 + id / 2);
+  for (int id = 0; id < 16; ++id)
+    EXPECT_EQ(rings[static_cast<std::size_t>(id)], id % 2 == 0 ? id / 2 : 8 + id / 2);
 }
 
 TEST(Calibration, ShippedXmlAndYamlFilesParseToTheSameAngles) {
@@ -55,7 +56,8 @@ TEST(Calibration, ShippedXmlAndYamlFilesParseToTheSameAngles) {
   const auto d = ov::loadCalibrationFile(hdl_yaml);
   ASSERT_TRUE(c) << c.error().message;
   ASSERT_TRUE(d) << d.error().message;
-  for (std::size_t i = 0; i < 32; ++i) EXPECT_NEAR(c->lasers[i].vert_correction_rad, d->lasers[i].vert_correction_rad, 1e-6);
+  for (std::size_t i = 0; i < 32; ++i)
+    EXPECT_NEAR(c->lasers[i].vert_correction_rad, d->lasers[i].vert_correction_rad, 1e-6);
   EXPECT_NEAR(c->lasers[0].vert_correction_rad * 180 / std::numbers::pi, -30.67, 1e-5);
 }
 
@@ -95,21 +97,27 @@ TEST(Calibration, YamlWithMissingFieldOrDuplicateIdIsRefused) {
       "lasers:\n- {laser_id: 0, vert_correction: 0.1}\n- {laser_id: 0, vert_correction: 0.2}\n", "d.yaml");
   ASSERT_FALSE(dup);
   EXPECT_NE(dup.error().message.find("laser_id"), std::string::npos);
-  const auto degrees = ov::parseRosYamlCalibration("lasers:\n- {laser_id: 0, vert_correction: -15}\n", "g.yaml");
+  const auto degrees =
+      ov::parseRosYamlCalibration("lasers:\n- {laser_id: 0, vert_correction: -15}\n", "g.yaml");
   ASSERT_FALSE(degrees);
-  const auto count = ov::parseRosYamlCalibration("lasers:\n- {laser_id: 0, vert_correction: 0.1}\nnum_lasers: 16\n", "n.yaml");
+  const auto count = ov::parseRosYamlCalibration(
+      "lasers:\n- {laser_id: 0, vert_correction: 0.1}\nnum_lasers: 16\n", "n.yaml");
   ASSERT_FALSE(count);
-  EXPECT_NE(count.error().message.find("n.yaml:3: field 'num_lasers'"), std::string::npos) << count.error().message;
+  EXPECT_NE(count.error().message.find("n.yaml:3: field 'num_lasers'"), std::string::npos)
+      << count.error().message;
   const auto syntax = ov::parseRosYamlCalibration("lasers: [\n", "s.yaml");
   ASSERT_FALSE(syntax);
   EXPECT_NE(syntax.error().message.find("s.yaml:"), std::string::npos);
 }
 
 TEST(Calibration, MalformedXmlNamesTheLineAndField) {
-  const char* text = "<DB>\n<points_>\n<item><px><id_>0</id_>\n<vertCorrection_>1x</vertCorrection_>\n</px></item>\n</points_></DB>\n";
+  const char* text =
+      "<DB>\n<points_>\n<item><px><id_>0</id_>\n<vertCorrection_>1x</vertCorrection_>\n</px></item>\n</"
+      "points_></DB>\n";
   const auto c = ov::parseVeloViewXmlCalibration(text, "bad.xml");
   ASSERT_FALSE(c);
-  EXPECT_NE(c.error().message.find("bad.xml:4: field 'vertCorrection_'"), std::string::npos) << c.error().message;
+  EXPECT_NE(c.error().message.find("bad.xml:4: field 'vertCorrection_'"), std::string::npos)
+      << c.error().message;
   const auto none = ov::parseVeloViewXmlCalibration("<DB></DB>", "empty.xml");
   ASSERT_FALSE(none);
   EXPECT_NE(none.error().message.find("points_"), std::string::npos);

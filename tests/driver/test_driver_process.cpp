@@ -8,8 +8,8 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include <lcm/lcm-cpp.hpp>
 #include <fstream>
+#include <lcm/lcm-cpp.hpp>
 #include <thread>
 
 #include "capture_decoding.hpp"
@@ -95,21 +95,27 @@ TEST(DriverProcess, ReplayedCapturePublishesTheLibrarysScansAndRawPacketsThatDec
   const std::string url = ogf::testing::loopbackUdpmUrl(31);
   Bus bus(url);
   ASSERT_TRUE(bus.lcm.good());
-  auto on_error = [](const std::string&, std::size_t, std::string_view) { ADD_FAILURE() << "undecodable message"; };
+  auto on_error = [](const std::string&, std::size_t, std::string_view) {
+    ADD_FAILURE() << "undecodable message";
+  };
   ogf::transport::Subscriber<ogf::lidar_scan_t> scans(
-      bus.lcm, "TEST_SCAN", [&](const auto& m, const auto&, const auto&) { bus.scans.push_back(m); }, on_error);
+      bus.lcm, "TEST_SCAN", [&](const auto& m, const auto&, const auto&) { bus.scans.push_back(m); },
+      on_error);
   ogf::transport::Subscriber<ogf::velodyne_packets_t> packets(
-      bus.lcm, "TEST_PACKETS", [&](const auto& m, const auto&, const auto&) { bus.packets.push_back(m); }, on_error);
+      bus.lcm, "TEST_PACKETS", [&](const auto& m, const auto&, const auto&) { bus.packets.push_back(m); },
+      on_error);
   ogf::transport::Subscriber<ogf::driver_status_t> status(
-      bus.lcm, "TEST_STATUS", [&](const auto& m, const auto&, const auto&) { bus.statuses.push_back(m); }, on_error);
+      bus.lcm, "TEST_STATUS", [&](const auto& m, const auto&, const auto&) { bus.statuses.push_back(m); },
+      on_error);
 
-  ChildProcess driver({OGF_DRIVER_BINARY, "--pcap", capture.string(), "--speed", "1", "--lcm-url", url, "--min-range",
-                       "0", "--scan-channel", "TEST_SCAN", "--packets-channel", "TEST_PACKETS", "--status-channel",
-                       "TEST_STATUS"},
-                      tempPath("ogf-driver-replay.log"));
+  ChildProcess driver(
+      {OGF_DRIVER_BINARY, "--pcap", capture.string(), "--speed", "1", "--lcm-url", url, "--min-range", "0",
+       "--scan-channel", "TEST_SCAN", "--packets-channel", "TEST_PACKETS", "--status-channel", "TEST_STATUS"},
+      tempPath("ogf-driver-replay.log"));
   ASSERT_TRUE(driver.started());
   std::optional<int> exit_code;
-  bus.pump([&] { return (exit_code = driver.wait(std::chrono::milliseconds(0))).has_value(); }, std::chrono::seconds(30));
+  bus.pump([&] { return (exit_code = driver.wait(std::chrono::milliseconds(0))).has_value(); },
+           std::chrono::seconds(30));
   bus.drain(std::chrono::milliseconds(500));
   ASSERT_EQ(exit_code, 0) << driver.log();
 
@@ -139,8 +145,10 @@ TEST(DriverProcess, ReplayedCapturePublishesTheLibrarysScansAndRawPacketsThatDec
       const auto n = static_cast<std::size_t>(batch.length[static_cast<std::size_t>(i)]);
       const std::span<const std::uint8_t> payload(batch.data.data() + offset, n);
       offset += n;
-      if (batch.port[static_cast<std::size_t>(i)] == 2368) stream->addDataPacket(payload, batch.host_utime[static_cast<std::size_t>(i)]);
-      else stream->addPositionPacket(payload, batch.host_utime[static_cast<std::size_t>(i)]);
+      if (batch.port[static_cast<std::size_t>(i)] == 2368)
+        stream->addDataPacket(payload, batch.host_utime[static_cast<std::size_t>(i)]);
+      else
+        stream->addPositionPacket(payload, batch.host_utime[static_cast<std::size_t>(i)]);
       ++raw;
     }
   }
@@ -161,16 +169,19 @@ TEST(DriverProcess, UdpSourceCountsGarbageAndForeignSendersAndKeepsDecoding) {
   ASSERT_TRUE(bus.lcm.good());
   auto on_error = [](const std::string&, std::size_t, std::string_view) {};
   ogf::transport::Subscriber<ogf::driver_status_t> status(
-      bus.lcm, "UDP_TEST_STATUS", [&](const auto& m, const auto&, const auto&) { bus.statuses.push_back(m); }, on_error);
+      bus.lcm, "UDP_TEST_STATUS", [&](const auto& m, const auto&, const auto&) { bus.statuses.push_back(m); },
+      on_error);
   ogf::transport::Subscriber<ogf::lidar_scan_t> scans(
-      bus.lcm, "UDP_TEST_SCAN", [&](const auto& m, const auto&, const auto&) { bus.scans.push_back(m); }, on_error);
+      bus.lcm, "UDP_TEST_SCAN", [&](const auto& m, const auto&, const auto&) { bus.scans.push_back(m); },
+      on_error);
 
   const int data_port = 30000 + static_cast<int>(::getpid() % 20000);
   const int position_port = data_port + 1;
-  ChildProcess driver({OGF_DRIVER_BINARY, "--bind-address", "127.0.0.1", "--data-port", std::to_string(data_port),
-                       "--position-port", std::to_string(position_port), "--sensor-ip", "127.0.0.1", "--lcm-url", url,
-                       "--scan-channel", "UDP_TEST_SCAN", "--status-channel", "UDP_TEST_STATUS", "--no-packets"},
-                      tempPath("ogf-driver-udp.log"));
+  ChildProcess driver(
+      {OGF_DRIVER_BINARY, "--bind-address", "127.0.0.1", "--data-port", std::to_string(data_port),
+       "--position-port", std::to_string(position_port), "--sensor-ip", "127.0.0.1", "--lcm-url", url,
+       "--scan-channel", "UDP_TEST_SCAN", "--status-channel", "UDP_TEST_STATUS", "--no-packets"},
+      tempPath("ogf-driver-udp.log"));
   ASSERT_TRUE(driver.started());
   // Ready once it publishes its first status.
   bus.pump([&] { return !bus.statuses.empty(); }, std::chrono::seconds(10));
@@ -197,8 +208,8 @@ TEST(DriverProcess, UdpSourceCountsGarbageAndForeignSendersAndKeepsDecoding) {
       ++data_sent;
       if (bad_flag.empty()) bad_flag.assign(d.payload.begin(), d.payload.end());
       if (data_sent % 50 == 0) {
-        sendTo(sock, data_port, garbage.data(), garbage.size());                 // wrong size
-        sendTo(foreign, data_port, d.payload.data(), d.payload.size());         // another host
+        sendTo(sock, data_port, garbage.data(), garbage.size());         // wrong size
+        sendTo(foreign, data_port, d.payload.data(), d.payload.size());  // another host
       }
     } else if (d.destination_port == 8308) {
       sendTo(sock, position_port, d.payload.data(), d.payload.size());
@@ -214,8 +225,8 @@ TEST(DriverProcess, UdpSourceCountsGarbageAndForeignSendersAndKeepsDecoding) {
   bus.pump(
       [&] {
         const auto& s = bus.statuses.back();
-        return s.data_packets == data_sent && s.position_packets == position_sent && s.bad_size == garbage_sent &&
-               s.foreign_sender == garbage_sent && s.bad_block_flag == 1;
+        return s.data_packets == data_sent && s.position_packets == position_sent &&
+               s.bad_size == garbage_sent && s.foreign_sender == garbage_sent && s.bad_block_flag == 1;
       },
       std::chrono::seconds(15));
   const auto s = stopAndLastStatus(driver, bus);
@@ -234,27 +245,23 @@ TEST(DriverProcess, UdpSourceCountsGarbageAndForeignSendersAndKeepsDecoding) {
 
 TEST(DriverProcess, BadConfigurationStopsAtStartUpNamingTheSetting) {
   const std::string yaml = tempPath("ogf-driver-bad.yaml");
-  {
-    std::ofstream(yaml) << "data_port: 2368\nmin_range: 5\nmax_range: 1\n";
-  }
+  { std::ofstream(yaml) << "data_port: 2368\nmin_range: 5\nmax_range: 1\n"; }
   ChildProcess ranges({OGF_DRIVER_BINARY, "--config", yaml}, tempPath("ogf-driver-bad.log"));
   EXPECT_EQ(ranges.wait(std::chrono::seconds(10)), 2);
   EXPECT_NE(ranges.log().find("min_range"), std::string::npos) << ranges.log();
-  {
-    std::ofstream(yaml) << "data_port: 2368\ncut_angel: 90\n";
-  }
+  { std::ofstream(yaml) << "data_port: 2368\ncut_angel: 90\n"; }
   ChildProcess unknown({OGF_DRIVER_BINARY, "--config", yaml}, tempPath("ogf-driver-bad.log"));
   EXPECT_EQ(unknown.wait(std::chrono::seconds(10)), 2);
   EXPECT_NE(unknown.log().find(":2: cut_angel: unknown setting"), std::string::npos) << unknown.log();
-  {
-    std::ofstream(yaml) << "model: HDL-64E\n";
-  }
-  ChildProcess model({OGF_DRIVER_BINARY, "--config", yaml, "--data-port", "2400"}, tempPath("ogf-driver-bad.log"));
+  { std::ofstream(yaml) << "model: HDL-64E\n"; }
+  ChildProcess model({OGF_DRIVER_BINARY, "--config", yaml, "--data-port", "2400"},
+                     tempPath("ogf-driver-bad.log"));
   EXPECT_EQ(model.wait(std::chrono::seconds(10)), 2);
   EXPECT_NE(model.log().find("model: 'HDL-64E'"), std::string::npos) << model.log();
   // A flag overrides the file.
-  ChildProcess fixed({OGF_DRIVER_BINARY, "--config", yaml, "--model", "VLP-16", "--pcap", "/nonexistent.pcap"},
-                     tempPath("ogf-driver-bad.log"));
+  ChildProcess fixed(
+      {OGF_DRIVER_BINARY, "--config", yaml, "--model", "VLP-16", "--pcap", "/nonexistent.pcap"},
+      tempPath("ogf-driver-bad.log"));
   EXPECT_EQ(fixed.wait(std::chrono::seconds(10)), 1);  // past validation, then the file is missing
   EXPECT_NE(fixed.log().find("/nonexistent.pcap"), std::string::npos) << fixed.log();
   std::filesystem::remove(yaml);
@@ -268,7 +275,8 @@ TEST(DriverProcess, LiveCaptureOnLoopbackDecodesTheSensorTraffic) {
   Bus bus(url);
   auto on_error = [](const std::string&, std::size_t, std::string_view) {};
   ogf::transport::Subscriber<ogf::driver_status_t> status(
-      bus.lcm, "LIVE_TEST_STATUS", [&](const auto& m, const auto&, const auto&) { bus.statuses.push_back(m); }, on_error);
+      bus.lcm, "LIVE_TEST_STATUS",
+      [&](const auto& m, const auto&, const auto&) { bus.statuses.push_back(m); }, on_error);
   const int data_port = 35000 + static_cast<int>(::getpid() % 20000);
   ChildProcess driver({OGF_DRIVER_BINARY, "--interface", "lo", "--data-port", std::to_string(data_port),
                        "--position-port", std::to_string(data_port + 1), "--lcm-url", url, "--status-channel",

@@ -23,7 +23,8 @@ std::vector<std::uint8_t> ipv4Udp(std::uint16_t dst_port, std::size_t payload, s
   return ip;
 }
 
-std::vector<std::uint8_t> withHeader(const std::vector<std::uint8_t>& header, const std::vector<std::uint8_t>& ip) {
+std::vector<std::uint8_t> withHeader(const std::vector<std::uint8_t>& header,
+                                     const std::vector<std::uint8_t>& ip) {
   std::vector<std::uint8_t> frame;
   frame.reserve(header.size() + ip.size());
   for (std::uint8_t b : header) frame.push_back(b);
@@ -50,8 +51,8 @@ TEST(LinkLayer, EthernetUdpDatagramIsFound) {
 }
 
 TEST(LinkLayer, VlanTagsAreSkipped) {
-  const auto f = os::parseLinkFrame(1, withHeader(ethernet({0x88, 0xa8, 0, 5, 0x81, 0x00, 0, 7, 0x08, 0x00}),
-                                                  ipv4Udp(8308, 512)));
+  const auto f = os::parseLinkFrame(
+      1, withHeader(ethernet({0x88, 0xa8, 0, 5, 0x81, 0x00, 0, 7, 0x08, 0x00}), ipv4Udp(8308, 512)));
   ASSERT_EQ(f.kind, os::FrameKind::Udp);
   EXPECT_EQ(f.datagram.destination_port, 8308);
   EXPECT_EQ(f.datagram.payload.size(), 512u);
@@ -74,7 +75,8 @@ TEST(LinkLayer, FragmentsTruncationAndOtherTrafficAreTold) {
   auto cut = withHeader(ethernet({0x08, 0x00}), ipv4Udp(2368, 1206));
   cut.resize(100);
   EXPECT_EQ(os::parseLinkFrame(1, cut).kind, os::FrameKind::Truncated);
-  EXPECT_EQ(os::parseLinkFrame(1, withHeader(ethernet({0x86, 0xdd}), ipv4Udp(2368, 10))).kind, os::FrameKind::NotUdp);
+  EXPECT_EQ(os::parseLinkFrame(1, withHeader(ethernet({0x86, 0xdd}), ipv4Udp(2368, 10))).kind,
+            os::FrameKind::NotUdp);
   EXPECT_EQ(os::parseLinkFrame(9999, ipv4Udp(2368, 10)).kind, os::FrameKind::UnsupportedLink);
   EXPECT_EQ(os::parseLinkFrame(1, {}).kind, os::FrameKind::Truncated);
 }

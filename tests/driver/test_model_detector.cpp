@@ -16,7 +16,8 @@ TEST(ModelDetector, UnambiguousProductBytesDecideAtOnce) {
   EXPECT_EQ(ov::ModelDetector().observe(0x24, 0x37, 0), ov::Model::Vlp16HiRes);
   EXPECT_EQ(ov::ModelDetector().observe(0x28, 0x39, 0), ov::Model::Vlp32C);
   ov::ModelDetector unknown;
-  for (int i = 0; i < 40; ++i) EXPECT_EQ(unknown.observe(0x63, 0x37, static_cast<std::uint32_t>(i * 1000)), std::nullopt);
+  for (int i = 0; i < 40; ++i)
+    EXPECT_EQ(unknown.observe(0x63, 0x37, static_cast<std::uint32_t>(i * 1000)), std::nullopt);
 }
 
 TEST(ModelDetector, Product0x21IsResolvedByThePacketPeriod) {
@@ -35,6 +36,7 @@ TEST(ModelDetector, Undecided0x21FallsBackToTheProductByte) {
   ov::ModelDetector d;
   std::optional<ov::Model> m;
   // Every gap is a lost-packet multiple: never one period.
-  for (int i = 0; i < ov::ModelDetector::kMaxPackets; ++i) m = d.observe(0x21, 0x37, static_cast<std::uint32_t>(i * 5000));
+  for (int i = 0; i < ov::ModelDetector::kMaxPackets; ++i)
+    m = d.observe(0x21, 0x37, static_cast<std::uint32_t>(i * 5000));
   EXPECT_EQ(m, ov::Model::Hdl32E);
 }

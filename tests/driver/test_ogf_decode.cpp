@@ -22,7 +22,9 @@ struct DecodeRun {
 DecodeRun decode(const std::vector<std::string>& args) {
   std::vector<std::string> argv{OGF_DECODE_BINARY};
   argv.insert(argv.end(), args.begin(), args.end());
-  const std::string log = (std::filesystem::temp_directory_path() / ("ogf-decode-" + std::to_string(::getpid()) + ".out")).string();
+  const std::string log =
+      (std::filesystem::temp_directory_path() / ("ogf-decode-" + std::to_string(::getpid()) + ".out"))
+          .string();
   ChildProcess p(argv, log);
   const auto code = p.wait(std::chrono::seconds(60));
   return {code.value_or(-999), p.log()};
@@ -100,7 +102,8 @@ TEST(OgfDecode, TruncatedCaptureIsReportedAndDecodedUpToTheDamage) {
 TEST(OgfDecode, PlyIsBinaryWithTheVertexCount) {
   OGF_REQUIRE_SHARED_FILE(pcap, "data/real/derived/nebula_vlp16_dual_1673400471837873222.DERIVED.pcap");
   const std::string ply = temp("points.ply");
-  const DecodeRun r = decode({"--pcap", pcap.string(), "--ply", ply, "--min-range", "1", "--max-range", "50"});
+  const DecodeRun r =
+      decode({"--pcap", pcap.string(), "--ply", ply, "--min-range", "1", "--max-range", "50"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream in(ply, std::ios::binary);
   std::string first, format, l;

@@ -56,7 +56,8 @@ TEST(PacketDecoder, AzimuthIsInterpolatedPerFiringAndWrapped) {
   p.azimuths(35990, 40).allChannels(1000, 1);
   ASSERT_EQ(d.decode(p.bytes(), *out), ov::PacketStatus::Ok);
   ASSERT_EQ(out->point_count, 384);
-  // Block 0, sequence 1, laser 15: 35990 + 40 * (55.296 + 15 * 2.304) / 110.592 = 36022.5 -> 22.5 -> 23 (round).
+  // Block 0, sequence 1, laser 15: 35990 + 40 * (55.296 + 15 * 2.304) / 110.592 = 36022.5 -> 22.5 -> 23
+  // (round).
   const ov::Point& p31 = out->points[31];
   EXPECT_EQ(p31.laser_id, 15);
   EXPECT_NEAR(p31.azimuthDeg(), 0.23, 1e-4);

@@ -36,7 +36,8 @@ std::vector<std::uint8_t> ipv4Udp(std::uint16_t port, std::size_t payload) {
 }
 
 // A classic little-endian pcap with `link_type` holding `frames`; the last record's data may be cut.
-std::vector<std::uint8_t> pcapFile(std::uint32_t link_type, const std::vector<std::vector<std::uint8_t>>& frames,
+std::vector<std::uint8_t> pcapFile(std::uint32_t link_type,
+                                   const std::vector<std::vector<std::uint8_t>>& frames,
                                    std::size_t cut_last_by = 0) {
   std::vector<std::uint8_t> f;
   auto le32 = [&f](std::uint32_t x) {
@@ -51,7 +52,8 @@ std::vector<std::uint8_t> pcapFile(std::uint32_t link_type, const std::vector<st
         le32(static_cast<std::uint32_t>(frame.size()));
     f.insert(f.end(), frame.begin(), frame.end());
   }
-  f.resize(f.size() - cut_last_by);
+  if (cut_last_by > 0 && cut_last_by < f.size())
+    f.erase(f.end() - static_cast<std::ptrdiff_t>(cut_last_by), f.end());
   return f;
 }
 
@@ -123,8 +125,10 @@ TEST(PcapReader, NotACaptureIsRefusedWithTheName) {
 
 TEST(PcapReader, PcapngDecodesToTheSameScansAsPcap) {
   OGF_REQUIRE_SHARED_FILE(pcap, "data/real/monterey-first-100-packets.pcap");
-  if (std::system("command -v editcap >/dev/null 2>&1") != 0) GTEST_SKIP() << "editcap (wireshark-common) absent";
-  const std::string pcapng = (std::filesystem::temp_directory_path() / ("ogf-" + std::to_string(::getpid()) + ".pcapng")).string();
+  if (std::system("command -v editcap >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "editcap (wireshark-common) absent";
+  const std::string pcapng =
+      (std::filesystem::temp_directory_path() / ("ogf-" + std::to_string(::getpid()) + ".pcapng")).string();
   ASSERT_EQ(std::system(("editcap -F pcapng '" + pcap.string() + "' '" + pcapng + "'").c_str()), 0);
   const auto a = ogf::testing::decodeCapture(pcap);
   const auto b = ogf::testing::decodeCapture(pcapng);
@@ -133,5 +137,6 @@ TEST(PcapReader, PcapngDecodesToTheSameScansAsPcap) {
   ASSERT_EQ(a.scans.size(), b.scans.size());
   EXPECT_EQ(a.counters.data_packets, b.counters.data_packets);
   EXPECT_EQ(a.counters.position_packets, b.counters.position_packets);
-  for (std::size_t i = 0; i < a.scans.size(); ++i) EXPECT_EQ(a.scans[i].points.size(), b.scans[i].points.size());
+  for (std::size_t i = 0; i < a.scans.size(); ++i)
+    EXPECT_EQ(a.scans[i].points.size(), b.scans[i].points.size());
 }

@@ -15,7 +15,8 @@ constexpr std::int64_t kHourUs = 3'600'000'000LL;
 
 std::vector<std::uint8_t> positionPacket(std::uint32_t toh, std::uint8_t pps, const char* nmea) {
   std::vector<std::uint8_t> p(512, 0);
-  for (int i = 0; i < 4; ++i) p[198 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(toh >> (8 * i));
+  for (int i = 0; i < 4; ++i)
+    p[198 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(toh >> (8 * i));
   p[202] = pps;
   std::memcpy(p.data() + 206, nmea, std::strlen(nmea));
   p[206 + std::strlen(nmea)] = '\r';
@@ -40,11 +41,13 @@ TEST(Nmea, WrongOrMissingChecksumIsRefused) {
   const auto wrong = ov::parseNmeaSentence(bad);
   ASSERT_FALSE(wrong);
   EXPECT_NE(wrong.error().message.find("checksum"), std::string::npos);
-  EXPECT_FALSE(ov::parseNmeaSentence("$GPRMC,214106,A,3707.8178,N,12139.2690,W,010.3,188.2,230715,013.8,E,D"));
+  EXPECT_FALSE(
+      ov::parseNmeaSentence("$GPRMC,214106,A,3707.8178,N,12139.2690,W,010.3,188.2,230715,013.8,E,D"));
 }
 
 TEST(Nmea, GgaQualityDecidesTheFix) {
-  const auto good = ov::parseNmeaSentence("$GPGGA,123519,4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,*47");
+  const auto good =
+      ov::parseNmeaSentence("$GPGGA,123519,4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,*47");
   ASSERT_TRUE(good) << good.error().message;
   EXPECT_TRUE(good->fix_valid);
   EXPECT_FALSE(good->year);

@@ -176,7 +176,8 @@ TEST(RealCaptures, DualReturnCaptureTypesEveryPoint) {
   EXPECT_GT(types[ov::ReturnType::Last], 0);
   EXPECT_GT(types[ov::ReturnType::Strongest], 0);
   EXPECT_EQ(types[ov::ReturnType::SecondStrongest], 0);
-  // A dual packet is one firing per block pair: 12 sequences, 663.552 us; a full turn at 600 rpm ~151 packets.
+  // A dual packet is one firing per block pair: 12 sequences, 663.552 us; a full turn at 600 rpm ~151
+  // packets.
   for (std::size_t i = 1; i + 1 < d.scans.size(); ++i) {
     EXPECT_GE(d.scans[i].packets_received, 150);
     EXPECT_LE(d.scans[i].packets_received, 153);

@@ -1,8 +1,8 @@
 // ogf-decode: decodes a Velodyne capture file into scans with the driver's own library and prints one
 // line per scan, then totals; optionally writes every point as CSV or binary PLY.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -33,19 +33,24 @@ int main(int argc, char** argv) {
   int data_port = 2368, position_port = 8308;
   bool quiet = false;
   app.add_option("--pcap", pcap_path, "Capture file to decode")->required();
-  app.add_option("--calib", calib_path, "Calibration: VeloView XML or ROS YAML (default: the model's nominal table)");
+  app.add_option("--calib", calib_path,
+                 "Calibration: VeloView XML or ROS YAML (default: the model's nominal table)");
   app.add_option("--model", model_name, "VLP-16, VLP-16-HiRes, VLP-32C or HDL-32E (default: detected)");
-  app.add_option("--return-mode", return_mode_name,
-                 "strongest, last or dual (default: from each packet; strongest/last on dual data keep that return)")
+  app.add_option(
+         "--return-mode", return_mode_name,
+         "strongest, last or dual (default: from each packet; strongest/last on dual data keep that return)")
       ->check(CLI::IsMember({"strongest", "last", "dual"}));
-  app.add_option("--min-range", min_range, "Drop returns closer than this, metres (0 keeps every non-zero return)")
+  app.add_option("--min-range", min_range,
+                 "Drop returns closer than this, metres (0 keeps every non-zero return)")
       ->capture_default_str();
   app.add_option("--max-range", max_range, "Drop returns farther than this, metres")->capture_default_str();
-  app.add_option("--cut-angle", cut_angle, "Azimuth where scans are cut, degrees clockwise from x")->capture_default_str();
+  app.add_option("--cut-angle", cut_angle, "Azimuth where scans are cut, degrees clockwise from x")
+      ->capture_default_str();
   app.add_option("--csv", csv_path, "Write every point to this CSV file");
   app.add_option("--ply", ply_path, "Write every point to this binary PLY file");
   app.add_option("--data-port", data_port, "UDP destination port of data packets")->capture_default_str();
-  app.add_option("--position-port", position_port, "UDP destination port of position packets")->capture_default_str();
+  app.add_option("--position-port", position_port, "UDP destination port of position packets")
+      ->capture_default_str();
   app.add_flag("--quiet", quiet, "Print only the totals line");
   CLI11_PARSE(app, argc, argv);
 
@@ -53,7 +58,8 @@ int main(int argc, char** argv) {
   if (!model_name.empty()) {
     config.model = ov::parseModelName(model_name);
     if (!config.model) {
-      std::fprintf(stderr, "ogf-decode: --model: unknown model '%s' (VLP-16, VLP-16-HiRes, VLP-32C, HDL-32E)\n",
+      std::fprintf(stderr,
+                   "ogf-decode: --model: unknown model '%s' (VLP-16, VLP-16-HiRes, VLP-32C, HDL-32E)\n",
                    model_name.c_str());
       return 2;
     }
@@ -94,8 +100,8 @@ int main(int argc, char** argv) {
   std::int64_t total_points = 0, total_packets = 0, total_lost = 0;
   stream->setScanSink([&](const ov::Scan& scan) {
     if (!quiet)
-      std::printf("scan %lld points %zu packets %d lost %d\n", static_cast<long long>(scan.seq), scan.points.size(),
-                  scan.packets_received, scan.packets_lost);
+      std::printf("scan %lld points %zu packets %d lost %d\n", static_cast<long long>(scan.seq),
+                  scan.points.size(), scan.packets_received, scan.packets_lost);
     total_points += static_cast<std::int64_t>(scan.points.size());
     total_packets += scan.packets_received;
     total_lost += scan.packets_lost;
@@ -108,35 +114,43 @@ int main(int argc, char** argv) {
   os::ReadStatus status;
   while ((status = (*reader)->next(record)) != os::ReadStatus::End && status != os::ReadStatus::Error) {
     if (status == os::ReadStatus::Skipped) {
-      if (record.kind == os::FrameKind::Fragment) ++fragments;
-      else if (record.kind == os::FrameKind::Truncated) ++cut_short;
-      else ++other_records;
+      if (record.kind == os::FrameKind::Fragment)
+        ++fragments;
+      else if (record.kind == os::FrameKind::Truncated)
+        ++cut_short;
+      else
+        ++other_records;
       continue;
     }
     const os::UdpDatagram& d = record.datagram;
-    if (d.destination_port == data_port) stream->addDataPacket(d.payload, d.utime);
-    else if (d.destination_port == position_port) stream->addPositionPacket(d.payload, d.utime);
-    else ++other_ports;
+    if (d.destination_port == data_port)
+      stream->addDataPacket(d.payload, d.utime);
+    else if (d.destination_port == position_port)
+      stream->addPositionPacket(d.payload, d.utime);
+    else
+      ++other_ports;
   }
   stream->finish();
   if (status == os::ReadStatus::Error)
-    std::fprintf(stderr, "ogf-decode: warning: %s; kept the %lld records before it\n", (*reader)->error().c_str(),
-                 static_cast<long long>((*reader)->records()));
+    std::fprintf(stderr, "ogf-decode: warning: %s; kept the %lld records before it\n",
+                 (*reader)->error().c_str(), static_cast<long long>((*reader)->records()));
   const ov::StreamCounters& c = stream->counters();
   const auto model = stream->model();
   const auto mode = stream->returnMode();
   std::printf(
       "total scans %lld points %lld packets %lld lost %lld position %lld bad_size %lld bad_block_flag %lld "
       "bad_other %lld other_port %lld fragments %lld cut_short %lld model %s return_mode %s\n",
-      static_cast<long long>(c.scans), static_cast<long long>(total_points), static_cast<long long>(c.data_packets),
-      static_cast<long long>(total_lost), static_cast<long long>(c.position_packets),
-      static_cast<long long>(c.bad_size), static_cast<long long>(c.bad_block_flag),
-      static_cast<long long>(c.bad_other), static_cast<long long>(other_ports), static_cast<long long>(fragments),
+      static_cast<long long>(c.scans), static_cast<long long>(total_points),
+      static_cast<long long>(c.data_packets), static_cast<long long>(total_lost),
+      static_cast<long long>(c.position_packets), static_cast<long long>(c.bad_size),
+      static_cast<long long>(c.bad_block_flag), static_cast<long long>(c.bad_other),
+      static_cast<long long>(other_ports), static_cast<long long>(fragments),
       static_cast<long long>(cut_short), model ? std::string(ov::modelName(*model)).c_str() : "unknown",
       mode ? std::string(ov::returnModeName(*mode)).c_str() : "unknown");
   if (const auto& pos = stream->lastPosition()) {
-    std::printf("position pps %d gps_fix %s nmea %.*s\n", static_cast<int>(pos->pps), pos->gpsFixValid() ? "valid" : "none",
-                static_cast<int>(pos->nmea().size()), pos->nmea().data());
+    std::printf("position pps %d gps_fix %s nmea %.*s\n", static_cast<int>(pos->pps),
+                pos->gpsFixValid() ? "valid" : "none", static_cast<int>(pos->nmea().size()),
+                pos->nmea().data());
   }
   int rc = 0;
   if (csv && !csv->close()) {

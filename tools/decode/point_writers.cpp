@@ -24,8 +24,8 @@ void CsvPointWriter::write(const velodyne::Scan& scan) {
   if (!ok()) return;
   for (const velodyne::ScanPoint& p : scan.points) {
     line_.clear();
-    fmt::format_to(std::back_inserter(line_), "{},{:.4f},{:.4f},{:.4f},{},{},{},{:.2f},{:.3f},{:.9f},{}\n", scan.seq,
-                   p.x, p.y, p.z, p.intensity, p.ring, p.laser_id, p.azimuth_deg, p.distance_m,
+    fmt::format_to(std::back_inserter(line_), "{},{:.4f},{:.4f},{:.4f},{},{},{},{:.2f},{:.3f},{:.9f},{}\n",
+                   scan.seq, p.x, p.y, p.z, p.intensity, p.ring, p.laser_id, p.azimuth_deg, p.distance_m,
                    static_cast<double>(p.time_offset_ns) * 1e-9, velodyne::returnTypeName(p.return_type));
     if (std::fwrite(line_.data(), 1, line_.size(), file_) != line_.size()) {
       failed_ = true;
@@ -48,8 +48,9 @@ bool CsvPointWriter::close() {
 void PlyPointWriter::write(const velodyne::Scan& scan) {
   for (const velodyne::ScanPoint& p : scan.points)
     vertices_.push_back(Vertex{p.x, p.y, p.z, static_cast<float>(p.intensity),
-                               static_cast<float>(static_cast<double>(p.time_offset_ns) * 1e-9), p.ring, p.laser_id,
-                               static_cast<std::uint32_t>(scan.seq), static_cast<std::uint8_t>(p.return_type)});
+                               static_cast<float>(static_cast<double>(p.time_offset_ns) * 1e-9), p.ring,
+                               p.laser_id, static_cast<std::uint32_t>(scan.seq),
+                               static_cast<std::uint8_t>(p.return_type)});
 }
 
 bool PlyPointWriter::close() {
@@ -59,7 +60,8 @@ bool PlyPointWriter::close() {
     return false;
   }
   const std::string header = fmt::format(
-      "ply\nformat binary_little_endian 1.0\ncomment ogf-decode: Velodyne points, REP-103 sensor frame, metres\n"
+      "ply\nformat binary_little_endian 1.0\ncomment ogf-decode: Velodyne points, REP-103 sensor frame, "
+      "metres\n"
       "element vertex {}\nproperty float x\nproperty float y\nproperty float z\nproperty float intensity\n"
       "property float time\nproperty ushort ring\nproperty ushort laser_id\nproperty uint scan\n"
       "property uchar return_type\nend_header\n",

@@ -15,8 +15,8 @@ namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 
-Calibration fromDegrees(const double* vertical_deg, const double* rotation_deg,
-                        const double* vert_offset_m, int lasers, double resolution, Model model) {
+Calibration fromDegrees(const double* vertical_deg, const double* rotation_deg, const double* vert_offset_m,
+                        int lasers, double resolution, Model model) {
   Calibration c;
   c.distance_resolution_m = resolution;
   c.source = "nominal " + std::string(modelName(model));
@@ -32,15 +32,15 @@ Calibration fromDegrees(const double* vertical_deg, const double* rotation_deg,
 
 // velodyne.md §4.2.
 constexpr std::array<double, 16> kVlp16Vertical{-15, 1, -13, 3, -11, 5, -9, 7, -7, 9, -5, 11, -3, 13, -1, 15};
-constexpr std::array<double, 16> kVlp16VertOffset{0.0112,  -0.0007, 0.0097,  -0.0022, 0.0081, -0.0037,
-                                                  0.0066,  -0.0051, 0.0051,  -0.0066, 0.0037, -0.0081,
-                                                  0.0022,  -0.0097, 0.0007,  -0.0112};
-constexpr std::array<double, 16> kHiResVertical{-10,    0.667, -8.667, 2,  -7.333, 3.333, -6,     4.667,
-                                                -4.667, 6,     -3.333, 7.333, -2,  8.667, -0.667, 10};
-constexpr std::array<double, 32> kHdl32Vertical{
-    -30.67, -9.33, -29.33, -8,     -28,    -6.67, -26.67, -5.33, -25.33, -4,     -24,
-    -2.67,  -22.67, -1.33, -21.33, 0,      -20,   1.33,   -18.67, 2.67,  -17.33, 4,
-    -16,    5.33,  -14.67, 6.67,   -13.33, 8,     -12,    9.33,   -10.67, 10.67};
+constexpr std::array<double, 16> kVlp16VertOffset{0.0112, -0.0007, 0.0097, -0.0022, 0.0081, -0.0037,
+                                                  0.0066, -0.0051, 0.0051, -0.0066, 0.0037, -0.0081,
+                                                  0.0022, -0.0097, 0.0007, -0.0112};
+constexpr std::array<double, 16> kHiResVertical{-10,    0.667, -8.667, 2,     -7.333, 3.333, -6,     4.667,
+                                                -4.667, 6,     -3.333, 7.333, -2,     8.667, -0.667, 10};
+constexpr std::array<double, 32> kHdl32Vertical{-30.67, -9.33, -29.33, -8,    -28,    -6.67, -26.67, -5.33,
+                                                -25.33, -4,    -24,    -2.67, -22.67, -1.33, -21.33, 0,
+                                                -20,    1.33,  -18.67, 2.67,  -17.33, 4,     -16,    5.33,
+                                                -14.67, 6.67,  -13.33, 8,     -12,    9.33,  -10.67, 10.67};
 constexpr std::array<double, 32> kVlp32Vertical{
     -25,    -1,     -1.667, -15.639, -11.31, 0,      -0.667, -8.843, -7.254, 0.333,  -0.333,
     -6.148, -5.333, 1.333,  0.667,   -4,     -4.667, 1.667,  1,      -3.667, -3.333, 3.333,
@@ -120,7 +120,8 @@ Result<Calibration> parseRosYamlCalibration(std::string_view text, std::string_v
   const YAML::Node lasers = root["lasers"];
   if (!lasers || !lasers.IsSequence() || lasers.size() == 0)
     return fieldError(source, root.Mark().line + 1, "lasers", "missing or not a non-empty list");
-  if (lasers.size() > 128) return fieldError(source, lasers.Mark().line + 1, "lasers", "more than 128 lasers");
+  if (lasers.size() > 128)
+    return fieldError(source, lasers.Mark().line + 1, "lasers", "more than 128 lasers");
   c.lasers.resize(lasers.size());
   std::vector<bool> seen(lasers.size(), false);
   for (const YAML::Node& entry : lasers) {
@@ -156,7 +157,8 @@ Result<Calibration> parseRosYamlCalibration(std::string_view text, std::string_v
     const auto count = yamlNumber(root, "num_lasers", source, true, 0);
     if (!count) return count.error();
     if (*count != static_cast<double>(lasers.size()))
-      return fieldError(source, n.Mark().line + 1, "num_lasers", "does not match the number of entries in 'lasers'");
+      return fieldError(source, n.Mark().line + 1, "num_lasers",
+                        "does not match the number of entries in 'lasers'");
   }
   return c;
 }
@@ -185,7 +187,8 @@ struct XmlScanner {
     return std::string_view::npos;
   }
   // The text between <tag ...> and </tag> of the element opening at `open`, and the end of the element.
-  std::optional<std::pair<std::string_view, std::size_t>> element(std::string_view tag, std::size_t open) const {
+  std::optional<std::pair<std::string_view, std::size_t>> element(std::string_view tag,
+                                                                  std::size_t open) const {
     const std::size_t start = text.find('>', open);
     if (start == std::string_view::npos) return std::nullopt;
     const std::string close = "</" + std::string(tag) + ">";
@@ -206,7 +209,8 @@ Result<Calibration> parseVeloViewXmlCalibration(std::string_view text, std::stri
     const auto e = xml.element("distLSB_", p);
     if (!e) return fieldError(source, xml.lineAt(p), "distLSB_", "element not closed");
     const auto v = parseNumber(e->first);
-    if (!v || *v <= 0.0 || *v > 10.0) return fieldError(source, xml.lineAt(p), "distLSB_", "not a length in (0, 10] cm");
+    if (!v || *v <= 0.0 || *v > 10.0)
+      return fieldError(source, xml.lineAt(p), "distLSB_", "not a length in (0, 10] cm");
     c.distance_resolution_m = *v / 100.0;  // centimetres in VeloView files
   }
   const std::size_t points = xml.findOpen("points_", 0, text.size());
@@ -215,7 +219,8 @@ Result<Calibration> parseVeloViewXmlCalibration(std::string_view text, std::stri
   if (!points_element) return fieldError(source, xml.lineAt(points), "points_", "element not closed");
   const std::size_t points_end = points_element->second;
   std::vector<bool> seen;
-  for (std::size_t p = xml.findOpen("px", points, points_end); p != npos; p = xml.findOpen("px", p + 1, points_end)) {
+  for (std::size_t p = xml.findOpen("px", points, points_end); p != npos;
+       p = xml.findOpen("px", p + 1, points_end)) {
     const auto px = xml.element("px", p);
     if (!px) return fieldError(source, xml.lineAt(p), "px", "element not closed");
     const std::size_t px_end = px->second;
@@ -233,7 +238,8 @@ Result<Calibration> parseVeloViewXmlCalibration(std::string_view text, std::stri
     };
     const auto id = field("id_", true, 0);
     if (!id) return id.error();
-    if (*id < 0 || *id >= 128 || std::floor(*id) != *id) return fieldError(source, xml.lineAt(p), "id_", "not a laser index 0..127");
+    if (*id < 0 || *id >= 128 || std::floor(*id) != *id)
+      return fieldError(source, xml.lineAt(p), "id_", "not a laser index 0..127");
     const auto index = static_cast<std::size_t>(*id);
     if (index >= c.lasers.size()) {
       c.lasers.resize(index + 1);
@@ -244,7 +250,8 @@ Result<Calibration> parseVeloViewXmlCalibration(std::string_view text, std::stri
     LaserCorrection& l = c.lasers[index];
     const auto vert = field("vertCorrection_", true, 0);
     if (!vert) return vert.error();
-    if (std::abs(*vert) > 90.0) return fieldError(source, xml.lineAt(p), "vertCorrection_", "beyond +-90 degrees");
+    if (std::abs(*vert) > 90.0)
+      return fieldError(source, xml.lineAt(p), "vertCorrection_", "beyond +-90 degrees");
     l.vert_correction_rad = *vert * kDegToRad;
     const auto rot = field("rotCorrection_", false, 0);
     if (!rot) return rot.error();
@@ -261,7 +268,8 @@ Result<Calibration> parseVeloViewXmlCalibration(std::string_view text, std::stri
   }
   if (c.lasers.empty()) return fieldError(source, xml.lineAt(points), "points_", "holds no <px> entries");
   for (std::size_t i = 0; i < seen.size(); ++i)
-    if (!seen[i]) return fieldError(source, xml.lineAt(points), "px", "laser id " + std::to_string(i) + " missing");
+    if (!seen[i])
+      return fieldError(source, xml.lineAt(points), "px", "laser id " + std::to_string(i) + " missing");
   return c;
 }
 
@@ -272,7 +280,8 @@ Result<Calibration> loadCalibrationFile(const std::filesystem::path& path) {
   buffer << in.rdbuf();
   const std::string text = buffer.str();
   const std::size_t first = text.find_first_not_of(" \t\r\n");
-  if (first != std::string::npos && text[first] == '<') return parseVeloViewXmlCalibration(text, path.string());
+  if (first != std::string::npos && text[first] == '<')
+    return parseVeloViewXmlCalibration(text, path.string());
   return parseRosYamlCalibration(text, path.string());
 }
 

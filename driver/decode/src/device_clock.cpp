@@ -6,7 +6,9 @@ constexpr std::int64_t kHourUs = 3'600'000'000LL;
 constexpr std::int64_t kHalfHourUs = kHourUs / 2;
 constexpr std::int64_t kDayUs = 24 * kHourUs;
 
-std::int64_t floorDiv(std::int64_t a, std::int64_t b) { return a / b - ((a % b != 0) && ((a < 0) != (b < 0)) ? 1 : 0); }
+std::int64_t floorDiv(std::int64_t a, std::int64_t b) {
+  return a / b - ((a % b != 0) && ((a < 0) != (b < 0)) ? 1 : 0);
+}
 }  // namespace
 
 std::int64_t placeInHour(std::uint32_t toh_us, std::int64_t reference_utime) {
@@ -33,7 +35,8 @@ void DeviceClock::onPositionPacket(const PositionPacket& packet, std::int64_t ho
 }
 
 DeviceTime DeviceClock::toAbsolute(std::uint32_t toh_us, std::int64_t host_utime) const {
-  if (gps_utime_ && host_utime - gps_host_utime_ <= kNmeaValidityUs && host_utime >= gps_host_utime_ - kNmeaValidityUs)
+  if (gps_utime_ && host_utime - gps_host_utime_ <= kNmeaValidityUs &&
+      host_utime >= gps_host_utime_ - kNmeaValidityUs)
     return {placeInHour(toh_us, *gps_utime_ + (host_utime - gps_host_utime_)), TimeSource::PpsNmea};
   return {placeInHour(toh_us, host_utime), TimeSource::HostHour};
 }

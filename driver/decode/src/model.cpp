@@ -52,9 +52,7 @@ int sequenceOfChannel(Model model, int channel) {
   return traits(model).firings_per_block == 2 ? channel / 16 : 0;
 }
 
-int laserOfChannel(Model model, int channel) {
-  return traits(model).lasers == 16 ? channel % 16 : channel;
-}
+int laserOfChannel(Model model, int channel) { return traits(model).lasers == 16 ? channel % 16 : channel; }
 
 double packetPeriodUs(Model model, ReturnMode mode) {
   const double blocks = mode == ReturnMode::Dual ? wire::kBlocksPerPacket / 2 : wire::kBlocksPerPacket;
@@ -65,19 +63,26 @@ std::string_view modelName(Model model) { return traits(model).name; }
 
 std::string_view returnModeName(ReturnMode mode) {
   switch (mode) {
-    case ReturnMode::Strongest: return "strongest";
-    case ReturnMode::Last: return "last";
-    case ReturnMode::Dual: return "dual";
+    case ReturnMode::Strongest:
+      return "strongest";
+    case ReturnMode::Last:
+      return "last";
+    case ReturnMode::Dual:
+      return "dual";
   }
   return "unknown";
 }
 
 std::string_view returnTypeName(ReturnType type) {
   switch (type) {
-    case ReturnType::Strongest: return "strongest";
-    case ReturnType::Last: return "last";
-    case ReturnType::Both: return "both";
-    case ReturnType::SecondStrongest: return "second_strongest";
+    case ReturnType::Strongest:
+      return "strongest";
+    case ReturnType::Last:
+      return "last";
+    case ReturnType::Both:
+      return "both";
+    case ReturnType::SecondStrongest:
+      return "second_strongest";
   }
   return "unknown";
 }
@@ -101,20 +106,29 @@ std::optional<ReturnMode> parseReturnModeName(std::string_view name) {
 
 std::optional<ReturnMode> returnModeFromByte(std::uint8_t byte) {
   switch (byte) {
-    case wire::kReturnModeStrongest: return ReturnMode::Strongest;
-    case wire::kReturnModeLast: return ReturnMode::Last;
-    case wire::kReturnModeDual: return ReturnMode::Dual;
-    default: return std::nullopt;
+    case wire::kReturnModeStrongest:
+      return ReturnMode::Strongest;
+    case wire::kReturnModeLast:
+      return ReturnMode::Last;
+    case wire::kReturnModeDual:
+      return ReturnMode::Dual;
+    default:
+      return std::nullopt;
   }
 }
 
 std::optional<Model> modelFromProductId(std::uint8_t product_id) {
   switch (product_id) {
-    case wire::kProductVlp16: return Model::Vlp16;
-    case wire::kProductPuckHiRes: return Model::Vlp16HiRes;
-    case wire::kProductVlp32C: return Model::Vlp32C;
-    case wire::kProductHdl32E: return Model::Hdl32E;
-    default: return std::nullopt;
+    case wire::kProductVlp16:
+      return Model::Vlp16;
+    case wire::kProductPuckHiRes:
+      return Model::Vlp16HiRes;
+    case wire::kProductVlp32C:
+      return Model::Vlp32C;
+    case wire::kProductHdl32E:
+      return Model::Hdl32E;
+    default:
+      return std::nullopt;
   }
 }
 

@@ -21,8 +21,10 @@ std::optional<Model> ModelDetector::observe(std::uint8_t product_id, std::uint8_
     const ReturnMode mode = dual ? ReturnMode::Dual : ReturnMode::Strongest;
     const double vlp16 = packetPeriodUs(Model::Vlp16, mode);
     const double hdl32 = packetPeriodUs(Model::Hdl32E, mode);
-    if (std::abs(period - vlp16) < 0.1 * vlp16) model_ = Model::Vlp16;
-    else if (std::abs(period - hdl32) < 0.1 * hdl32) model_ = Model::Hdl32E;
+    if (std::abs(period - vlp16) < 0.1 * vlp16)
+      model_ = Model::Vlp16;
+    else if (std::abs(period - hdl32) < 0.1 * hdl32)
+      model_ = Model::Hdl32E;
   }
   last_toh_ = toh_us;
   if (!model_ && observed_ >= kMaxPackets) model_ = Model::Hdl32E;

@@ -14,7 +14,9 @@ constexpr int kMaxFields = 24;
 struct Fields {
   std::array<std::string_view, kMaxFields> f{};
   int count = 0;
-  std::string_view operator[](int i) const { return i < count ? f[static_cast<std::size_t>(i)] : std::string_view{}; }
+  std::string_view operator[](int i) const {
+    return i < count ? f[static_cast<std::size_t>(i)] : std::string_view{};
+  }
 };
 
 std::optional<double> number(std::string_view s) {
@@ -90,7 +92,8 @@ Result<NmeaFix> parseNmeaSentence(std::string_view s) {
   std::size_t start = 0;
   while (fields.count < kMaxFields) {
     const std::size_t comma = body.find(',', start);
-    fields.f[static_cast<std::size_t>(fields.count++)] = body.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+    fields.f[static_cast<std::size_t>(fields.count++)] =
+        body.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
     if (comma == std::string_view::npos) break;
     start = comma + 1;
   }

@@ -47,14 +47,14 @@ const AzimuthTable& azimuthTable() {
 Result<PacketDecoder> PacketDecoder::create(const DecoderConfig& config) {
   if (config.model == Model::Unknown) return Error{"decoder: the model is unknown"};
   if (!(config.min_range_m >= 0.0) || !(config.max_range_m > config.min_range_m))
-    return Error{"decoder: need 0 <= min_range < max_range, got min_range " + std::to_string(config.min_range_m) +
-                 " max_range " + std::to_string(config.max_range_m)};
+    return Error{"decoder: need 0 <= min_range < max_range, got min_range " +
+                 std::to_string(config.min_range_m) + " max_range " + std::to_string(config.max_range_m)};
   PacketDecoder d(config);
   const ModelTraits& t = traits(config.model);
   const Calibration calib = config.calibration ? *config.calibration : nominalCalibration(config.model);
   if (static_cast<int>(calib.lasers.size()) < t.lasers)
-    return Error{"calibration " + calib.source + ": " + std::to_string(calib.lasers.size()) + " lasers, the " +
-                 std::string(t.name) + " needs " + std::to_string(t.lasers)};
+    return Error{"calibration " + calib.source + ": " + std::to_string(calib.lasers.size()) +
+                 " lasers, the " + std::string(t.name) + " needs " + std::to_string(t.lasers)};
   const double t_block = t.block_duration_us;
   d.resolution_m_ = calib.distance_resolution_m;
   d.resolution_f_ = static_cast<float>(calib.distance_resolution_m);
@@ -62,11 +62,13 @@ Result<PacketDecoder> PacketDecoder::create(const DecoderConfig& config) {
   d.max_range_m_ = static_cast<float>(config.max_range_m);
   for (int i = 0; i < t.lasers; ++i) {
     const LaserCorrection& c = calib.lasers[static_cast<std::size_t>(i)];
-    d.lasers_[static_cast<std::size_t>(i)] = LaserTable{
-        static_cast<float>(std::cos(c.vert_correction_rad)), static_cast<float>(std::sin(c.vert_correction_rad)),
-        static_cast<float>(std::cos(c.rot_correction_rad)),  static_cast<float>(std::sin(c.rot_correction_rad)),
-        static_cast<float>(c.dist_correction_m),             static_cast<float>(c.vert_offset_m),
-        static_cast<float>(c.horiz_offset_m)};
+    d.lasers_[static_cast<std::size_t>(i)] = LaserTable{static_cast<float>(std::cos(c.vert_correction_rad)),
+                                                        static_cast<float>(std::sin(c.vert_correction_rad)),
+                                                        static_cast<float>(std::cos(c.rot_correction_rad)),
+                                                        static_cast<float>(std::sin(c.rot_correction_rad)),
+                                                        static_cast<float>(c.dist_correction_m),
+                                                        static_cast<float>(c.vert_offset_m),
+                                                        static_cast<float>(c.horiz_offset_m)};
   }
   // Ring = rank by elevation, lowest first (ros calibration.cc:166-195 sorts vert_correction).
   std::vector<int> order(static_cast<std::size_t>(t.lasers));
@@ -75,7 +77,8 @@ Result<PacketDecoder> PacketDecoder::create(const DecoderConfig& config) {
     return calib.lasers[static_cast<std::size_t>(a)].vert_correction_rad <
            calib.lasers[static_cast<std::size_t>(b)].vert_correction_rad;
   });
-  for (std::size_t r = 0; r < order.size(); ++r) d.ring_[static_cast<std::size_t>(order[r])] = static_cast<std::uint8_t>(r);
+  for (std::size_t r = 0; r < order.size(); ++r)
+    d.ring_[static_cast<std::size_t>(order[r])] = static_cast<std::uint8_t>(r);
   const AzimuthTable& table = azimuthTable();
   d.cos_sin_azimuth_ = table.cos_sin.data();
   for (int ch = 0; ch < wire::kChannelsPerBlock; ++ch) {
@@ -91,8 +94,10 @@ Result<PacketDecoder> PacketDecoder::create(const DecoderConfig& config) {
   return d;
 }
 
-[[gnu::always_inline]] inline void PacketDecoder::emit(DecodedPacket& out, const wire::RawChannel& ch, int channel, int base, int advance,
-                         std::int32_t time_ns, ReturnType type, int firing) const {
+[[gnu::always_inline]] inline void PacketDecoder::emit(DecodedPacket& out, const wire::RawChannel& ch,
+                                                       int channel, int base, int advance,
+                                                       std::int32_t time_ns, ReturnType type,
+                                                       int firing) const {
   const std::uint16_t raw = wire::readLe16(ch.distance);
   if (raw == 0) return;  // no return
   const auto c = static_cast<std::size_t>(channel);
@@ -141,8 +146,8 @@ PacketStatus PacketDecoder::decode(std::span<const std::uint8_t> payload, Decode
   out.product_id = packet.product_id;
   // Byte 1204 names the mode; firmware without it (HDL-32E before 2.2.20) is dual when a block pair shares
   // its azimuth (VeloView vtkDataPacket.h:264-267).
-  const ReturnMode packet_mode =
-      returnModeFromByte(packet.return_mode).value_or(az[0] == az[1] ? ReturnMode::Dual : ReturnMode::Strongest);
+  const ReturnMode packet_mode = returnModeFromByte(packet.return_mode)
+                                     .value_or(az[0] == az[1] ? ReturnMode::Dual : ReturnMode::Strongest);
   const std::optional<ReturnMode> wanted = config_.return_mode;
   const bool dual = packet_mode == ReturnMode::Dual || wanted == ReturnMode::Dual;
   out.dual_layout = dual;
@@ -157,7 +162,8 @@ PacketStatus PacketDecoder::decode(std::span<const std::uint8_t> payload, Decode
     for (int b = 0; b < wire::kBlocksPerPacket; ++b) {
       // Azimuth advance over the block from the next block (ros rawdata.cc:679); the last block reuses
       // the previous advance.
-      if (b + 1 < wire::kBlocksPerPacket) advance = forwardAdvance(az[static_cast<std::size_t>(b)], az[static_cast<std::size_t>(b) + 1]);
+      if (b + 1 < wire::kBlocksPerPacket)
+        advance = forwardAdvance(az[static_cast<std::size_t>(b)], az[static_cast<std::size_t>(b) + 1]);
       const int base = az[static_cast<std::size_t>(b)];
       for (int s = 0; s < fpb; ++s) {
         const auto f = static_cast<std::size_t>(b * fpb + s);
@@ -168,7 +174,8 @@ PacketStatus PacketDecoder::decode(std::span<const std::uint8_t> payload, Decode
       const std::int32_t block_ns = b * block_ns_;
       for (int ch = 0; ch < wire::kChannelsPerBlock; ++ch) {
         const auto c = static_cast<std::size_t>(ch);
-        emit(out, block.channels[ch], ch, base, advance, block_ns + channel_time_ns_[c], type, b * fpb + channel_sequence_[c]);
+        emit(out, block.channels[ch], ch, base, advance, block_ns + channel_time_ns_[c], type,
+             b * fpb + channel_sequence_[c]);
       }
     }
     out.firing_count = wire::kBlocksPerPacket * fpb;
@@ -180,7 +187,8 @@ PacketStatus PacketDecoder::decode(std::span<const std::uint8_t> payload, Decode
   // next pair (nebula vlp16_decoder.cpp:163-168); time offsets use the pair index (VeloView :204-207).
   const bool keep_last = wanted != ReturnMode::Strongest;
   const bool keep_strongest = wanted != ReturnMode::Last;
-  out.return_mode = (wanted == ReturnMode::Strongest || wanted == ReturnMode::Last) ? *wanted : ReturnMode::Dual;
+  out.return_mode =
+      (wanted == ReturnMode::Strongest || wanted == ReturnMode::Last) ? *wanted : ReturnMode::Dual;
   constexpr int kPairs = wire::kBlocksPerPacket / 2;
   int advance = 0;
   for (int q = 0; q < kPairs; ++q) {
@@ -200,7 +208,8 @@ PacketStatus PacketDecoder::decode(std::span<const std::uint8_t> payload, Decode
       const int firing = q * fpb + channel_sequence_[c];
       const wire::RawChannel& a = last.channels[ch];
       const wire::RawChannel& b = strongest.channels[ch];
-      const bool same = a.distance[0] == b.distance[0] && a.distance[1] == b.distance[1] && a.reflectivity == b.reflectivity;
+      const bool same = a.distance[0] == b.distance[0] && a.distance[1] == b.distance[1] &&
+                        a.reflectivity == b.reflectivity;
       if (same) {
         emit(out, a, ch, base, advance, time, ReturnType::Both, firing);  // one point for both
         continue;

@@ -43,10 +43,17 @@ bool PacketStream::ensureDecoder() {
 PacketStatus PacketStream::decodeAndAssemble(std::span<const std::uint8_t> payload, std::int64_t host_utime) {
   const PacketStatus status = decoder_->decode(payload, decoded_);
   switch (status) {
-    case PacketStatus::Ok: break;
-    case PacketStatus::WrongSize: ++counters_.bad_size; return status;
-    case PacketStatus::BadBlockFlag: ++counters_.bad_block_flag; return status;
-    case PacketStatus::BadAzimuth: ++counters_.bad_other; return status;
+    case PacketStatus::Ok:
+      break;
+    case PacketStatus::WrongSize:
+      ++counters_.bad_size;
+      return status;
+    case PacketStatus::BadBlockFlag:
+      ++counters_.bad_block_flag;
+      return status;
+    case PacketStatus::BadAzimuth:
+      ++counters_.bad_other;
+      return status;
   }
   ++counters_.data_packets;
   counters_.points += decoded_.point_count;

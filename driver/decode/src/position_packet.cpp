@@ -13,7 +13,8 @@ Result<PositionPacket> parsePositionPacket(std::span<const std::uint8_t> payload
   PositionPacket packet;
   packet.toh_us = wire::readLe32(p + offsetof(wire::RawPositionPacket, timestamp));
   const std::uint8_t pps = p[offsetof(wire::RawPositionPacket, pps_status)];
-  if (pps > 3) return Error{"position packet: offset 202 (PPS status) holds " + std::to_string(pps) + ", expected 0..3"};
+  if (pps > 3)
+    return Error{"position packet: offset 202 (PPS status) holds " + std::to_string(pps) + ", expected 0..3"};
   packet.pps = static_cast<PpsState>(pps);
   // The sentence starts at 206 and ends at CR, LF or NUL (vd telemetry_packet.cpp:105 reads up to 128).
   const std::uint8_t* nmea = p + offsetof(wire::RawPositionPacket, nmea);

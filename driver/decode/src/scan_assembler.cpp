@@ -14,7 +14,8 @@ ScanAssembler::ScanAssembler(ScanAssemblerConfig config) : config_(config) {
   scan_.points.reserve(config_.reserve_points);
 }
 
-void ScanAssembler::begin(std::int64_t start_ns, const PacketTime& time, Model model, ReturnMode mode, bool at_cut) {
+void ScanAssembler::begin(std::int64_t start_ns, const PacketTime& time, Model model, ReturnMode mode,
+                          bool at_cut) {
   scan_.clear();
   open_ = true;
   scan_.seq = next_seq_;
@@ -48,7 +49,8 @@ void ScanAssembler::finish(const Sink& sink, bool at_cut) {
   // The packets the scan's span should hold at the fixed packet period: those that came and those lost.
   scan_.packets_expected = scan_.packets_received + scan_.packets_lost;
   const double span_us = static_cast<double>(last_firing_ns_ - start_ns_) / 1000.0;
-  scan_.rpm = span_us > 0 ? static_cast<float>(static_cast<double>(advance_units_) / kTurn / (span_us / 60e6)) : 0.0f;
+  scan_.rpm =
+      span_us > 0 ? static_cast<float>(static_cast<double>(advance_units_) / kTurn / (span_us / 60e6)) : 0.0f;
   if (scan_.rpm > 0) last_rpm_ = scan_.rpm;
   ++next_seq_;
   if (sink) sink(scan_);
@@ -91,9 +93,12 @@ void ScanAssembler::add(const DecodedPacket& packet, const PacketTime& time, Mod
     bool cut = false;
     if (prev_azimuth_ && open_) {
       const int advance = advanceTo(az);
-      if (passesCut(*prev_azimuth_, advance)) cut = true;
-      else if (advance_units_ + advance >= kTurn) cut = true;  // never more than one turn
-      else advance_units_ += advance;
+      if (passesCut(*prev_azimuth_, advance))
+        cut = true;
+      else if (advance_units_ + advance >= kTurn)
+        cut = true;  // never more than one turn
+      else
+        advance_units_ += advance;
     }
     prev_azimuth_ = az;
     if (cut) finish(sink, true);
@@ -103,9 +108,10 @@ void ScanAssembler::add(const DecodedPacket& packet, const PacketTime& time, Mod
   };
   auto append = [this](const Point& p, std::int64_t t_ns) __attribute__((always_inline)) {
     const std::int64_t offset = t_ns - scan_.device_utime_start * 1000;
-    scan_.points.push_back(ScanPoint{p.x, p.y, p.z, p.distance_m, p.azimuthDeg(),
-                                     static_cast<std::int32_t>(std::clamp<std::int64_t>(offset, 0, INT32_MAX)),
-                                     p.intensity, p.ring, p.laser_id, p.return_type});
+    scan_.points.push_back(
+        ScanPoint{p.x, p.y, p.z, p.distance_m, p.azimuthDeg(),
+                  static_cast<std::int32_t>(std::clamp<std::int64_t>(offset, 0, INT32_MAX)), p.intensity,
+                  p.ring, p.laser_id, p.return_type});
   };
   int point = 0;
   for (int f = 0; f < packet.firing_count; ++f) {
@@ -133,13 +139,21 @@ void ScanAssembler::add(const DecodedPacket& packet, const PacketTime& time, Mod
         for (; point < end; ++point, ++out) {
           const Point& p = packet.points[static_cast<std::size_t>(point)];
           const std::int64_t offset = base_ns + p.time_offset_ns;
-          *out = ScanPoint{p.x, p.y, p.z, p.distance_m, p.azimuthDeg(),
+          *out = ScanPoint{p.x,
+                           p.y,
+                           p.z,
+                           p.distance_m,
+                           p.azimuthDeg(),
                            static_cast<std::int32_t>(std::clamp<std::int64_t>(offset, 0, INT32_MAX)),
-                           p.intensity, p.ring, p.laser_id, p.return_type};
+                           p.intensity,
+                           p.ring,
+                           p.laser_id,
+                           p.return_type};
         }
-        const std::int64_t last_ns = end > 0 && packet.points[static_cast<std::size_t>(end) - 1].firing == f
-                                         ? packet_ns + packet.points[static_cast<std::size_t>(end) - 1].time_offset_ns
-                                         : firing_ns;
+        const std::int64_t last_ns =
+            end > 0 && packet.points[static_cast<std::size_t>(end) - 1].firing == f
+                ? packet_ns + packet.points[static_cast<std::size_t>(end) - 1].time_offset_ns
+                : firing_ns;
         last_firing_ns_ = std::max(last_firing_ns_, std::max(firing_ns, last_ns));
         continue;
       }

@@ -15,8 +15,10 @@ LiveCapture::~LiveCapture() {
   pcap_close(handle_);
 }
 
-velodyne::Result<std::unique_ptr<LiveCapture>> LiveCapture::open(boost::asio::io_context& io, const std::string& interface,
-                                                                 std::uint16_t data_port, std::uint16_t position_port,
+velodyne::Result<std::unique_ptr<LiveCapture>> LiveCapture::open(boost::asio::io_context& io,
+                                                                 const std::string& interface,
+                                                                 std::uint16_t data_port,
+                                                                 std::uint16_t position_port,
                                                                  Handler handler) {
   char error[PCAP_ERRBUF_SIZE] = {};
   pcap* handle = pcap_create(interface.c_str(), error);
@@ -64,11 +66,12 @@ void LiveCapture::onFrame(unsigned char* user, const ::pcap_pkthdr* header, cons
 }
 
 void LiveCapture::arm() {
-  descriptor_.async_wait(boost::asio::posix::stream_descriptor::wait_read, [this](const boost::system::error_code& ec) {
-    if (ec) return;
-    pcap_dispatch(handle_, 1024, &LiveCapture::onFrame, reinterpret_cast<unsigned char*>(this));
-    arm();
-  });
+  descriptor_.async_wait(
+      boost::asio::posix::stream_descriptor::wait_read, [this](const boost::system::error_code& ec) {
+        if (ec) return;
+        pcap_dispatch(handle_, 1024, &LiveCapture::onFrame, reinterpret_cast<unsigned char*>(this));
+        arm();
+      });
 }
 
 std::uint64_t LiveCapture::kernelDrops() const {

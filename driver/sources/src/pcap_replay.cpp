@@ -6,7 +6,11 @@ namespace ogf::driver_sources {
 
 PcapReplay::PcapReplay(boost::asio::io_context& io, std::unique_ptr<PcapFileReader> reader, double speed,
                        Handler on_record, EndHandler on_end)
-    : io_(io), timer_(io), reader_(std::move(reader)), speed_(speed), on_record_(std::move(on_record)),
+    : io_(io),
+      timer_(io),
+      reader_(std::move(reader)),
+      speed_(speed),
+      on_record_(std::move(on_record)),
       on_end_(std::move(on_end)) {}
 
 void PcapReplay::start() {

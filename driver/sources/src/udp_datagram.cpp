@@ -6,8 +6,8 @@ namespace ogf::driver_sources {
 
 std::string formatIpv4(std::uint32_t ip) {
   if (ip == 0) return {};
-  return std::to_string(ip >> 24) + "." + std::to_string((ip >> 16) & 0xff) + "." + std::to_string((ip >> 8) & 0xff) +
-         "." + std::to_string(ip & 0xff);
+  return std::to_string(ip >> 24) + "." + std::to_string((ip >> 16) & 0xff) + "." +
+         std::to_string((ip >> 8) & 0xff) + "." + std::to_string(ip & 0xff);
 }
 
 bool parseIpv4(const std::string& text, std::uint32_t& ip) {

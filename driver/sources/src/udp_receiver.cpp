@@ -1,17 +1,17 @@
 #include "ogf/driver_sources/udp_receiver.hpp"
 
+#include <arpa/inet.h>
 #include <sys/socket.h>
 #include <sys/time.h>
 
-#include <arpa/inet.h>
-
 #include <boost/asio/ip/address.hpp>
-#include <cstring>
 #include <cerrno>
+#include <cstring>
 
 namespace ogf::driver_sources {
 
-UdpReceiver::UdpReceiver(boost::asio::io_context& io, Handler handler) : socket_(io), handler_(std::move(handler)) {}
+UdpReceiver::UdpReceiver(boost::asio::io_context& io, Handler handler)
+    : socket_(io), handler_(std::move(handler)) {}
 
 UdpReceiver::~UdpReceiver() {
   boost::system::error_code ec;
@@ -19,7 +19,8 @@ UdpReceiver::~UdpReceiver() {
 }
 
 velodyne::Result<std::unique_ptr<UdpReceiver>> UdpReceiver::open(boost::asio::io_context& io,
-                                                                 const UdpReceiverConfig& config, Handler handler) {
+                                                                 const UdpReceiverConfig& config,
+                                                                 Handler handler) {
   std::unique_ptr<UdpReceiver> r(new UdpReceiver(io, std::move(handler)));
   boost::system::error_code ec;
   const auto address = boost::asio::ip::make_address(config.bind_address, ec);

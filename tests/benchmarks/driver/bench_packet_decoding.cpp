@@ -28,7 +28,9 @@ Packets load(const char* relative) {
   os::PcapRecord r;
   os::ReadStatus s;
   while ((s = (*reader)->next(r)) == os::ReadStatus::Datagram || s == os::ReadStatus::Skipped) {
-    if (s != os::ReadStatus::Datagram || r.datagram.destination_port != 2368 || r.datagram.payload.size() != 1206) continue;
+    if (s != os::ReadStatus::Datagram || r.datagram.destination_port != 2368 ||
+        r.datagram.payload.size() != 1206)
+      continue;
     p.data.emplace_back(r.datagram.payload.begin(), r.datagram.payload.end());
     p.utime.push_back(r.datagram.utime);
   }
@@ -61,7 +63,8 @@ void BM_PacketDecoder(benchmark::State& state) {
     benchmark::DoNotOptimize(out->points[0]);
     if (++i == packets.data.size()) i = 0;
   }
-  state.counters["packets/s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["packets/s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["points/s"] = benchmark::Counter(static_cast<double>(points), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_PacketDecoder)->Arg(0)->Arg(1)->Arg(2)->ArgName("capture(0=vlp16,1=dual,2=hdl32e)");
@@ -77,7 +80,8 @@ void BM_PacketStream(benchmark::State& state) {
   config.min_range_m = 0.0;
   auto stream = ov::PacketStream::create(config);
   std::int64_t points = 0;
-  stream->setScanSink([&points](const ov::Scan& scan) { points += static_cast<std::int64_t>(scan.points.size()); });
+  stream->setScanSink(
+      [&points](const ov::Scan& scan) { points += static_cast<std::int64_t>(scan.points.size()); });
   std::size_t i = 0;
   std::int64_t offset = 0;
   const std::int64_t span = packets.utime.back() - packets.utime.front() + 1000;
@@ -89,7 +93,8 @@ void BM_PacketStream(benchmark::State& state) {
       offset += span;
     }
   }
-  state.counters["packets/s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["packets/s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["points/s"] = benchmark::Counter(static_cast<double>(points), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_PacketStream)->Arg(0)->Arg(1)->Arg(2)->ArgName("capture(0=vlp16,1=dual,2=hdl32e)");

@@ -10,7 +10,8 @@ namespace ov = ogf::velodyne;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
-  for (auto parsed : {ov::parseRosYamlCalibration(text, "fuzz.yaml"), ov::parseVeloViewXmlCalibration(text, "fuzz.xml")}) {
+  for (auto parsed :
+       {ov::parseRosYamlCalibration(text, "fuzz.yaml"), ov::parseVeloViewXmlCalibration(text, "fuzz.xml")}) {
     if (!parsed) {
       if (parsed.error().message.empty()) __builtin_trap();
       continue;

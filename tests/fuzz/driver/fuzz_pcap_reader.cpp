@@ -25,8 +25,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (status == os::ReadStatus::End || status == os::ReadStatus::Error) break;
     for (int link : {1, 113, 276, 101, 0}) (void)os::parseLinkFrame(link, record.datagram.payload);
     if (status != os::ReadStatus::Datagram) continue;
-    if (record.datagram.destination_port == 2368) stream->addDataPacket(record.datagram.payload, record.datagram.utime);
-    else if (record.datagram.destination_port == 8308) stream->addPositionPacket(record.datagram.payload, record.datagram.utime);
+    if (record.datagram.destination_port == 2368)
+      stream->addDataPacket(record.datagram.payload, record.datagram.utime);
+    else if (record.datagram.destination_port == 8308)
+      stream->addPositionPacket(record.datagram.payload, record.datagram.utime);
   }
   stream->finish();
   return 0;

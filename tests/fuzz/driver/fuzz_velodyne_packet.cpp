@@ -18,7 +18,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
   ov::StreamConfig config;
   const std::uint8_t first = input[0];
-  static constexpr ov::Model kModels[] = {ov::Model::Vlp16, ov::Model::Vlp16HiRes, ov::Model::Vlp32C, ov::Model::Hdl32E};
+  static constexpr ov::Model kModels[] = {ov::Model::Vlp16, ov::Model::Vlp16HiRes, ov::Model::Vlp32C,
+                                          ov::Model::Hdl32E};
   if ((first & 0x10) != 0) config.model = kModels[(first >> 1) & 3];
   if ((first & 0x20) != 0) config.return_mode = static_cast<ov::ReturnMode>(1 + (first >> 6) % 3);
   config.min_range_m = 0.0;
@@ -37,8 +38,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::size_t want = is_data ? 1206 : 512;
     const std::size_t n = size - at < want ? size - at : want;
     const auto payload = input.subspan(at, n);
-    if (is_data) stream->addDataPacket(payload, host);
-    else stream->addPositionPacket(payload, host);
+    if (is_data)
+      stream->addDataPacket(payload, host);
+    else
+      stream->addPositionPacket(payload, host);
     host += 1327;
     at += n;
   }

@@ -25,7 +25,7 @@ struct LaserCorrection {
 struct Calibration {
   std::vector<LaserCorrection> lasers;  // index = laser id; files may hold more than the model uses
   double distance_resolution_m = 0.002;
-  std::string source;                   // "nominal VLP-16" or the file path
+  std::string source;  // "nominal VLP-16" or the file path
 };
 
 // The nominal table of a model: VLP-16 angles -15..+15 interleaved with the per-laser vertical offsets

@@ -20,11 +20,11 @@ enum class ReturnType : std::uint8_t { Strongest = 1, Last = 2, Both = 3, Second
 struct ModelTraits {
   Model model;
   std::string_view name;
-  int lasers;                     // 16 or 32
-  int firings_per_block;          // laser firing sequences in one block: 2 (VLP-16) or 1 (32 lasers)
-  double distance_resolution_m;   // vd calib_db.cpp resolutions: 2 mm, VLP-32C 4 mm
-  double block_duration_us;       // time covered by one block's firings
-  double sequence_duration_us;    // one firing sequence, recharge included
+  int lasers;                    // 16 or 32
+  int firings_per_block;         // laser firing sequences in one block: 2 (VLP-16) or 1 (32 lasers)
+  double distance_resolution_m;  // vd calib_db.cpp resolutions: 2 mm, VLP-32C 4 mm
+  double block_duration_us;      // time covered by one block's firings
+  double sequence_duration_us;   // one firing sequence, recharge included
 };
 
 // VLP-16 / Hi-Res: 2.304 us per laser, 55.296 us per sequence, two per block (manual §8.1; ros

@@ -17,7 +17,7 @@ struct NmeaFix {
   bool fix_valid = false;  // RMC status 'A', or GGA quality > 0
   int hour = 0, minute = 0;
   double second = 0.0;
-  std::optional<int> year, month, day;  // RMC only
+  std::optional<int> year, month, day;                // RMC only
   std::optional<double> latitude_deg, longitude_deg;  // north and east positive
   std::optional<double> speed_knots, course_deg;      // RMC only
 

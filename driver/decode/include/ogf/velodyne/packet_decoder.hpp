@@ -18,26 +18,26 @@
 namespace ogf::velodyne {
 
 struct DecoderConfig {
-  Model model = Model::Vlp16;                // must be known here; see ModelDetector
-  std::optional<Calibration> calibration;    // nullopt: the model's nominal table
+  Model model = Model::Vlp16;              // must be known here; see ModelDetector
+  std::optional<Calibration> calibration;  // nullopt: the model's nominal table
   // Which returns to keep. nullopt: as byte 1204 says. Strongest or Last on dual packets keeps that
   // return only (a pair that agrees counts for both); on single-return packets it names the mode when
   // the packet does not (old HDL-32E firmware) or overrides it. Dual decodes the packet as block pairs.
   std::optional<ReturnMode> return_mode;
-  double min_range_m = 0.4;                  // the ROS VLP16_points.launch default; 0 keeps all non-zero
+  double min_range_m = 0.4;  // the ROS VLP16_points.launch default; 0 keeps all non-zero
   double max_range_m = 250.0;
 };
 
 struct Point {
-  float x, y, z;           // metres, REP-103
+  float x, y, z;                // metres, REP-103
   float distance_m;             // raw distance x resolution (before dist_correction)
   std::int32_t time_offset_ns;  // firing time minus the packet timestamp
   std::uint16_t azimuth;        // interpolated azimuth of the firing, 0.01 degree, [0, 36000)
   std::uint8_t intensity;       // calibrated reflectivity
-  std::uint8_t ring;       // rank by elevation, 0 = lowest
+  std::uint8_t ring;            // rank by elevation, 0 = lowest
   std::uint8_t laser_id;
   ReturnType return_type;
-  std::uint8_t firing;     // index into DecodedPacket::firing_azimuth
+  std::uint8_t firing;  // index into DecodedPacket::firing_azimuth
 
   float azimuthDeg() const { return static_cast<float>(azimuth) * 0.01f; }
   double timeOffsetUs() const { return time_offset_ns * 1e-3; }
@@ -49,11 +49,11 @@ struct DecodedPacket {
   static constexpr int kMaxPoints = wire::kBlocksPerPacket * wire::kChannelsPerBlock;
   static constexpr int kMaxFirings = 24;
 
-  std::uint32_t toh_us = 0;    // bytes 1200..1203
+  std::uint32_t toh_us = 0;                        // bytes 1200..1203
   ReturnMode return_mode = ReturnMode::Strongest;  // of the points (a kept return when filtering dual data)
-  bool dual_layout = false;                         // the packet is block pairs (fixes the packet period)
+  bool dual_layout = false;                        // the packet is block pairs (fixes the packet period)
   std::uint8_t product_id = 0;
-  int firing_count = 0;        // firing sequences in the packet, in time order
+  int firing_count = 0;                                     // firing sequences in the packet, in time order
   std::array<std::uint16_t, kMaxFirings> firing_azimuth{};  // 0.01 degree, first laser of the firing
   std::array<std::int32_t, kMaxFirings> firing_time_ns{};   // from the packet timestamp
   int point_count = 0;
@@ -71,7 +71,9 @@ class PacketDecoder {
   const DecoderConfig& config() const { return config_; }
   Model model() const { return config_.model; }
   // Ring of each laser id (rank by elevation).
-  std::span<const std::uint8_t> rings() const { return {ring_.data(), static_cast<std::size_t>(traits(config_.model).lasers)}; }
+  std::span<const std::uint8_t> rings() const {
+    return {ring_.data(), static_cast<std::size_t>(traits(config_.model).lasers)};
+  }
 
  private:
   explicit PacketDecoder(DecoderConfig config) : config_(std::move(config)) {}
@@ -81,8 +83,8 @@ class PacketDecoder {
   };
   // Appends the point of one channel unless its range is zero or outside the limits. The azimuth is
   // interpolated only for points that are kept.
-  void emit(DecodedPacket& out, const wire::RawChannel& ch, int channel, int base, int advance, std::int32_t time_ns,
-            ReturnType type, int firing) const;
+  void emit(DecodedPacket& out, const wire::RawChannel& ch, int channel, int base, int advance,
+            std::int32_t time_ns, ReturnType type, int firing) const;
 
   DecoderConfig config_;
   double resolution_m_ = 0.002;

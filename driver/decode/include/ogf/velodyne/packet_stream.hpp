@@ -32,7 +32,7 @@ struct StreamCounters {
   std::int64_t position_packets = 0;  // parsed
   std::int64_t bad_size = 0;
   std::int64_t bad_block_flag = 0;
-  std::int64_t bad_other = 0;         // bad azimuth, bad position packet, model never known
+  std::int64_t bad_other = 0;  // bad azimuth, bad position packet, model never known
   std::int64_t points = 0;
   std::int64_t scans = 0;
 };

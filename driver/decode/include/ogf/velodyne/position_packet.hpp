@@ -21,7 +21,7 @@ struct PositionPacket {
   PpsState pps = PpsState::Absent;
   std::array<char, 128> nmea_text{};  // the sentence without CR/LF; empty when none
   std::size_t nmea_length = 0;
-  std::optional<NmeaFix> fix;         // set when the sentence parsed and its checksum matched
+  std::optional<NmeaFix> fix;  // set when the sentence parsed and its checksum matched
 
   std::string_view nmea() const { return {nmea_text.data(), nmea_length}; }
   bool gpsFixValid() const { return fix && fix->fix_valid; }

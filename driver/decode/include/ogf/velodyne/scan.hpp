@@ -26,7 +26,7 @@ struct Scan {
   std::int64_t device_utime_start = 0;  // first firing
   std::int64_t device_utime_end = 0;    // last firing
   TimeSource time_source = TimeSource::HostHour;
-  std::int64_t host_utime_start = 0;    // receive time of the first and last packet
+  std::int64_t host_utime_start = 0;  // receive time of the first and last packet
   std::int64_t host_utime_end = 0;
   Model model = Model::Unknown;
   ReturnMode return_mode = ReturnMode::Strongest;

@@ -47,12 +47,12 @@ struct RawDataPacket {
 };
 
 struct RawPositionPacket {
-  std::uint8_t unused[198];      // HDL-32E gyro/temperature/accelerometer at 14..37; newer firmware
-                                 // temperatures at 187..197 (vd telemetry_packet.cpp:106-116)
-  std::uint8_t timestamp[4];     // 198: LE uint32, microseconds past the hour
-  std::uint8_t pps_status;       // 202: 0 absent, 1 synchronizing, 2 locked, 3 error (Table 9-4)
-  std::uint8_t thermal[3];       // 203..205
-  std::uint8_t nmea[306];        // 206..511: NMEA sentence, CR/LF terminated, NUL padded
+  std::uint8_t unused[198];   // HDL-32E gyro/temperature/accelerometer at 14..37; newer firmware
+                              // temperatures at 187..197 (vd telemetry_packet.cpp:106-116)
+  std::uint8_t timestamp[4];  // 198: LE uint32, microseconds past the hour
+  std::uint8_t pps_status;    // 202: 0 absent, 1 synchronizing, 2 locked, 3 error (Table 9-4)
+  std::uint8_t thermal[3];    // 203..205
+  std::uint8_t nmea[306];     // 206..511: NMEA sentence, CR/LF terminated, NUL padded
 };
 
 static_assert(sizeof(RawChannel) == 3);

@@ -5,7 +5,6 @@
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/posix/stream_descriptor.hpp>
-
 #include <functional>
 #include <string>
 
@@ -23,9 +22,10 @@ class LiveCapture {
   using Handler = std::function<void(FrameKind kind, const UdpDatagram& datagram)>;
 
   // Opens `interface` with a kernel filter for UDP to `data_port` or `position_port`.
-  static velodyne::Result<std::unique_ptr<LiveCapture>> open(boost::asio::io_context& io, const std::string& interface,
-                                                             std::uint16_t data_port, std::uint16_t position_port,
-                                                             Handler handler);
+  static velodyne::Result<std::unique_ptr<LiveCapture>> open(boost::asio::io_context& io,
+                                                             const std::string& interface,
+                                                             std::uint16_t data_port,
+                                                             std::uint16_t position_port, Handler handler);
   ~LiveCapture();
   LiveCapture(const LiveCapture&) = delete;
   LiveCapture& operator=(const LiveCapture&) = delete;

@@ -5,7 +5,6 @@
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
-
 #include <chrono>
 #include <functional>
 #include <memory>
@@ -22,8 +21,8 @@ class PcapReplay {
   // have been delivered).
   using EndHandler = std::function<void(const std::string& error)>;
 
-  PcapReplay(boost::asio::io_context& io, std::unique_ptr<PcapFileReader> reader, double speed, Handler on_record,
-             EndHandler on_end);
+  PcapReplay(boost::asio::io_context& io, std::unique_ptr<PcapFileReader> reader, double speed,
+             Handler on_record, EndHandler on_end);
   void start();
   void stop();
 

@@ -12,7 +12,7 @@ struct UdpDatagram {
   std::uint32_t source_ip = 0;  // host order, 0 when unknown
   std::uint16_t source_port = 0;
   std::uint16_t destination_port = 0;
-  std::int64_t utime = 0;       // receive (or capture) time, microseconds since the Unix epoch
+  std::int64_t utime = 0;  // receive (or capture) time, microseconds since the Unix epoch
   std::span<const std::uint8_t> payload;
 };
 

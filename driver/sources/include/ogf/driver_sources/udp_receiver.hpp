@@ -3,10 +3,9 @@
 // kernel. Non-blocking: datagrams are drained on each readiness notification.
 #pragma once
 
+#include <array>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/udp.hpp>
-
-#include <array>
 #include <functional>
 #include <string>
 
@@ -26,7 +25,8 @@ class UdpReceiver {
   using Handler = std::function<void(const UdpDatagram&)>;
 
   // Binds and starts receiving; fails with the address and the system's reason.
-  static velodyne::Result<std::unique_ptr<UdpReceiver>> open(boost::asio::io_context& io, const UdpReceiverConfig& config,
+  static velodyne::Result<std::unique_ptr<UdpReceiver>> open(boost::asio::io_context& io,
+                                                             const UdpReceiverConfig& config,
                                                              Handler handler);
   ~UdpReceiver();
   UdpReceiver(const UdpReceiver&) = delete;
