@@ -101,17 +101,17 @@ int main(int argc, char** argv) {
 
   auto scene = ogf::sim::resolveScene(world);
   if (!scene) {
-    spdlog::error("--world: {}", scene.error());
+    spdlog::error("--world: {}", scene.error().message);
     return EXIT_FAILURE;
   }
   auto spec = ogf::sim::resolveTrajectory(*scene, trajectory);
   if (!spec) {
-    spdlog::error("--trajectory: {}", spec.error());
+    spdlog::error("--trajectory: {}", spec.error().message);
     return EXIT_FAILURE;
   }
   auto model = ogf::sim::odometryErrorPreset(odometry_error);
   if (!model) {
-    spdlog::error("--odometry-error: {}", model.error());
+    spdlog::error("--odometry-error: {}", model.error().message);
     return EXIT_FAILURE;
   }
   config.sensor.mode = *ogf::sim::vlp16::parseReturnMode(return_mode);
@@ -124,7 +124,7 @@ int main(int argc, char** argv) {
   const auto started = std::chrono::steady_clock::now();
   auto report = ogf::sim::runSimulation(*scene, *spec, config, out_dir);
   if (!report) {
-    spdlog::error("{}", report.error());
+    spdlog::error("{}", report.error().message);
     return EXIT_FAILURE;
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();

@@ -50,7 +50,7 @@ class SimDriverDecodesCapture : public ::testing::TestWithParam<std::pair<LidarM
 TEST_P(SimDriverDecodesCapture, PointsLandOnTheWorldAndPositionPacketsAreLocked) {
   const auto [sim_model, driver_model] = GetParam();
   auto scene = presetScene("lab");
-  ASSERT_TRUE(scene.ok()) << scene.error();
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
   auto spec = resolveTrajectory(*scene, "loop");
   ASSERT_TRUE(spec.ok());
   spec->speed = 2.0;  // fast enough that a revolution's motion shows
@@ -63,7 +63,7 @@ TEST_P(SimDriverDecodesCapture, PointsLandOnTheWorldAndPositionPacketsAreLocked)
   const LidarSimulator sim(scene->world, scene->sensor_to_body, *traj, cfg, start);
   const std::string path = test::scratchPath("decode.pcap").string();
   const auto summary = writeCapture(sim, 0.3, path);
-  ASSERT_TRUE(summary.ok()) << summary.error();
+  ASSERT_TRUE(summary.ok()) << summary.error().message;
 
   auto reader = driver_sources::PcapFileReader::open(path);
   ASSERT_TRUE(reader.ok()) << reader.error().message;

@@ -89,7 +89,7 @@ TEST(SimGroundTruth, YawedBoxAndCylinderCellsAgreeWithPointSampling) {
 
 TEST(SimGroundTruth, AirBehindTheWallsIsUnobservableOnceTheSensorSeedsTheRoom) {
   const auto scene = presetScene("lab");
-  ASSERT_TRUE(scene.ok()) << scene.error();
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
   const CellKey outside_west_wall{-2, 20, 5};  // x in [-0.4, -0.2): beyond the wall at [-0.2, 0)
   const CellKey in_the_room{15, 15, 5};
   const GroundTruth unseeded = computeGroundTruth(scene->world, 0.2);
@@ -107,7 +107,7 @@ TEST(SimGroundTruth, FileRoundTripsExactly) {
   const std::string path = tempPath("roundtrip.grid");
   ASSERT_TRUE(writeGroundTruth(path, t).ok());
   const auto back = readGroundTruth(path);
-  ASSERT_TRUE(back.ok()) << back.error();
+  ASSERT_TRUE(back.ok()) << back.error().message;
   EXPECT_EQ(back->resolution, t.resolution);
   EXPECT_EQ(back->min_key, t.min_key);
   EXPECT_EQ(back->size, t.size);
@@ -131,11 +131,11 @@ TEST(SimGroundTruth, CorruptedOrTruncatedFileIsRefused) {
   }
   auto bad = readGroundTruth(path);
   ASSERT_FALSE(bad.ok());
-  EXPECT_NE(bad.error().find("checksum"), std::string::npos) << bad.error();
+  EXPECT_NE(bad.error().message.find("checksum"), std::string::npos) << bad.error().message;
   std::filesystem::resize_file(path, size - 100);
   bad = readGroundTruth(path);
   ASSERT_FALSE(bad.ok());
-  EXPECT_NE(bad.error().find("cells expected"), std::string::npos) << bad.error();
+  EXPECT_NE(bad.error().message.find("cells expected"), std::string::npos) << bad.error().message;
   std::filesystem::remove(path);
 }
 
@@ -147,7 +147,7 @@ TEST(SimGroundTruth, HeaderWithoutSizeNamesTheField) {
   }
   const auto bad = readGroundTruth(path);
   ASSERT_FALSE(bad.ok());
-  EXPECT_NE(bad.error().find("size: missing"), std::string::npos) << bad.error();
+  EXPECT_NE(bad.error().message.find("size: missing"), std::string::npos) << bad.error().message;
   std::filesystem::remove(path);
 }
 

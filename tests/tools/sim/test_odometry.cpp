@@ -58,7 +58,7 @@ TEST(SimOdometry, WheelPresetDriftsMoreTheFartherItGoes) {
 TEST(SimOdometry, UnknownPresetListsTheKnownOnes) {
   const auto model = odometryErrorPreset("gyro");
   ASSERT_FALSE(model.ok());
-  EXPECT_NE(model.error().find("wheel"), std::string::npos);
+  EXPECT_NE(model.error().message.find("wheel"), std::string::npos);
 }
 
 TEST(SimOdometry, CsvHasTheInterfaceHeaderAndRoundTrips) {
@@ -70,7 +70,7 @@ TEST(SimOdometry, CsvHasTheInterfaceHeaderAndRoundTrips) {
   std::getline(in, first);
   EXPECT_EQ(first, "utime,x,y,z,qw,qx,qy,qz");
   const auto back = readPoseCsv(path);
-  ASSERT_TRUE(back.ok()) << back.error();
+  ASSERT_TRUE(back.ok()) << back.error().message;
   ASSERT_EQ(back->size(), truth.size());
   for (std::size_t i = 0; i < truth.size(); ++i) {
     EXPECT_EQ((*back)[i].utime, truth[i].utime);

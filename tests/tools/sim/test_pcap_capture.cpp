@@ -73,7 +73,7 @@ TEST(SimPcapCapture, FramesParseWithValidChecksumsAndTohOnTheCaptureClock) {
   const LidarSimulator sim(world, Eigen::Isometry3d(Eigen::Translation3d(0, 0, 1)), *traj, SensorConfig{}, start);
   const std::string path = test::scratchPath("capture.pcap").string();
   const auto summary = writeCapture(sim, 0.25, path);
-  ASSERT_TRUE(summary.ok()) << summary.error();
+  ASSERT_TRUE(summary.ok()) << summary.error().message;
   EXPECT_EQ(summary->data_packets, 189u);  // ceil(0.25 s / 1327.104 µs)
   EXPECT_EQ(summary->position_packets, 189u / 14);
 

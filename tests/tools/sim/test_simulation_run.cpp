@@ -23,7 +23,7 @@ class SimulationRun : public ::testing::Test {
     base_ = test::scratchPath("run_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     std::filesystem::remove_all(base_);
     auto scene = presetScene("lab");
-    ASSERT_TRUE(scene.ok()) << scene.error();
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
     scene_ = *scene;
     auto spec = resolveTrajectory(scene_, "loop");
     ASSERT_TRUE(spec.ok());
@@ -63,7 +63,7 @@ TEST_F(SimulationRun, SameSeedWritesIdenticalFiles) {
 
 TEST_F(SimulationRun, PosesCoverTheCaptureOnItsClock) {
   const auto report = run("clock");
-  ASSERT_TRUE(report.ok()) << report.error();
+  ASSERT_TRUE(report.ok()) << report.error().message;
   const auto truth = readPoseCsv((base_ / "clock" / "trajectory_true.csv").string());
   const auto odom = readPoseCsv((base_ / "clock" / "odometry.csv").string());
   ASSERT_TRUE(truth.ok() && odom.ok());
@@ -76,7 +76,7 @@ TEST_F(SimulationRun, PosesCoverTheCaptureOnItsClock) {
   // Exact odometry by default.
   for (std::size_t i = 0; i < truth->size(); ++i) EXPECT_EQ((*truth)[i].pose.position, (*odom)[i].pose.position);
   const auto grid = readGroundTruth((base_ / "clock" / "truth.grid").string());
-  ASSERT_TRUE(grid.ok()) << grid.error();
+  ASSERT_TRUE(grid.ok()) << grid.error().message;
   EXPECT_EQ(grid->cells, report->truth.cells);
 }
 

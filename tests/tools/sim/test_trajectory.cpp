@@ -17,7 +17,7 @@ double yawOf(const Pose& p) {
 TEST(SimTrajectory, LoopMovesAtConstantSpeedAndPassesEveryWaypoint) {
   TrajectorySpec spec{{{0, 0, 0}, {6, 0, 0}, {6, 3, 0}, {0, 3, 0}}, 1.5, true, 0.0};
   const auto traj = Trajectory::build(spec);
-  ASSERT_TRUE(traj.ok()) << traj.error();
+  ASSERT_TRUE(traj.ok()) << traj.error().message;
   const double dt = 0.01;
   for (double t = dt; t < 20.0; t += dt) {
     const double step = (traj->poseAt(t).position - traj->poseAt(t - dt).position).norm();

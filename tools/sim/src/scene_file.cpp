@@ -109,25 +109,25 @@ class Parser {
     }
     for (std::size_t i = 0; i < wps.size(); ++i) {
       auto v = vectorNode(wps[i], path + "waypoints[" + std::to_string(i) + "]", 2, 3);
-      if (!v) return Error{v.error()};
+      if (!v) return Error{v.error().message};
       spec.waypoints.emplace_back((*v)[0], (*v)[1], (*v)[2]);
     }
     auto speed = number(node, "speed", path, 1.0);
-    if (!speed) return Error{speed.error()};
+    if (!speed) return Error{speed.error().message};
     if (!(*speed > 0.0)) return error(node["speed"], path + "speed", "must be positive");
     spec.speed = *speed;
     auto loop = boolean(node, "loop", path, false);
-    if (!loop) return Error{loop.error()};
+    if (!loop) return Error{loop.error().message};
     spec.loop = *loop;
     auto yaw = number(node, "yaw_deg", path, 0.0);
-    if (!yaw) return Error{yaw.error()};
+    if (!yaw) return Error{yaw.error().message};
     spec.yaw = *yaw * kDeg;
     return spec;
   }
 
   Result<std::size_t> materialIndex(const World& world, const YAML::Node& node, const std::string& path) const {
     auto name = string(node, "material", path, std::string("default"));
-    if (!name) return Error{name.error()};
+    if (!name) return Error{name.error().message};
     for (std::size_t i = 0; i < world.materials.size(); ++i) {
       if (world.materials[i].name == *name) return i;
     }
@@ -136,38 +136,38 @@ class Parser {
 
   Result<Solid> solid(const World& world, const YAML::Node& node, const std::string& path) const {
     auto type = string(node, "type", path, std::nullopt);
-    if (!type) return Error{type.error()};
+    if (!type) return Error{type.error().message};
     auto material = materialIndex(world, node, path);
-    if (!material) return Error{material.error()};
+    if (!material) return Error{material.error().message};
     if (*type == "box") {
       if (auto e = onlyKeys(node, path, {"type", "center", "size", "yaw_deg", "material"})) return *e;
       auto c = vector(node, "center", path, 3, 3);
-      if (!c) return Error{c.error()};
+      if (!c) return Error{c.error().message};
       auto s = vector(node, "size", path, 3, 3);
-      if (!s) return Error{s.error()};
+      if (!s) return Error{s.error().message};
       if ((s->array() <= 0.0).any()) return error(node["size"], path + "size", "every side must be positive");
       auto yaw = number(node, "yaw_deg", path, 0.0);
-      if (!yaw) return Error{yaw.error()};
+      if (!yaw) return Error{yaw.error().message};
       return Solid{Box{*c, *s, *yaw * kDeg}, *material};
     }
     if (*type == "cylinder") {
       if (auto e = onlyKeys(node, path, {"type", "center", "radius", "z", "material"})) return *e;
       auto c = vector(node, "center", path, 2, 2);
-      if (!c) return Error{c.error()};
+      if (!c) return Error{c.error().message};
       auto r = number(node, "radius", path, std::nullopt);
-      if (!r) return Error{r.error()};
+      if (!r) return Error{r.error().message};
       if (!(*r > 0.0)) return error(node["radius"], path + "radius", "must be positive");
       auto z = vector(node, "z", path, 2, 2);
-      if (!z) return Error{z.error()};
+      if (!z) return Error{z.error().message};
       if (!((*z)[1] > (*z)[0])) return error(node["z"], path + "z", "expected [z_min, z_max] with z_max > z_min");
       return Solid{Cylinder{Eigen::Vector2d{(*c)[0], (*c)[1]}, *r, (*z)[0], (*z)[1]}, *material};
     }
     if (*type == "plane") {
       if (auto e = onlyKeys(node, path, {"type", "point", "normal", "material"})) return *e;
       auto p = vector(node, "point", path, 3, 3);
-      if (!p) return Error{p.error()};
+      if (!p) return Error{p.error().message};
       auto n = vector(node, "normal", path, 3, 3);
-      if (!n) return Error{n.error()};
+      if (!n) return Error{n.error().message};
       if (n->norm() < 1e-9) return error(node["normal"], path + "normal", "must not be zero");
       const Eigen::Vector3d unit = Eigen::Vector3d(*n).normalized();
       return Solid{HalfSpace{unit, unit.dot(Eigen::Vector3d(*p))}, *material};
@@ -183,7 +183,7 @@ class Parser {
     Scene scene;
     World& world = scene.world;
     auto name = string(root, "name", "", std::string("unnamed"));
-    if (!name) return Error{name.error()};
+    if (!name) return Error{name.error().message};
     world.name = *name;
     world.materials.push_back(Material{"default", 50.0, 0.0});
 
@@ -193,12 +193,12 @@ class Parser {
         const std::string path = "materials[" + std::to_string(i) + "].";
         if (auto e = onlyKeys(mats[i], path, {"name", "reflectivity", "transmittance"})) return *e;
         auto mname = string(mats[i], "name", path, std::nullopt);
-        if (!mname) return Error{mname.error()};
+        if (!mname) return Error{mname.error().message};
         auto refl = number(mats[i], "reflectivity", path, 50.0);
-        if (!refl) return Error{refl.error()};
+        if (!refl) return Error{refl.error().message};
         if (*refl < 0.0 || *refl > 255.0) return error(mats[i]["reflectivity"], path + "reflectivity", "must be in 0..255");
         auto trans = number(mats[i], "transmittance", path, 0.0);
-        if (!trans) return Error{trans.error()};
+        if (!trans) return Error{trans.error().message};
         if (*trans < 0.0 || *trans >= 1.0) {
           return error(mats[i]["transmittance"], path + "transmittance", "must be in [0, 1)");
         }
@@ -214,9 +214,9 @@ class Parser {
     if (const YAML::Node ground = root["ground"]; ground.IsDefined() && !ground.IsNull()) {
       if (auto e = onlyKeys(ground, "ground.", {"height", "material"})) return *e;
       auto h = number(ground, "height", "ground.", 0.0);
-      if (!h) return Error{h.error()};
+      if (!h) return Error{h.error().message};
       auto material = materialIndex(world, ground, "ground.");
-      if (!material) return Error{material.error()};
+      if (!material) return Error{material.error().message};
       world.solids.push_back(Solid{HalfSpace{Eigen::Vector3d::UnitZ(), *h}, *material});
     }
 
@@ -224,7 +224,7 @@ class Parser {
       if (!solids.IsSequence()) return error(solids, "solids", "expected a list");
       for (std::size_t i = 0; i < solids.size(); ++i) {
         auto s = solid(world, solids[i], "solids[" + std::to_string(i) + "].");
-        if (!s) return Error{s.error()};
+        if (!s) return Error{s.error().message};
         world.solids.push_back(*s);
       }
     }
@@ -235,9 +235,9 @@ class Parser {
     if (const YAML::Node bounds = root["bounds"]; bounds.IsDefined()) {
       if (auto e = onlyKeys(bounds, "bounds.", {"min", "max"})) return *e;
       auto lo = vector(bounds, "min", "bounds.", 3, 3);
-      if (!lo) return Error{lo.error()};
+      if (!lo) return Error{lo.error().message};
       auto hi = vector(bounds, "max", "bounds.", 3, 3);
-      if (!hi) return Error{hi.error()};
+      if (!hi) return Error{hi.error().message};
       if (!(hi->array() > lo->array()).all()) return error(bounds, "bounds", "max must exceed min on every axis");
       world.bounds = Aabb{*lo, *hi};
     } else {
@@ -258,11 +258,11 @@ class Parser {
     if (const YAML::Node mount = root["sensor_mount"]; mount.IsDefined()) {
       if (auto e = onlyKeys(mount, "sensor_mount.", {"xyz", "rpy_deg"})) return *e;
       auto xyz = vector(mount, "xyz", "sensor_mount.", 3, 3);
-      if (!xyz) return Error{xyz.error()};
+      if (!xyz) return Error{xyz.error().message};
       Eigen::Vector3d rpy = Eigen::Vector3d::Zero();
       if (mount["rpy_deg"].IsDefined()) {
         auto v = vector(mount, "rpy_deg", "sensor_mount.", 3, 3);
-        if (!v) return Error{v.error()};
+        if (!v) return Error{v.error().message};
         rpy = *v * kDeg;
       }
       scene.sensor_to_body = Eigen::Isometry3d::Identity();
@@ -280,7 +280,7 @@ class Parser {
       for (const auto& kv : trajs) {
         const std::string tname = kv.first.Scalar();
         auto t = trajectory(kv.second, "trajectories." + tname + ".");
-        if (!t) return Error{t.error()};
+        if (!t) return Error{t.error().message};
         scene.trajectories[tname] = *t;
       }
     }
@@ -290,7 +290,7 @@ class Parser {
       scene.trajectories["static"] = TrajectorySpec{{Eigen::Vector3d{mid.x(), mid.y(), 0.0}}, 1.0, false, 0.0};
     }
     auto def = string(root, "default_trajectory", "", std::string("static"));
-    if (!def) return Error{def.error()};
+    if (!def) return Error{def.error().message};
     if (scene.trajectories.find(*def) == scene.trajectories.end()) {
       return error(root["default_trajectory"], "default_trajectory", "no trajectory named '" + *def + "'");
     }
@@ -322,7 +322,7 @@ Result<std::string> readText(const std::string& path) {
 template <class T, class Parse>
 Result<T> parseDocument(std::string_view yaml, const std::string& source, Parse parse) {
   auto root = loadYaml(yaml, source);
-  if (!root) return Error{root.error()};
+  if (!root) return Error{root.error().message};
   try {
     return parse(Parser(source), *root);
   } catch (const YAML::Exception& e) {
@@ -338,7 +338,7 @@ Result<Scene> parseScene(std::string_view yaml, const std::string& source) {
 
 Result<Scene> loadSceneFile(const std::string& path) {
   auto text = readText(path);
-  if (!text) return Error{text.error()};
+  if (!text) return Error{text.error().message};
   return parseScene(*text, path);
 }
 
@@ -349,7 +349,7 @@ Result<TrajectorySpec> parseTrajectory(std::string_view yaml, const std::string&
 
 Result<TrajectorySpec> loadTrajectoryFile(const std::string& path) {
   auto text = readText(path);
-  if (!text) return Error{text.error()};
+  if (!text) return Error{text.error().message};
   return parseTrajectory(*text, path);
 }
 

@@ -56,13 +56,13 @@ Result<SimulationReport> runSimulation(const Scene& scene, const TrajectorySpec&
   const std::filesystem::path dir(out_dir);
 
   auto trajectory = Trajectory::build(spec);
-  if (!trajectory) return Error{trajectory.error()};
+  if (!trajectory) return Error{trajectory.error().message};
   SimulationReport report;
   report.path_length_m = trajectory->length();
 
   const LidarSimulator sim(scene.world, scene.sensor_to_body, *trajectory, config.sensor, config.start_utime);
   auto capture = writeCapture(sim, config.duration_s, (dir / "capture.pcap").string());
-  if (!capture) return Error{capture.error()};
+  if (!capture) return Error{capture.error().message};
   report.capture = *capture;
 
   // Poses from the start through the end of the last packet, at the odometry rate, on the capture clock.
@@ -75,17 +75,17 @@ Result<SimulationReport> runSimulation(const Scene& scene, const TrajectorySpec&
   }
   const auto odometry = simulateOdometry(truth, config.odometry_error, config.sensor.seed);
   report.odometry_poses = odometry.size();
-  if (auto s = writePoseCsv((dir / "trajectory_true.csv").string(), truth); !s) return Error{s.error()};
-  if (auto s = writePoseCsv((dir / "odometry.csv").string(), odometry); !s) return Error{s.error()};
-  if (auto s = writeOdometryLcmLog((dir / "odometry.lcmlog").string(), odometry); !s) return Error{s.error()};
+  if (auto s = writePoseCsv((dir / "trajectory_true.csv").string(), truth); !s) return Error{s.error().message};
+  if (auto s = writePoseCsv((dir / "odometry.csv").string(), odometry); !s) return Error{s.error().message};
+  if (auto s = writeOdometryLcmLog((dir / "odometry.lcmlog").string(), odometry); !s) return Error{s.error().message};
 
   // The open air the sensor reaches is seeded from where the sensor was at every pose.
   std::vector<Eigen::Vector3d> sensor_positions;
   sensor_positions.reserve(truth.size());
   for (const auto& p : truth) sensor_positions.push_back((p.pose.isometry() * scene.sensor_to_body).translation());
   report.truth = computeGroundTruth(scene.world, config.truth_resolution_m, sensor_positions);
-  if (auto s = writeGroundTruth((dir / "truth.grid").string(), report.truth); !s) return Error{s.error()};
-  if (auto s = writeDescription((dir / "sim.yaml").string(), scene, config, report); !s) return Error{s.error()};
+  if (auto s = writeGroundTruth((dir / "truth.grid").string(), report.truth); !s) return Error{s.error().message};
+  if (auto s = writeDescription((dir / "sim.yaml").string(), scene, config, report); !s) return Error{s.error().message};
   return report;
 }
 
