@@ -1,0 +1,286 @@
+// ogf-map as a program: on the real static capture it writes a map file and a CSV whose occupied cells lie
+// on the decoded points; odometry that does not cover the scans is reported and exits non-zero; a bad
+// odometry line is named; an LCM log with both pose types and a PCD with a VIEWPOINT map where they
+// should; a simulated moving capture maps with CSV and LCM-log odometry; the .bt export reads back.
+#include <gtest/gtest.h>
+
+#include <lcm/lcm-cpp.hpp>
+#include <octomap/OcTree.h>
+
+#include <bot_core/pose_t.hpp>
+#include <ogf/lidar_scan_t.hpp>
+#include <ogf/odometry_t.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "ogf/filter/map_file.hpp"
+#include "ogf/map_io/pcap_scans.hpp"
+#include "run_program.hpp"
+#include "scratch_dir.hpp"
+#include "support/shared_data.hpp"
+#include "synthetic_scan.hpp"
+
+namespace {
+
+using namespace ogf;
+using ogf::testing::runProgram;
+
+const std::string kMap = OGF_MAP_BINARY;
+const std::string kSim = OGF_SIM_BINARY;
+constexpr const char* kRealCapture = "data/real/vlp-16-test-90deg-1-50-frames.pcap";
+
+struct Row {
+  double x, y, z, p, variance;
+  int cls;
+};
+
+// The CSV's header line and its rows.
+std::pair<std::string, std::vector<Row>> readCsv(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::string header, line;
+  std::getline(in, header);
+  std::vector<Row> rows;
+  while (std::getline(in, line)) {
+    Row r{};
+    if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%d,%lf", &r.x, &r.y, &r.z, &r.p, &r.cls, &r.variance) == 6)
+      rows.push_back(r);
+  }
+  return {header, rows};
+}
+
+// The numbers of the summary line, or -1s when there is none.
+struct Summary {
+  long long scans = -1, measurements = -1, cells = -1;
+};
+Summary summaryOf(const std::string& stdout_text) {
+  std::smatch m;
+  static const std::regex re(R"(scans (\d+) measurements (\d+) cells (\d+) seconds [0-9.]+)");
+  Summary s;
+  if (std::regex_search(stdout_text, m, re)) {
+    s.scans = std::stoll(m[1]);
+    s.measurements = std::stoll(m[2]);
+    s.cells = std::stoll(m[3]);
+  }
+  return s;
+}
+
+void writeFile(const std::filesystem::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary);
+  out << text;
+}
+
+TEST(OgfMapProgram, StaticRealCaptureGivesAMapAndCsvWhoseOccupiedCellsLieOnTheDecodedPoints) {
+  OGF_REQUIRE_SHARED_FILE(pcap, kRealCapture);
+  ogf::testing::ScratchDir dir;
+  const auto run = runProgram({kMap, "--pcap", pcap.string(), "--static", "--resolution", "0.2", "--max-range", "30",
+                               "--out", (dir / "m.ogfmap").string(), "--export-csv", (dir / "m.csv").string()},
+                              dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const Summary s = summaryOf(run.stdout_text);
+  EXPECT_GT(s.scans, 10) << run.stdout_text;
+  EXPECT_GT(s.measurements, 0);
+  auto loaded = filter::loadMapFile(dir / "m.ogfmap");
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_EQ(static_cast<long long>(loaded->allocatedCells()), s.cells);
+
+  const auto [header, rows] = readCsv(dir / "m.csv");
+  EXPECT_EQ(header, "x,y,z,p,class,variance");
+  EXPECT_EQ(static_cast<long long>(rows.size()), s.cells);
+
+  // The cells the decoded returns (within the mapper's range) fall in.
+  std::set<std::tuple<int, int, int>> hit;
+  const auto cell = [](double v) { return static_cast<int>(std::floor(v / 0.2)); };
+  map_io::PcapScanConfig pc;
+  const auto decoded = map_io::readPcapScans(pcap, pc, [&](const map_io::ScanRecord& scan) {
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      const Eigen::Vector3d p(scan.x[i], scan.y[i], scan.z[i]);
+      const double r = p.norm();
+      if (r >= 0.4 && r <= 30.0) hit.insert({cell(scan.x[i]), cell(scan.y[i]), cell(scan.z[i])});
+    }
+  });
+  ASSERT_TRUE(decoded.ok());
+  std::size_t occupied = 0, near = 0;
+  for (const Row& r : rows) {
+    if (r.cls != 1) continue;
+    ++occupied;
+    const int cx = cell(r.x), cy = cell(r.y), cz = cell(r.z);
+    bool found = false;
+    for (int dx = -1; dx <= 1 && !found; ++dx)
+      for (int dy = -1; dy <= 1 && !found; ++dy)
+        for (int dz = -1; dz <= 1 && !found; ++dz) found = hit.count({cx + dx, cy + dy, cz + dz}) > 0;
+    near += found ? 1 : 0;
+  }
+  ASSERT_GT(occupied, 100u);
+  EXPECT_GE(static_cast<double>(near), 0.98 * static_cast<double>(occupied)) << near << " of " << occupied;
+}
+
+TEST(OgfMapProgram, OdometryThatCoversNoScanIsReportedAndExitsNonZero) {
+  OGF_REQUIRE_SHARED_FILE(pcap, kRealCapture);
+  ogf::testing::ScratchDir dir;
+  writeFile(dir / "odo.csv", "utime,x,y,z,qw,qx,qy,qz\n1000,0,0,0,1,0,0,0\n2000,0,0,0,1,0,0,0\n");
+  const auto run = runProgram(
+      {kMap, "--pcap", pcap.string(), "--odometry", (dir / "odo.csv").string(), "--out", (dir / "m").string()},
+      dir.path());
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("not covered by the odometry"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("nothing could be mapped"), std::string::npos) << run.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "m"));
+}
+
+TEST(OgfMapProgram, MalformedOdometryLineIsNamedByFileAndLineAndTheRestIsUsed) {
+  ogf::testing::ScratchDir dir;
+  ASSERT_EQ(runProgram({kSim, "--out", (dir / "sim").string(), "--duration", "0.6"}, dir.path()).exit_code, 0);
+  // Break line 3 of the simulator's odometry.
+  std::ifstream in(dir / "sim" / "odometry.csv");
+  std::ostringstream text;
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) text << (n == 3 ? "12x,0,0" : line) << "\n";
+  writeFile(dir / "odo.csv", text.str());
+  const auto run = runProgram({kMap, "--pcap", (dir / "sim" / "capture.pcap").string(), "--odometry",
+                               (dir / "odo.csv").string(), "--out", (dir / "m").string()},
+                              dir.path());
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find((dir / "odo.csv").string() + ":3:"), std::string::npos) << run.output;
+  EXPECT_GT(summaryOf(run.stdout_text).scans, 0) << run.output;
+}
+
+TEST(OgfMapProgram, MovingSimCaptureMapsTheSameWithCsvAndLcmLogOdometry) {
+  ogf::testing::ScratchDir dir;
+  ASSERT_EQ(runProgram({kSim, "--out", (dir / "sim").string(), "--duration", "1.0"}, dir.path()).exit_code, 0);
+  const auto pcap = (dir / "sim" / "capture.pcap").string();
+  const auto csv = runProgram({kMap, "--pcap", pcap, "--odometry", (dir / "sim" / "odometry.csv").string(), "--out",
+                               (dir / "a").string()},
+                              dir.path());
+  ASSERT_EQ(csv.exit_code, 0) << csv.output;
+  const auto lcm = runProgram({kMap, "--pcap", pcap, "--odometry", (dir / "sim" / "odometry.lcmlog").string(),
+                               "--out", (dir / "b").string()},
+                              dir.path());
+  ASSERT_EQ(lcm.exit_code, 0) << lcm.output;
+  const Summary a = summaryOf(csv.stdout_text), b = summaryOf(lcm.stdout_text);
+  EXPECT_GE(a.scans, 5) << csv.output;
+  EXPECT_EQ(a.scans, b.scans);
+  // The CSV holds positions to the micrometre, the log full doubles: the same cells, give or take a few.
+  EXPECT_NEAR(static_cast<double>(a.measurements), static_cast<double>(b.measurements),
+              0.01 * static_cast<double>(a.measurements));
+  EXPECT_EQ(csv.output.find("not covered"), std::string::npos) << csv.output;
+}
+
+// A tiny LCM log: poses every 50 ms over 1 s (odometry_t, then bot_core.pose_t), two wall scans inside
+// that span and one after it.
+void writeTinyLog(const std::filesystem::path& path, std::int64_t t0) {
+  lcm::LogFile log(path.string(), "w");
+  ASSERT_TRUE(log.good());
+  std::int64_t eventnum = 0;
+  const auto write = [&](const std::string& channel, const auto& msg, std::int64_t utime) {
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(msg.getEncodedSize()));
+    ASSERT_GE(msg.encode(bytes.data(), 0, static_cast<int>(bytes.size())), 0);
+    lcm::LogEvent e{eventnum++, utime, channel, static_cast<std::int32_t>(bytes.size()), bytes.data()};
+    ASSERT_EQ(log.writeEvent(&e), 0);
+  };
+  const auto scanAt = [&](std::int64_t t) {
+    const auto s = ogf::testing::wallScan(4.1, t);
+    ogf::lidar_scan_t m{};
+    m.utime = t;
+    m.device_utime_start = t;
+    m.host_utime_start = t;
+    m.num_points = static_cast<std::int32_t>(s.size());
+    m.x = s.x;
+    m.y = s.y;
+    m.z = s.z;
+    m.intensity.assign(s.size(), 0);
+    m.ring.assign(s.size(), 0);
+    m.laser_id.assign(s.size(), 0);
+    m.azimuth_deg.assign(s.size(), 0.0f);
+    m.time_offset_ns = s.time_offset_ns;
+    m.return_type.assign(s.size(), 1);
+    write("VELODYNE_SCAN", m, t);
+  };
+  for (int i = 0; i <= 20; ++i) {
+    const std::int64_t t = t0 + i * 50'000;
+    if (i < 10) {
+      ogf::odometry_t o{};
+      o.utime = t;
+      o.orientation[0] = 1.0;
+      write("POSE", o, t);
+    } else {
+      bot_core::pose_t p{};
+      p.utime = t;
+      p.orientation[0] = 1.0;
+      write("POSE", p, t);
+    }
+    if (i == 4 || i == 14) scanAt(t);
+  }
+  scanAt(t0 + 5'000'000);
+}
+
+TEST(OgfMapProgram, LcmLogWithBothPoseTypesMapsTheCoveredScansAndCountsTheOther) {
+  ogf::testing::ScratchDir dir;
+  writeTinyLog(dir / "tiny.lcmlog", 1'700'000'000'000'000);
+  const auto run = runProgram({kMap, "--lcm-log", (dir / "tiny.lcmlog").string(), "--out", (dir / "m").string(),
+                               "--export-csv", (dir / "m.csv").string()},
+                              dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(summaryOf(run.stdout_text).scans, 2) << run.output;
+  EXPECT_NE(run.output.find("1 of 3 scans not covered"), std::string::npos) << run.output;
+  const auto [header, rows] = readCsv(dir / "m.csv");
+  std::size_t occupied = 0;
+  for (const Row& r : rows)
+    if (r.cls == 1) {
+      ++occupied;
+      EXPECT_NEAR(r.x, 4.1, 1e-3);
+    }
+  EXPECT_GT(occupied, 0u);
+}
+
+TEST(OgfMapProgram, PcdRaysStartAtTheViewpointAndTheBtExportReadsBack) {
+  ogf::testing::ScratchDir dir;
+  // A wall at x = 5.1 seen from the viewpoint (1, 2, 0.5), points in the same frame as the viewpoint.
+  std::ostringstream pts;
+  int n = 0;
+  for (int iy = -20; iy <= 20; ++iy)
+    for (int iz = -10; iz <= 10; ++iz, ++n) pts << "5.1 " << 2.0 + 0.05 * iy << " " << 0.5 + 0.05 * iz << "\n";
+  writeFile(dir / "wall.pcd", "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH " +
+                                  std::to_string(n) + "\nHEIGHT 1\nVIEWPOINT 1 2 0.5 1 0 0 0\nPOINTS " +
+                                  std::to_string(n) + "\nDATA ascii\n" + pts.str());
+  const auto run = runProgram({kMap, "--pcd", (dir / "wall.pcd").string(), (dir / "wall.pcd").string(), "--out",
+                               (dir / "m").string(), "--export-csv", (dir / "m.csv").string(), "--export-bt",
+                               (dir / "m.bt").string()},
+                              dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(summaryOf(run.stdout_text).scans, 2);
+  const auto [header, rows] = readCsv(dir / "m.csv");
+  bool free_in_front = false;
+  std::size_t occupied = 0;
+  for (const Row& r : rows) {
+    if (r.cls == 1) {
+      ++occupied;
+      EXPECT_NEAR(r.x, 5.1, 1e-3);
+    }
+    // Air between the viewpoint and the wall, on the central ray (cell centre (3.1, 2.1, 0.5)).
+    if (std::abs(r.x - 3.1) < 1e-3 && std::abs(r.y - 2.1) < 1e-3 && std::abs(r.z - 0.5) < 1e-3)
+      free_in_front = r.cls == -1;
+  }
+  EXPECT_GT(occupied, 20u);
+  EXPECT_TRUE(free_in_front);
+  octomap::OcTree tree(0.1);
+  ASSERT_TRUE(tree.readBinary((dir / "m.bt").string()));
+  const octomap::OcTreeNode* wall = tree.search(5.1, 2.1, 0.5);
+  ASSERT_NE(wall, nullptr);
+  EXPECT_TRUE(tree.isNodeOccupied(wall));
+}
+
+TEST(OgfMapProgram, NoInputIsAUsageError) {
+  ogf::testing::ScratchDir dir;
+  const auto run = runProgram({kMap, "--out", (dir / "m").string()}, dir.path());
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("no input"), std::string::npos) << run.output;
+}
+
+}  // namespace
