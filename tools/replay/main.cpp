@@ -96,7 +96,12 @@ int main(int argc, char** argv) {
   app.add_option("--start-delay", start_delay, "Seconds to wait before the first packet (let listeners start)")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int cli_rc = app.exit(e);  // prints the help or the error
+    return cli_rc == 0 ? kExitOk : kExitUsage;
+  }
 
   const auto level = ogf::transport::parseLogLevel(log_level);
   if (!level) {
