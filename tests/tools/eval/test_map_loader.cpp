@@ -1,0 +1,62 @@
+// ogf-eval reads both files a map lives in: the filter's map file and the daemon's snapshot container.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <ogf/filter/map_file.hpp>
+#include <ogf/persistence/state_directory.hpp>
+
+#include "ogf/eval/map_loader.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+ogf::filter::BandedOgf smallMap() {
+  ogf::filter::FilterConfig cfg;
+  cfg.resolution = 0.2;
+  auto map = ogf::filter::BandedOgf::create(cfg);
+  EXPECT_TRUE(map.ok());
+  const std::vector<ogf::filter::Measurement> batch{{{1, 2, 3}, 1}, {{0, 2, 3}, -1}, {{-1, 2, 3}, -1}};
+  map->update(batch);
+  return std::move(*map);
+}
+
+fs::path scratch(const std::string& name) {
+  return fs::temp_directory_path() / ("ogf-eval-loader-" + std::to_string(::getpid()) + "-" + name);
+}
+
+TEST(MapLoader, ReadsAMapFileAndASnapshotOfTheSameMapAlike) {
+  const auto map = smallMap();
+  const auto bytes = ogf::filter::encodeMap(map);
+  const auto map_path = scratch("map.ogfm");
+  const auto snap_path = scratch("snapshot.ogfs");
+  ASSERT_TRUE(ogf::filter::saveMapFile(map, map_path).ok());
+  const auto snap = ogf::persistence::encodeSnapshot(7, 42, bytes);
+  std::ofstream(snap_path, std::ios::binary).write(reinterpret_cast<const char*>(snap.data()), static_cast<std::streamsize>(snap.size()));
+
+  auto a = ogf::eval::loadOgfMap(map_path);
+  auto b = ogf::eval::loadOgfMap(snap_path);
+  fs::remove(map_path);
+  fs::remove(snap_path);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  ASSERT_TRUE(b.ok()) << b.error().message;
+  EXPECT_EQ(a->kind, "map file");
+  EXPECT_EQ(b->kind, "snapshot");
+  EXPECT_EQ(b->seq, 42);
+  EXPECT_EQ(a->map.checksum(), map.checksum());
+  EXPECT_EQ(b->map.checksum(), map.checksum());
+}
+
+TEST(MapLoader, RefusesAFileThatIsNeitherNamingIt) {
+  const auto path = scratch("junk.bin");
+  std::ofstream(path) << "this is not a map";
+  auto r = ogf::eval::loadOgfMap(path);
+  fs::remove(path);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find(path.string()), std::string::npos) << r.error().message;
+}
+
+}  // namespace

@@ -1,0 +1,35 @@
+// The measurements a simulator run gives, recomputed offline: the run's capture decoded with the driver's
+// reader and decoder (ogf_map_io's readPcapScans), each scan deskewed with the run's odometry and ray cast
+// into one measurement per cell (pipeline::ScanMapper::measure, the daemon's own code, without the filter).
+// ogf-eval uses them twice: the cells where a ray ended (for the gap-filling score) and, fed to OctoMap,
+// the baseline built from exactly the same rays as the OGF.
+#pragma once
+
+#include <ogf/common/result.hpp>
+#include <ogf/core/measurement.hpp>
+#include <ogf/pipeline/mapper_config.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <span>
+
+namespace ogf::eval {
+
+struct SimMeasurementCounts {
+  std::int64_t scans = 0;           // decoded from the capture
+  std::int64_t scans_measured = 0;  // covered by the odometry
+  std::int64_t measurements = 0;
+};
+
+// The extrinsic (sensor -> body) ogf-sim wrote into DIR/sim.yaml (`sensor_to_body: {xyz: [..],
+// quaternion_wxyz: [..]}`); an error naming the file and key when missing or malformed.
+Result<fusion::ExtrinsicConfig> readSimExtrinsic(const std::filesystem::path& sim_dir);
+
+// Replays DIR/capture.pcap with DIR/odometry.csv through `config`'s measurement pipeline (scan device time,
+// as ogf-mapper's default time base), handing each scan's measurements to `visit` in capture order.
+Result<SimMeasurementCounts> replaySimMeasurements(const std::filesystem::path& sim_dir,
+                                                   const pipeline::MapperConfig& config,
+                                                   const std::function<void(std::span<const Measurement>)>& visit);
+
+}  // namespace ogf::eval

@@ -1,0 +1,61 @@
+// Recomputing a simulator run's measurements: see sim_measurements.hpp.
+#include "ogf/eval/sim_measurements.hpp"
+
+#include <ogf/fusion/pose_buffer.hpp>
+#include <ogf/pipeline/scan_mapper.hpp>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+
+#include "ogf/map_io/odometry_file.hpp"
+#include "ogf/map_io/pcap_scans.hpp"
+
+namespace ogf::eval {
+
+Result<fusion::ExtrinsicConfig> readSimExtrinsic(const std::filesystem::path& sim_dir) {
+  const auto path = sim_dir / "sim.yaml";
+  try {
+    const YAML::Node root = YAML::LoadFile(path.string());
+    const YAML::Node s2b = root["sensor_to_body"];
+    if (!s2b || !s2b["xyz"] || !s2b["quaternion_wxyz"])
+      return Error{path.string() + ": sensor_to_body: expected {xyz: [x, y, z], quaternion_wxyz: [w, x, y, z]}"};
+    const YAML::Node xyz = s2b["xyz"];
+    const YAML::Node q = s2b["quaternion_wxyz"];
+    if (!xyz.IsSequence() || xyz.size() != 3 || !q.IsSequence() || q.size() != 4)
+      return Error{path.string() + ": sensor_to_body: xyz needs 3 numbers and quaternion_wxyz 4"};
+    fusion::ExtrinsicConfig e;
+    e.translation_m = {xyz[0].as<double>(), xyz[1].as<double>(), xyz[2].as<double>()};
+    e.quaternion = Eigen::Quaterniond(q[0].as<double>(), q[1].as<double>(), q[2].as<double>(), q[3].as<double>());
+    return e;
+  } catch (const YAML::Exception& ex) {
+    return Error{path.string() + ": " + ex.what()};
+  }
+}
+
+Result<SimMeasurementCounts> replaySimMeasurements(const std::filesystem::path& sim_dir,
+                                                   const pipeline::MapperConfig& config,
+                                                   const std::function<void(std::span<const Measurement>)>& visit) {
+  auto odometry = map_io::readOdometry(sim_dir / "odometry.csv");
+  if (!odometry) return Error{odometry.error().message};
+  fusion::PoseBufferConfig pb = config.fusion.pose_buffer;
+  pb.capacity = std::max<std::size_t>(odometry->poses.size(), 2);
+  fusion::PoseBuffer poses(pb);
+  for (const auto& p : odometry->poses) poses.insert(p);
+
+  auto mapper = pipeline::ScanMapper::create(config);
+  if (!mapper) return Error{"configuration: " + mapper.error().message};
+  SimMeasurementCounts counts;
+  map_io::PcapScanConfig pc;
+  pc.min_range_m = config.fusion.measurement.min_range_m;
+  auto read = map_io::readPcapScans(sim_dir / "capture.pcap", pc, [&](const map_io::ScanRecord& scan) {
+    ++counts.scans;
+    if (mapper->measure(scan.points(map_io::TimeBase::kDevice), poses) != fusion::PoseCoverage::kCovered) return;
+    ++counts.scans_measured;
+    counts.measurements += static_cast<std::int64_t>(mapper->measurements().size());
+    visit(mapper->measurements());
+  });
+  if (!read) return Error{read.error().message};
+  return counts;
+}
+
+}  // namespace ogf::eval
