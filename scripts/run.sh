@@ -1,10 +1,106 @@
 #!/usr/bin/env bash
-# The README's main job. At this stage: installs, builds, and shows the ogf message set making a round
-# trip over LCM udpm on loopback. It grows into the full drive (simulate, drive, map, score) as the
-# capabilities land.
+# The README's main job: installs what is missing, builds, then drives ogf end to end on this host.
+#   scripts/run.sh [--out DIR] [--speed X] [--duration S] [--world PRESET|FILE] [--lcm-url URL]
+#     simulates a VLP-16 on a robot in a known world (ogf-sim), starts ogf-mapper and ogf-driver as real
+#     processes on LCM udpm over loopback, follows the map with ogf-map-client, replays the capture onto UDP
+#     and the odometry onto LCM with ogf-replay, stops the daemons with SIGTERM (the mapper writes its final
+#     snapshot), and scores the map against the ground truth and an OctoMap from the same rays (ogf-eval).
+#   scripts/run.sh --pcap FILE [--out DIR]
+#     maps a real capture of a static sensor instead: ogf-map --static (fixed pose, offline, the same
+#     ScanMapper as the daemon); no ground truth, so no score.
+# Outputs (default out/): map.ogfs (the daemon's snapshot: ogf-eval reads it, filter::decodeMap inside),
+# map_occupied.ply, png/*.png, accuracy.txt, octomap.bt, logs/, sim/ (capture, odometry, truth).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+out=$here/out
+speed=1
+duration=20
+world=lab
+pcap=
+url="udpm://239.255.76.67:7689?ttl=0"
+data_port=12368      # not 2368: a real sensor on this host keeps its port
+position_port=18308
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --out) out=$2; shift 2 ;;
+    --speed) speed=$2; shift 2 ;;
+    --duration) duration=$2; shift 2 ;;
+    --world) world=$2; shift 2 ;;
+    --pcap) pcap=$2; shift 2 ;;
+    --lcm-url) url=$2; shift 2 ;;
+    -h|--help) sed -n '2,13p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "run.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+
 bash "$here/scripts/install-deps.sh"
 bash "$here/scripts/multicast-loopback.sh"
 bash "$here/scripts/build.sh"
-"$here/build/bin/ogf-bus-check" --lcm-url "udpm://239.255.76.67:7667?ttl=0"
+bin=${OGF_BUILD_DIR:-$here/build}/bin
+mkdir -p "$out/logs" "$out/png"
+out=$(cd "$out" && pwd)
+
+if [ -n "$pcap" ]; then
+  # A real capture of a sensor that does not move: the pose is fixed at the origin.
+  "$bin/ogf-map" --pcap "$pcap" --static --out "$out/map.ogfm" --export-ply "$out/map_occupied.ply" \
+    --png "$out/png" --png-zmin -1 --png-zmax 2 | tee "$out/map.txt"
+  echo
+  echo "map:        $out/map.ogfm   (ogf map file)"
+  echo "PLY:        $out/map_occupied.ply"
+  echo "PNG:        $out/png/occupancy.png $out/png/entropy.png"
+  exit 0
+fi
+
+pids=()
+cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }
+trap cleanup EXIT
+
+echo "== simulating world '$world' for $duration s into $out/sim"
+rm -rf "$out/sim" "$out/state"
+# The simulated robot lives now: its GPS time (NMEA, PPS locked) is the current time, as a live sensor's is,
+# so the driver's device clock (top-of-hour counter + hour) agrees before and after the first NMEA sentence.
+"$bin/ogf-sim" --world "$world" --duration "$duration" --out "$out/sim" --start-utime "$(( $(date +%s) * 1000000 ))" \
+  2>&1 | tee "$out/logs/sim.log"
+
+# The mapper must know where the sensor sits on the body: ogf-sim wrote it into sim.yaml.
+extrinsic=$(sed -n 's/^sensor_to_body: {xyz: \(\[[^]]*\]\), quaternion_wxyz: \(\[[^]]*\]\)}.*/translation: \1, quaternion: \2/p' "$out/sim/sim.yaml")
+if [ -z "$extrinsic" ]; then echo "run.sh: no sensor_to_body in $out/sim/sim.yaml" >&2; exit 1; fi
+printf 'map:\n  extrinsic: {%s}\n' "$extrinsic" > "$out/mapper.yaml"
+
+echo "== starting ogf-mapper, ogf-driver and ogf-map-client on $url"
+"$bin/ogf-mapper" --lcm-url "$url" --state-dir "$out/state" --config "$out/mapper.yaml" >"$out/logs/mapper.log" 2>&1 &
+mapper=$!; pids+=("$mapper")
+"$bin/ogf-driver" --lcm-url "$url" --bind-address 127.0.0.1 --data-port "$data_port" --position-port "$position_port" \
+  >"$out/logs/driver.log" 2>&1 &
+driver=$!; pids+=("$driver")
+"$bin/ogf-map-client" --lcm-url "$url" --idle-exit 5 >"$out/logs/map-client.log" 2>&1 &
+client=$!; pids+=("$client")
+
+echo "== replaying the capture and the odometry at ${speed}x"
+"$bin/ogf-replay" --pcap "$out/sim/capture.pcap" --dest 127.0.0.1 --data-port "$data_port" \
+  --position-port "$position_port" --speed "$speed" --odometry "$out/sim/odometry.csv" --lcm-url "$url" \
+  --start-delay 1.5 | tee "$out/replay.txt"
+
+echo "== stopping the driver (it publishes the scan in progress), waiting for the map client (it stops 5 s"
+echo "   after the last delta), stopping the mapper (it writes its final snapshot)"
+sleep 0.5
+kill -TERM "$driver"; driver_rc=0; wait "$driver" || driver_rc=$?
+client_rc=0; wait "$client" || client_rc=$?
+kill -TERM "$mapper"; mapper_rc=0; wait "$mapper" || mapper_rc=$?
+pids=()
+echo "driver exit $driver_rc, mapper exit $mapper_rc, map client exit $client_rc"
+tail -n 1 "$out/logs/map-client.log" | tee "$out/map-client.txt"
+if [ ! -f "$out/state/snapshot.ogfs" ]; then echo "run.sh: the mapper left no snapshot in $out/state" >&2; exit 1; fi
+cp "$out/state/snapshot.ogfs" "$out/map.ogfs"
+
+echo "== scoring the map against the ground truth and an OctoMap of the same rays"
+"$bin/ogf-eval" --map "$out/map.ogfs" --truth "$out/sim" --png "$out/png" --export-ply "$out/map_occupied.ply" \
+  --write-octomap "$out/octomap.bt" | tee "$out/accuracy.txt"
+
+echo
+echo "map:        $out/map.ogfs        (the mapper's final snapshot; the live state stays in $out/state)"
+echo "PLY:        $out/map_occupied.ply (occupied cells)"
+echo "PNG:        $out/png/ (truth, ogf/octomap classes and errors, occupancy, entropy; z 0.1..2 m)"
+echo "accuracy:   $out/accuracy.txt"
+echo "OctoMap:    $out/octomap.bt"
+echo "logs:       $out/logs/ (sim, mapper, driver, map-client); replay summary $out/replay.txt"
