@@ -54,11 +54,9 @@ void ScanMapper::measureStatic(const fusion::ScanPoints& scan, const Eigen::Isom
 
 filter::UpdateStats ScanMapper::apply(std::span<const Measurement> measurements,
                                       std::vector<delta::PublishedCell>* changes) {
-  batch_.resize(measurements.size());
-  for (std::size_t i = 0; i < measurements.size(); ++i) batch_[i] = {measurements[i].key, measurements[i].y};
-  if (changes == nullptr) return filter_.update(batch_);
+  if (changes == nullptr) return filter_.update(measurements);
   ChangeCollector collector(*changes);
-  return filter_.update(batch_, &collector);
+  return filter_.update(measurements, &collector);
 }
 
 Status ScanMapper::restoreFilter(std::span<const std::uint8_t> map_bytes, const std::string& source) {

@@ -1,15 +1,11 @@
-// One occupancy measurement of a cell (Sec. II): y = +1 occupied, y = -1 free.
+// One occupancy measurement of a cell (Sec. II): y = +1 occupied, y = -1 free. The project-wide type
+// (mapper/core): ray casting produces it, the journal stores it, the filter consumes it.
 #pragma once
 
-#include <ogf/core/cell_key.hpp>
-
-#include <cstdint>
+#include <ogf/core/measurement.hpp>
 
 namespace ogf::filter {
 
-struct Measurement {
-  CellKey key;
-  std::int8_t y = 1;
-};
+using ogf::Measurement;
 
 }  // namespace ogf::filter

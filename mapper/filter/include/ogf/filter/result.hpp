@@ -1,44 +1,15 @@
-// Error reporting for the filter library: a Result<T> that holds either a value or an Error whose message
-// names the file, offset or field that was wrong. The library never prints or exits; programs report.
+// Error reporting for the filter library: the project's Result/Error (common/), whose message names the
+// file, offset or field that was wrong. The library never prints or exits; programs report.
 #pragma once
 
-#include <string>
-#include <utility>
-#include <variant>
+#include "ogf/common/result.hpp"
 
 namespace ogf::filter {
 
-struct Error {
-  std::string message;
-};
-
-template <class T>
-class [[nodiscard]] Result {
- public:
-  Result(T value) : v_(std::move(value)) {}  // NOLINT(google-explicit-constructor): implicit by design
-  Result(Error error) : v_(std::move(error)) {}  // NOLINT(google-explicit-constructor)
-
-  bool ok() const { return std::holds_alternative<T>(v_); }
-  explicit operator bool() const { return ok(); }
-
-  T& value() & { return std::get<T>(v_); }
-  const T& value() const& { return std::get<T>(v_); }
-  T&& value() && { return std::get<T>(std::move(v_)); }
-  T& operator*() & { return value(); }
-  const T& operator*() const& { return value(); }
-  T* operator->() { return &value(); }
-  const T* operator->() const { return &value(); }
-
-  const Error& error() const { return std::get<Error>(v_); }
-
- private:
-  std::variant<T, Error> v_;
-};
-
-// A Result without a value: success, or an Error.
-struct Ok {};
-using Status = Result<Ok>;
-
-inline Status okStatus() { return Ok{}; }
+using ogf::Error;
+using ogf::Ok;
+using ogf::okStatus;
+using ogf::Result;
+using ogf::Status;
 
 }  // namespace ogf::filter

@@ -63,7 +63,6 @@ class ScanMapper {
   std::vector<Eigen::Vector3d> origins_;
   std::vector<Eigen::Vector3d> endpoints_;
   std::span<const Measurement> measurements_;
-  std::vector<filter::Measurement> batch_;  // the filter's measurement type, reused
 };
 
 }  // namespace ogf::pipeline
