@@ -73,7 +73,7 @@ mapper=$!; pids+=("$mapper")
 "$bin/ogf-driver" --lcm-url "$url" --bind-address 127.0.0.1 --data-port "$data_port" --position-port "$position_port" \
   >"$out/logs/driver.log" 2>&1 &
 driver=$!; pids+=("$driver")
-"$bin/ogf-map-client" --lcm-url "$url" --idle-exit 5 >"$out/logs/map-client.log" 2>&1 &
+"$bin/ogf-map-client" --lcm-url "$url" --progress >"$out/logs/map-client.log" 2>&1 &
 client=$!; pids+=("$client")
 
 echo "== replaying the capture and the odometry at ${speed}x"
@@ -81,11 +81,19 @@ echo "== replaying the capture and the odometry at ${speed}x"
   --position-port "$position_port" --speed "$speed" --odometry "$out/sim/odometry.csv" --lcm-url "$url" \
   --start-delay 1.5 | tee "$out/replay.txt"
 
-echo "== stopping the driver (it publishes the scan in progress), waiting for the map client (it stops 5 s"
-echo "   after the last delta), stopping the mapper (it writes its final snapshot)"
+echo "== stopping the driver (it publishes the scan in progress), waiting until the map client's sequence"
+echo "   stops moving (the mapper has drained its queue), then stopping the client and the mapper"
 sleep 0.5
 kill -TERM "$driver"; driver_rc=0; wait "$driver" || driver_rc=$?
-client_rc=0; wait "$client" || client_rc=$?
+last=; same=0
+for _ in $(seq 1 120); do
+  sleep 1
+  now=$(grep '^seq ' "$out/logs/map-client.log" | tail -n 1 | cut -d' ' -f2)
+  if [ -n "$now" ] && [ "$now" = "$last" ]; then same=$((same + 1)); else same=0; fi
+  last=$now
+  if [ "$same" -ge 3 ]; then break; fi
+done
+kill -TERM "$client"; client_rc=0; wait "$client" || client_rc=$?
 kill -TERM "$mapper"; mapper_rc=0; wait "$mapper" || mapper_rc=$?
 pids=()
 echo "driver exit $driver_rc, mapper exit $mapper_rc, map client exit $client_rc"
