@@ -1,4 +1,4 @@
-#include "ogf/mapper_daemon/message_adapters.hpp"
+#include "ogf/adapters/message_adapters.hpp"
 
 #include <bot_core/pose_t.hpp>
 #include <ogf/odometry_t.hpp>
@@ -7,7 +7,7 @@
 
 #include "ogf/messages/limits.hpp"
 
-namespace ogf::mapper_daemon {
+namespace ogf::adapters {
 namespace {
 
 std::int64_t fingerprintOf(const void* data, std::size_t size) {
@@ -69,4 +69,4 @@ fusion::ScanPoints scanPointsOf(const ogf::lidar_scan_t& s, ScanTimeBase base) {
   return {base == ScanTimeBase::kDevice ? s.device_utime_start : s.host_utime_start, s.x, s.y, s.z, s.time_offset_ns};
 }
 
-}  // namespace ogf::mapper_daemon
+}  // namespace ogf::adapters

@@ -6,9 +6,14 @@
 #include <chrono>
 #include <filesystem>
 
-#include "ogf/mapper_daemon/message_adapters.hpp"
+#include "ogf/adapters/message_adapters.hpp"
 
 namespace ogf::mapper_daemon {
+
+using adapters::decodePose;
+using adapters::scanPointsOf;
+using adapters::validateScan;
+
 namespace {
 
 using Clock = std::chrono::steady_clock;

@@ -11,9 +11,11 @@
 #include <string>
 
 #include "ogf/common/result.hpp"
-#include "ogf/mapper_daemon/mapper_options.hpp"
 
-namespace ogf::mapper_daemon {
+namespace ogf::adapters {
+
+// Which scan clock the odometry's utime shares: the sensor's device time or the driver host's receive time.
+enum class ScanTimeBase { kDevice, kHost };
 
 // Decodes a POSE message of either type. Errors say why ("fingerprint matches neither ...", "truncated").
 Result<fusion::Pose> decodePose(const void* data, std::size_t size);
@@ -25,4 +27,4 @@ Status validateScan(const ogf::lidar_scan_t& scan);
 // The scan's points as the fusion layer reads them, timed on `base`. The spans point into `scan`.
 fusion::ScanPoints scanPointsOf(const ogf::lidar_scan_t& scan, ScanTimeBase base);
 
-}  // namespace ogf::mapper_daemon
+}  // namespace ogf::adapters

@@ -7,12 +7,13 @@
 #include <optional>
 #include <string>
 
+#include "ogf/adapters/message_adapters.hpp"
 #include "ogf/common/result.hpp"
 #include "ogf/pipeline/mapper_config.hpp"
 
 namespace ogf::mapper_daemon {
 
-enum class ScanTimeBase { kDevice, kHost };
+using adapters::ScanTimeBase;
 
 struct MapperOptions {
   std::string lcm_url;  // "" = $LCM_DEFAULT_URL, else LCM's default
