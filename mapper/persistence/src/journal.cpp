@@ -10,6 +10,7 @@
 #include <iterator>
 
 #include "ogf/common/crc32.hpp"
+#include "ogf/common/little_endian.hpp"
 
 namespace ogf::persistence {
 namespace {
@@ -25,17 +26,12 @@ constexpr std::uint32_t kMaxMeasurements = 1U << 24;
 
 template <class T>
 void put(std::vector<std::byte>& out, T v) {
-  using U = std::make_unsigned_t<T>;
-  auto u = static_cast<U>(v);
-  for (std::size_t i = 0; i < sizeof(T); ++i) out.push_back(static_cast<std::byte>((u >> (8 * i)) & 0xFFU));
+  putLittleEndian(out, v);
 }
 
 template <class T>
 T get(const std::byte* p) {
-  using U = std::make_unsigned_t<T>;
-  U u = 0;
-  for (std::size_t i = 0; i < sizeof(T); ++i) u = static_cast<U>(u | (static_cast<U>(p[i]) << (8 * i)));
-  return static_cast<T>(u);
+  return getLittleEndian<T>(p);
 }
 
 Error systemError(const std::filesystem::path& path, const std::string& what) {
