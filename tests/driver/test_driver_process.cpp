@@ -13,7 +13,7 @@
 #include <thread>
 
 #include "capture_decoding.hpp"
-#include "child_process.hpp"
+#include "support/child_process.hpp"
 #include "ogf/driver_status_t.hpp"
 #include "ogf/lidar_scan_t.hpp"
 #include "ogf/transport/subscriber.hpp"

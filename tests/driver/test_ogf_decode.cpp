@@ -7,7 +7,7 @@
 #include <regex>
 #include <sstream>
 
-#include "child_process.hpp"
+#include "support/child_process.hpp"
 #include "support/shared_data.hpp"
 
 using ogf::testing::ChildProcess;

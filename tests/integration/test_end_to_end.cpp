@@ -33,7 +33,7 @@
 #include <sstream>
 #include <thread>
 
-#include "child_process.hpp"
+#include "support/child_process.hpp"
 #include "support/multicast.hpp"
 
 namespace {

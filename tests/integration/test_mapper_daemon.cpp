@@ -21,7 +21,7 @@
 #include <regex>
 #include <thread>
 
-#include "child_process.hpp"
+#include "support/child_process.hpp"
 #include "ogf/fusion/pose_buffer.hpp"
 #include "ogf/pipeline/scan_mapper.hpp"
 #include "scan_feeder.hpp"
