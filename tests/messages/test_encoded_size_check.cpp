@@ -5,6 +5,7 @@
 #include <cstring>
 #include <vector>
 
+#include "ogf/messages/decode_message.hpp"
 #include "ogf/messages/encoded_size_check.hpp"
 
 namespace {
@@ -110,6 +111,34 @@ TEST(EncodedSizeCheck, RefusesAbsurdDeltaPacketAndCovarianceCounts) {
   EXPECT_FALSE(EncodedSizeCheck<ogf::odometry_t>::check(bo.data(), bo.size()));
   patch(bo, countOffset(bo, 36, 8), 100'000'000);
   EXPECT_TRUE(EncodedSizeCheck<ogf::odometry_t>::check(bo.data(), bo.size()));
+}
+
+}  // namespace
+
+namespace {
+
+TEST(DecodeMessage, DecodesAValidBufferAndRefusesAbsurdCountsAndTrailingBytes) {
+  ogf::odometry_t o{};
+  o.frame_id = "odom";
+  o.child_frame_id = "base_link";
+  o.num_covariance = 36;
+  o.covariance.assign(36, 0.25);
+  auto b = encode(o);
+  ogf::odometry_t out{};
+  EXPECT_FALSE(ogf::messages::decodeMessage(b.data(), b.size(), out));
+  EXPECT_EQ(out.covariance.size(), 36u);
+
+  auto huge = b;
+  patch(huge, countOffset(huge, 36, 8), 2'147'483'647);  // would be a 16 GB vector inside decode()
+  const auto why = ogf::messages::decodeMessage(huge.data(), huge.size(), out);
+  ASSERT_TRUE(why.has_value());
+  EXPECT_NE(why->find("num_covariance"), std::string::npos) << *why;
+
+  auto longer = b;
+  longer.push_back(0);
+  const auto trailing = ogf::messages::decodeMessage(longer.data(), longer.size(), out);
+  ASSERT_TRUE(trailing.has_value());
+  EXPECT_NE(trailing->find("trailing"), std::string::npos);
 }
 
 }  // namespace

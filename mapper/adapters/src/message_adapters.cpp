@@ -5,6 +5,7 @@
 
 #include <cstring>
 
+#include "ogf/messages/decode_message.hpp"
 #include "ogf/messages/limits.hpp"
 
 namespace ogf::adapters {
@@ -21,9 +22,7 @@ std::int64_t fingerprintOf(const void* data, std::size_t size) {
 template <class Message>
 Result<Message> decodeExactly(const void* data, std::size_t size, const char* type) {
   Message m;
-  const int used = m.decode(data, 0, static_cast<int>(size));
-  if (used < 0) return Error{std::string(type) + ": truncated or malformed"};
-  if (static_cast<std::size_t>(used) != size) return Error{std::string(type) + ": trailing bytes after the message"};
+  if (auto why = ogf::messages::decodeMessage(data, size, m)) return Error{std::string(type) + ": " + *why};
   return m;
 }
 

@@ -6,6 +6,8 @@
 
 #include <cstdio>
 
+#include "ogf/messages/decode_message.hpp"
+
 namespace ogf::map_io {
 
 Result<LcmLogScanCounts> readLcmLogScans(const std::filesystem::path& path, const std::string& channel,
@@ -22,12 +24,11 @@ Result<LcmLogScanCounts> readLcmLogScans(const std::filesystem::path& path, cons
   while (const lcm::LogEvent* event = log.readNextEvent()) {
     ++counts.events;
     if (event->channel != channel) continue;
-    const int rc = message.decode(event->data, 0, event->datalen);
-    if (rc < 0) {
+    if (auto why = ogf::messages::decodeMessage(event->data, static_cast<std::size_t>(event->datalen), message)) {
       ++counts.skipped;
       if (counts.problems.size() < 20)
-        counts.problems.push_back(fmt::format("{}: event {} on {}: not an ogf.lidar_scan_t that decodes; skipped",
-                                              path.string(), event->eventnum, channel));
+        counts.problems.push_back(fmt::format("{}: event {} on {}: not an ogf.lidar_scan_t that decodes ({}); skipped",
+                                              path.string(), event->eventnum, channel, *why));
       continue;
     }
     assignScan(message, record);

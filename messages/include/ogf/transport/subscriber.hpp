@@ -5,12 +5,11 @@
 
 #include <lcm/lcm-cpp.hpp>
 
-#include <exception>
 #include <functional>
 #include <string>
 #include <string_view>
 
-#include "ogf/messages/encoded_size_check.hpp"
+#include "ogf/messages/decode_message.hpp"
 #include "ogf/transport/lcm_url.hpp"
 
 namespace ogf::transport {
@@ -45,24 +44,9 @@ class Subscriber {
   void dispatch(const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
     // Reused between messages: generated decode() leaves stale elements for zero-length arrays, so
     // every message decodes into a fresh object.
-    // Counts first: decode() would allocate whatever a corrupt count claims before noticing.
-    if (auto bad = ogf::messages::EncodedSizeCheck<Message>::check(rbuf.data, rbuf.data_size)) {
-      if (on_error_) on_error_(channel, rbuf.data_size, "is malformed: " + *bad);
-      return;
-    }
     Message msg;
-    int used = -1;
-    try {
-      used = msg.decode(rbuf.data, 0, static_cast<int>(rbuf.data_size));
-    } catch (const std::exception&) {
-      used = -1;  // a count the check does not cover made a vector throw: the message is malformed
-    }
-    if (used < 0) {
-      if (on_error_) on_error_(channel, rbuf.data_size, "does not decode (wrong type or truncated)");
-      return;
-    }
-    if (static_cast<std::size_t>(used) != rbuf.data_size) {
-      if (on_error_) on_error_(channel, rbuf.data_size, "has trailing bytes after the message");
+    if (auto why = ogf::messages::decodeMessage(rbuf.data, rbuf.data_size, msg)) {
+      if (on_error_) on_error_(channel, rbuf.data_size, *why);
       return;
     }
     on_message_(msg, rbuf, channel);
