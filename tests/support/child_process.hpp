@@ -20,6 +20,8 @@ class ChildProcess {
   ChildProcess& operator=(const ChildProcess&) = delete;
 
   bool started() const { return pid_ > 0; }
+  // The child's process id (-1 when it did not start), e.g. to read /proc/<pid>/status.
+  pid_t pid() const { return pid_; }
   // The exit status once it has exited within `timeout` (-signal when killed by one), else nullopt.
   std::optional<int> wait(std::chrono::milliseconds timeout);
   void signal(int sig);
