@@ -60,6 +60,11 @@ struct LaserRecord {
 
 using Record = std::variant<OdometryRecord, LaserRecord>;
 
+// FLASER lines carry no maximum range. The benchmark logs mark "no return" with 81.83 (intel), 50.00
+// (aces) and 81.91 (fr079), and hold no valid reading above 50 m, so FLASER records get this maximum
+// unless the log's "PARAM robot_front_laser_max" (fr079: 80.99) or setFlaserMaxRange says otherwise.
+inline constexpr double kFlaserDefaultMaxRange = 50.0;
+
 // Reads records one at a time. Comment lines (#), blank lines and other message types (PARAM, SYNC,
 // TRUEPOS, ...) are skipped and counted; a malformed ODOM/FLASER/ROBOTLASER1 line is reported as an
 // Error naming the source and line, counted, and reading goes on with the next line.
@@ -74,12 +79,19 @@ class CarmenReader {
   std::size_t linesSkipped() const;    // comments, blank lines and other message types
   std::size_t linesMalformed() const;
 
+  // The maximum range given to FLASER records from now on (overrides the default and the PARAM line).
+  void setFlaserMaxRange(double metres);
+
  private:
+  std::optional<Result<Record>> parseLine(const std::string& line);
+
   std::istream& in_;
   std::string source_name_;
   std::size_t lines_read_ = 0;
   std::size_t lines_skipped_ = 0;
   std::size_t lines_malformed_ = 0;
+  double flaser_max_range_ = kFlaserDefaultMaxRange;
+  bool flaser_max_range_set_ = false;
 };
 
 // Writes one result record: the laser record with `corrected` in both pose triples (FLASER) or in
