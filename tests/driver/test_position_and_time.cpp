@@ -1,10 +1,13 @@
 // NMEA sentences with checksums, position packets, and device time from the top-of-hour counter.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <cstring>
 #include <vector>
 
 #include "ogf/velodyne/device_clock.hpp"
+#include "ogf/velodyne/packet_stream.hpp"
+#include "synthetic_packet.hpp"
 #include "ogf/velodyne/position_packet.hpp"
 
 namespace ov = ogf::velodyne;
@@ -108,4 +111,68 @@ TEST(DeviceClock, LockedPpsTakesTheHourFromNmeaNotTheHost) {
   EXPECT_EQ(unlocked.toAbsolute(2467000000u, host).source, ov::TimeSource::HostHour);
   // A stale GPS time no longer anchors the hour.
   EXPECT_EQ(clock.toAbsolute(2467000000u, host + 60'000'000).source, ov::TimeSource::HostHour);
+}
+
+namespace {
+// Scans from a VLP-16 stream of `packets` data packets (600 rpm: 4.8 degrees and 1327.104 us each) whose
+// first position packet (PPS locked, kRmc) arrives after packet `first_position`, then every 14th, with
+// the host clock in 2001, years from the GPS time.
+std::vector<ov::Scan> scansWithLateFirstPositionPacket(int clock_settle_packets, int packets, int first_position) {
+  ov::StreamConfig config;
+  config.model = ov::Model::Vlp16;
+  config.clock_settle_packets = clock_settle_packets;
+  auto stream = ov::PacketStream::create(config);
+  EXPECT_TRUE(stream) << stream.error().message;
+  std::vector<ov::Scan> scans;
+  stream->setScanSink([&](const ov::Scan& s) { scans.push_back(s); });
+  const std::int64_t host0 = 1'000'000'000'000'000LL;
+  const std::uint32_t toh0 = 2466500000u;
+  for (int k = 0; k < packets; ++k) {
+    const auto toh = static_cast<std::uint32_t>(toh0 + static_cast<std::uint32_t>(k * 1327.104));
+    const std::int64_t host = host0 + static_cast<std::int64_t>(k * 1327.104);
+    ogf::testing::SyntheticPacket p(toh);
+    p.azimuths(k * 480 % 36000, 40).allChannels(5000, 10);
+    stream->addDataPacket(p.bytes(), host);
+    if (k >= first_position && (k - first_position) % 14 == 0) {
+      EXPECT_TRUE(stream->addPositionPacket(positionPacket(toh, 2, kRmc), host));
+    }
+  }
+  stream->finish();
+  return scans;
+}
+}  // namespace
+
+TEST(PacketStream, FirstScanWaitsForThePositionPacketSoEveryScanIsOnTheGpsTimeBase) {
+  const auto scans = scansWithLateFirstPositionPacket(64, 300, 10);
+  ASSERT_GE(scans.size(), 4u);
+  for (std::size_t i = 0; i < scans.size(); ++i) {
+    EXPECT_EQ(scans[i].time_source, ov::TimeSource::PpsNmea) << "scan " << i;
+    if (i > 0) {
+      const std::int64_t step = scans[i].device_utime_start - scans[i - 1].device_utime_start;
+      EXPECT_GT(step, 0) << "scan " << i;
+      EXPECT_LT(step, 200'000) << "scan " << i << " is " << step << " us after the one before";
+    }
+  }
+  // The contrast: stamping from the first packet puts the first scan on the host's hour, years away.
+  const auto unsettled = scansWithLateFirstPositionPacket(0, 300, 10);
+  ASSERT_GE(unsettled.size(), 2u);
+  EXPECT_EQ(unsettled.front().time_source, ov::TimeSource::HostHour);
+  EXPECT_GT(std::abs(unsettled[1].device_utime_start - unsettled[0].device_utime_start), kHourUs);
+}
+
+TEST(PacketStream, WithoutPositionPacketsTheHostHourTakesOverAfterTheSettleWindowAndNothingIsLost) {
+  const auto held = scansWithLateFirstPositionPacket(64, 300, 1'000'000);
+  const auto immediate = scansWithLateFirstPositionPacket(0, 300, 1'000'000);
+  ASSERT_EQ(held.size(), immediate.size());
+  for (std::size_t i = 0; i < held.size(); ++i) {
+    EXPECT_EQ(held[i].time_source, ov::TimeSource::HostHour);
+    EXPECT_EQ(held[i].device_utime_start, immediate[i].device_utime_start);
+    EXPECT_EQ(held[i].points.size(), immediate[i].points.size());
+  }
+}
+
+TEST(PacketStream, AnAbsurdSettleWindowIsRefused) {
+  ov::StreamConfig config;
+  config.clock_settle_packets = 100'000;
+  EXPECT_FALSE(ov::PacketStream::create(config));
 }

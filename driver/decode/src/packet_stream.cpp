@@ -1,12 +1,15 @@
 #include "ogf/velodyne/packet_stream.hpp"
 
 #include <algorithm>
+#include <string>
+#include <utility>
 
 namespace ogf::velodyne {
 
 PacketStream::PacketStream(const StreamConfig& config)
-    : config_(config), detector_(config.model), assembler_(config.assembler) {
-  pending_.reserve(ModelDetector::kMaxPackets);
+    : config_(config), detector_(config.model), assembler_(config.assembler),
+      clock_settled_(config.clock_settle_packets <= 0) {
+  pending_.reserve(static_cast<std::size_t>(std::max(ModelDetector::kMaxPackets, config.clock_settle_packets)));
 }
 
 Result<PacketStream> PacketStream::create(const StreamConfig& config) {
@@ -20,6 +23,9 @@ Result<PacketStream> PacketStream::create(const StreamConfig& config) {
   probe.max_range_m = config.max_range_m;
   auto decoder = PacketDecoder::create(probe);
   if (!decoder) return decoder.error();
+  if (config.clock_settle_packets > 4096)
+    return Error{"clock_settle_packets " + std::to_string(config.clock_settle_packets) +
+                 " is above 4096 (5 s of packets): the first scan would wait too long"};
   PacketStream stream(config);
   if (config.model) stream.decoder_.emplace(std::move(*decoder));
   return stream;
@@ -80,21 +86,31 @@ PacketStatus PacketStream::addDataPacket(std::span<const std::uint8_t> payload, 
       }
     }
     detector_.observe(payload[1205], payload[1204], wire::readLe32(payload.data() + 1200));
-    if (!ensureDecoder()) {
-      if (pending_.size() < ModelDetector::kMaxPackets) {
-        Pending p;
-        std::copy(payload.begin(), payload.end(), p.bytes.begin());
-        p.host_utime = host_utime;
-        pending_.push_back(p);
-      } else {
-        ++counters_.bad_other;  // unknown product: never decodable without a configured model
-      }
+    if (!ensureDecoder() && pending_.size() >= ModelDetector::kMaxPackets) {
+      ++counters_.bad_other;  // unknown product: never decodable without a configured model
       return PacketStatus::Ok;
     }
-    for (const Pending& p : pending_) decodeAndAssemble(p.bytes, p.host_utime);
-    pending_.clear();
   }
+  if (!clock_settled_ && std::cmp_greater_equal(pending_.size(), config_.clock_settle_packets))
+    clock_settled_ = true;  // no position packet in time: the host's hour is the time base
+  if (!decoder_ || !clock_settled_) {
+    holdPacket(payload, host_utime);
+    return PacketStatus::Ok;
+  }
+  decodeHeldPackets();
   return decodeAndAssemble(payload, host_utime);
+}
+
+void PacketStream::holdPacket(std::span<const std::uint8_t> payload, std::int64_t host_utime) {
+  Pending p;
+  std::copy(payload.begin(), payload.end(), p.bytes.begin());
+  p.host_utime = host_utime;
+  pending_.push_back(p);
+}
+
+void PacketStream::decodeHeldPackets() {
+  for (const Pending& p : pending_) decodeAndAssemble(p.bytes, p.host_utime);
+  pending_.clear();
 }
 
 bool PacketStream::addPositionPacket(std::span<const std::uint8_t> payload, std::int64_t host_utime) {
@@ -110,6 +126,10 @@ bool PacketStream::addPositionPacket(std::span<const std::uint8_t> payload, std:
   ++counters_.position_packets;
   clock_.onPositionPacket(*packet, host_utime);
   last_position_ = *packet;
+  if (!clock_settled_) {
+    clock_settled_ = true;
+    if (decoder_) decodeHeldPackets();
+  }
   return true;
 }
 
@@ -121,11 +141,11 @@ void PacketStream::finish() {
       detector_ = fallback;
     }
     if (ensureDecoder()) {
-      for (const Pending& p : pending_) decodeAndAssemble(p.bytes, p.host_utime);
+      decodeHeldPackets();
     } else {
       counters_.bad_other += static_cast<std::int64_t>(pending_.size());
+      pending_.clear();
     }
-    pending_.clear();
   }
   assembler_.flush([this](const Scan& scan) {
     ++counters_.scans;

@@ -1,7 +1,10 @@
 // The push interface both ogf-driver and ogf-decode use: data and position payloads in (with their host
 // receive time), scans out through a callback, with every rejected input counted. Holds the model
-// detector, the packet decoder, the device clock and the scan assembler; packets that arrive before an
-// ambiguous model is decided are kept (a bounded copy) and decoded once it is.
+// detector, the packet decoder, the device clock and the scan assembler. Data packets are held (a bounded
+// copy) and decoded later while an ambiguous model is undecided, and at start until the time base is known:
+// a sensor sends a position packet only every ~14 data packets (VLP-16 manual), and stamping the packets
+// before it on the host's hour while the rest follow the GPS would put the first scan hours away from the
+// second whenever the two clocks disagree (any replayed capture).
 #pragma once
 
 #include <array>
@@ -25,6 +28,10 @@ struct StreamConfig {
   double min_range_m = 0.4;
   double max_range_m = 250.0;
   ScanAssemblerConfig assembler;
+  // Data packets held at start while no position packet has arrived (64 ~ 85 ms, four to five position
+  // packet periods). After that many the host's hour is the time base (no GPS, or the position port is
+  // not read). 0: stamp from the first packet on.
+  int clock_settle_packets = 64;
 };
 
 struct StreamCounters {
@@ -63,6 +70,8 @@ class PacketStream {
   explicit PacketStream(const StreamConfig& config);
   bool ensureDecoder();
   PacketStatus decodeAndAssemble(std::span<const std::uint8_t> payload, std::int64_t host_utime);
+  void holdPacket(std::span<const std::uint8_t> payload, std::int64_t host_utime);
+  void decodeHeldPackets();
 
   struct Pending {
     std::array<std::uint8_t, wire::kDataPacketSize> bytes;
@@ -77,6 +86,7 @@ class PacketStream {
   ScanAssembler::Sink sink_;
   DecodedPacket decoded_;
   std::vector<Pending> pending_;
+  bool clock_settled_ = false;  // a position packet arrived, or clock_settle_packets passed without one
   std::optional<PositionPacket> last_position_;
   std::optional<ReturnMode> last_mode_;
   StreamCounters counters_;
