@@ -78,8 +78,11 @@ int main(int argc, char** argv) {
   app.add_option("--max-range", config.sensor.max_range_m, "Maximum range, metres")
       ->capture_default_str()
       ->check(CLI::Range(0.5, 130.0));
-  app.add_option("--odometry-error", odometry_error,
-                 "Odometry error preset (" + join(ogf::sim::odometryErrorPresetNames()) + ")")
+  app.add_option("--odometry-error,--odometry-drift", odometry_error,
+                 "Odometry error preset (" + join(ogf::sim::odometryErrorPresetNames()) +
+                     "). Drift presets: wheel-slip = 3 % scale, 0.01 rad/m heading drift, random walks "
+                     "0.02 m and 0.005 rad per sqrt(m); gyro-bias = 0.0035 rad/s (0.2 deg/s) heading bias; "
+                     "slip-and-bias = both. Random parts follow --seed; trajectory_true.csv never changes")
       ->capture_default_str();
   app.add_option("--odometry-rate", config.odometry_rate_hz, "Odometry samples per second")
       ->capture_default_str()

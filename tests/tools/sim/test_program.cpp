@@ -1,13 +1,18 @@
-// ogf-sim as a process: the interface flags and file names, and refusals that name the line and field.
+// ogf-sim as a process: the interface flags and file names, refusals that name the line and field, and an
+// odometry drift preset that bends odometry.csv while trajectory_true.csv stays the same.
 #include <gtest/gtest.h>
 #include "sim_test_paths.hpp"
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
 #include <sys/wait.h>
+#include <utility>
+#include <vector>
 
 namespace {
 
@@ -88,6 +93,51 @@ TEST_F(SimProgram, UnknownWorldAndReturnModeAreRefused) {
   EXPECT_NE(r.stderr_text.find("no world preset named 'moon'"), std::string::npos) << r.stderr_text;
   r = run("--return-mode both --out " + (dir_ / "out").string());
   EXPECT_NE(r.exit_code, 0);
+}
+
+// The last row of a pose CSV (utime,x,y,z,qw,qx,qy,qz) as its utime and heading (yaw, radians).
+std::pair<double, double> lastStampAndYaw(const fs::path& csv) {
+  std::ifstream in(csv);
+  std::string line, last;
+  while (std::getline(in, line)) {
+    if (!line.empty()) last = line;
+  }
+  std::istringstream row(last);
+  std::vector<double> v;
+  for (std::string field; std::getline(row, field, ',');) v.push_back(std::stod(field));
+  if (v.size() != 8) return {0.0, 0.0};
+  const double qw = v[4], qx = v[5], qy = v[6], qz = v[7];
+  return {v[0], std::atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))};
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+TEST_F(SimProgram, OdometryDriftPresetBendsTheOdometryButNotTheTruth) {
+  const std::string common = "--world lab --trajectory corridor --duration 1 --rpm 1200 --seed 3 --out ";
+  const ProgramRun exact = run(common + (dir_ / "none").string());
+  ASSERT_EQ(exact.exit_code, 0) << exact.stderr_text;
+  const ProgramRun drift = run("--odometry-drift gyro-bias " + common + (dir_ / "gyro").string());
+  ASSERT_EQ(drift.exit_code, 0) << drift.stderr_text;
+
+  EXPECT_EQ(slurp(dir_ / "none" / "trajectory_true.csv"), slurp(dir_ / "gyro" / "trajectory_true.csv"));
+  EXPECT_EQ(slurp(dir_ / "none" / "odometry.csv"), slurp(dir_ / "none" / "trajectory_true.csv"));
+  EXPECT_NE(slurp(dir_ / "gyro" / "odometry.csv"), slurp(dir_ / "gyro" / "trajectory_true.csv"));
+  // gyro-bias: 0.0035 rad/s of heading error, so 0.0035 * t at the last sample (CSV keeps 9 decimals).
+  const auto [t_odom, yaw_odom] = lastStampAndYaw(dir_ / "gyro" / "odometry.csv");
+  const auto [t_true, yaw_true] = lastStampAndYaw(dir_ / "gyro" / "trajectory_true.csv");
+  ASSERT_EQ(t_odom, t_true);
+  const double seconds = (t_true - 1704110400000000.0) * 1e-6;
+  ASSERT_GT(seconds, 0.9);
+  EXPECT_NEAR(yaw_odom - yaw_true, 0.0035 * seconds, 1e-6);
+}
+
+TEST_F(SimProgram, UnknownDriftPresetIsRefusedListingThePresets) {
+  const ProgramRun r = run("--odometry-drift sideways --duration 0.1 --out " + (dir_ / "out").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.stderr_text.find("slip-and-bias"), std::string::npos) << r.stderr_text;
 }
 
 }  // namespace
