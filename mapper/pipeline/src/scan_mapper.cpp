@@ -43,6 +43,25 @@ fusion::PoseCoverage ScanMapper::measure(const fusion::ScanPoints& scan, const f
   return c;
 }
 
+fusion::PoseCoverage ScanMapper::measure(const fusion::ScanPoints& scan, const fusion::PoseBuffer& poses,
+                                         correction::ScanPoseCorrection& correction,
+                                         correction::ScanCorrection* applied) {
+  measurements_ = {};
+  const fusion::PoseCoverage c = deskew_.place(scan, poses, origins_, endpoints_);
+  if (c != fusion::PoseCoverage::kCovered) return c;
+  const fusion::ScanTimeSpan span = fusion::timeSpanOf(scan);
+  const fusion::PoseLookup reference = poses.interpolate(span.begin_utime + (span.end_utime - span.begin_utime) / 2);
+  if (!reference.ok()) return reference.coverage;  // cannot happen after place() covered the span
+  const correction::ScanCorrection result = correction.correct(reference.pose.odomFromBody(), endpoints_);
+  if (correction.mode() != slam::CorrectionMode::kNone) {
+    for (Eigen::Vector3d& o : origins_) o = result.map_from_odom * o;
+    for (Eigen::Vector3d& e : endpoints_) e = result.map_from_odom * e;
+  }
+  if (applied != nullptr) *applied = result;
+  measurements_ = set_.build(origins_, endpoints_);
+  return c;
+}
+
 void ScanMapper::measureStatic(const fusion::ScanPoints& scan, const Eigen::Isometry3d& odom_from_sensor) {
   const std::size_t n = scan.size();
   origins_.assign(n, odom_from_sensor.translation());

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "ogf/common/result.hpp"
+#include "ogf/correction/scan_pose_correction.hpp"
 #include "ogf/core/measurement.hpp"
 #include "ogf/delta/published_cell.hpp"
 #include "ogf/pipeline/mapper_config.hpp"
@@ -31,6 +32,12 @@ class ScanMapper {
   // until the next measure call; otherwise it is empty and the coverage says wait (kNotYet) or drop
   // (kTooOld).
   fusion::PoseCoverage measure(const fusion::ScanPoints& scan, const fusion::PoseBuffer& poses);
+  // The same with a pose-correction stage between odometry and the map: the placed scan goes to
+  // `correction` with the body's odometry pose at the middle of the scan, and is measured where the
+  // corrected pose puts it. `applied` (when given) receives the correction on kCovered.
+  fusion::PoseCoverage measure(const fusion::ScanPoints& scan, const fusion::PoseBuffer& poses,
+                               correction::ScanPoseCorrection& correction,
+                               correction::ScanCorrection* applied = nullptr);
   // The same for a sensor that does not move (a tripod): every point from one sensor pose.
   void measureStatic(const fusion::ScanPoints& scan, const Eigen::Isometry3d& odom_from_sensor);
   std::span<const Measurement> measurements() const { return measurements_; }
