@@ -3,6 +3,7 @@
 #include <bot_core/pose_t.hpp>
 #include <ogf/odometry_t.hpp>
 
+#include <cmath>
 #include <cstring>
 
 #include "ogf/messages/decode_message.hpp"
@@ -59,8 +60,13 @@ Status validateScan(const ogf::lidar_scan_t& s) {
     return Error{"arrays: lengths differ from num_points " + std::to_string(n)};
   if (s.device_utime_end < s.device_utime_start) return Error{"device_utime_end: before device_utime_start"};
   if (s.host_utime_end < s.host_utime_start) return Error{"host_utime_end: before host_utime_start"};
-  for (std::size_t i = 0; i < n; ++i)
+  for (std::size_t i = 0; i < n; ++i) {
     if (s.time_offset_ns[i] < 0) return Error{"time_offset_ns[" + std::to_string(i) + "]: negative"};
+    // Coordinates are metres (lidar_scan_t); a sender never has a NaN or infinite point to give, so one
+    // marks a corrupt message, refused whole and counted rather than mapped minus its bad rays.
+    if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i]) || !std::isfinite(s.z[i]))
+      return Error{"x/y/z[" + std::to_string(i) + "]: not finite"};
+  }
   return okStatus();
 }
 

@@ -21,7 +21,7 @@ enum class ScanTimeBase { kDevice, kHost };
 Result<fusion::Pose> decodePose(const void* data, std::size_t size);
 
 // Checks a decoded scan: point count within limits and equal to every array's length, non-negative time
-// offsets, end not before start. The error names the field.
+// offsets, finite coordinates, end not before start. The error names the field.
 Status validateScan(const ogf::lidar_scan_t& scan);
 
 // The scan's points as the fusion layer reads them, timed on `base`. The spans point into `scan`.
