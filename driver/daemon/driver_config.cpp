@@ -2,8 +2,10 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <fstream>
 #include <functional>
 #include <map>
+#include <sstream>
 
 #include "ogf/driver_sources/udp_datagram.hpp"
 #include "ogf/velodyne/calibration.hpp"
@@ -30,12 +32,18 @@ const char* sourceName(SourceKind kind) {
   return "udp";
 }
 
-velodyne::Result<DriverConfig> loadDriverConfig(const std::string& path, DriverConfig c) {
+velodyne::Result<DriverConfig> loadDriverConfig(const std::string& path, DriverConfig config) {
+  std::ifstream in(path);
+  if (!in) return velodyne::Error{path + ": cannot read the configuration file"};
+  std::ostringstream text;
+  text << in.rdbuf();  // an empty file gives "", an empty configuration
+  return parseDriverConfig(text.str(), path, std::move(config));
+}
+
+velodyne::Result<DriverConfig> parseDriverConfig(const std::string& yaml, const std::string& path, DriverConfig c) {
   YAML::Node root;
   try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    return velodyne::Error{path + ": cannot read the configuration file"};
+    root = YAML::Load(yaml);
   } catch (const YAML::Exception& e) {
     return velodyne::Error{path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg};
   }
@@ -68,7 +76,8 @@ velodyne::Result<DriverConfig> loadDriverConfig(const std::string& path, DriverC
       {"log_level", [&](const YAML::Node& n) { c.log_level = n.as<std::string>(); }},
   };
   for (const auto& entry : root) {
-    const std::string key = entry.first.as<std::string>();
+    if (!entry.first.IsScalar()) return at(path, entry.first, "?", "a setting's name must be a plain word");
+    const std::string key = entry.first.Scalar();
     const auto setter = setters.find(key);
     if (setter == setters.end()) return at(path, entry.first, key, "unknown setting");
     try {

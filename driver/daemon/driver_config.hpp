@@ -42,6 +42,8 @@ struct DriverConfig {
 
 // Reads the YAML file over `config`; unknown keys and wrong types are errors naming file, line and key.
 velodyne::Result<DriverConfig> loadDriverConfig(const std::string& path, DriverConfig config);
+// The same from YAML text; `path` only names the source in errors.
+velodyne::Result<DriverConfig> parseDriverConfig(const std::string& yaml, const std::string& path, DriverConfig config);
 
 // Checks ranges and names, loads the calibration, and builds the decoding configuration.
 velodyne::Result<velodyne::StreamConfig> validate(const DriverConfig& config);

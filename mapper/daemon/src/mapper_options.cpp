@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <fstream>
 #include <set>
 #include <sstream>
 
@@ -62,6 +63,8 @@ Status readVector3(const std::filesystem::path& path, const YAML::Node& parent, 
   return okStatus();
 }
 
+Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path, MapperOptions& o);
+
 #define OGF_TRY(expr)                  \
   if (auto st_ = (expr); !st_) return st_
 
@@ -81,14 +84,26 @@ Status MapperOptions::validate() const {
 }
 
 Status loadMapperOptions(const std::filesystem::path& path, MapperOptions& o) {
-  YAML::Node root;
+  std::ifstream in(path);
+  if (!in) return Error{path.string() + ": cannot read the file"};
+  std::ostringstream text;
+  text << in.rdbuf();  // an empty file gives "", an empty configuration
+  return parseMapperOptions(text.str(), path, o);
+}
+
+Status parseMapperOptions(const std::string& yaml, const std::filesystem::path& path, MapperOptions& o) {
+  // Any YAML exception the reading below does not catch itself (a key that is not a scalar, a value of the
+  // wrong kind) is still an error in this file, never an exception out of the program's start-up.
   try {
-    root = YAML::LoadFile(path.string());
-  } catch (const YAML::BadFile&) {
-    return Error{path.string() + ": cannot read the file"};
-  } catch (const YAML::ParserException& e) {
+    return parseMapperYaml(YAML::Load(yaml), path, o);
+  } catch (const YAML::Exception& e) {
     return Error{path.string() + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg};
   }
+}
+
+namespace {
+
+Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path, MapperOptions& o) {
   if (!root || root.IsNull()) return okStatus();
   OGF_TRY(checkKeys(path, root, "", {"lcm_url", "channels", "time_base", "state_dir", "snapshot_interval_s",
                                      "keyframe_interval_s", "status_interval_s", "map", "filter", "fusion"}));
@@ -160,6 +175,8 @@ Status loadMapperOptions(const std::filesystem::path& path, MapperOptions& o) {
   }
   return okStatus();
 }
+
+}  // namespace
 
 std::string exampleMapperConfig() {
   const MapperOptions d;

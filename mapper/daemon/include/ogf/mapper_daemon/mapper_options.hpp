@@ -45,6 +45,9 @@ struct MapperOptions {
 // the line and the key.
 Status loadMapperOptions(const std::filesystem::path& path, MapperOptions& options);
 
+// The same from YAML text; `path` only names the source in errors.
+Status parseMapperOptions(const std::string& yaml, const std::filesystem::path& path, MapperOptions& options);
+
 // The keys a file may hold, as a YAML example with the defaults (printed by --print-config).
 std::string exampleMapperConfig();
 
