@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <ogf/slam/pose_corrector.hpp>
 #include <ogf/slam_io/relations.hpp>
@@ -130,11 +131,13 @@ int main(int argc, char** argv) {
 
   ProgressBar bar;
   const auto t0 = std::chrono::steady_clock::now();
+  const std::clock_t cpu0 = std::clock();
   const auto source =
       odometry_text == "laser" ? s2::OdometrySource::kLaserRecords : s2::OdometrySource::kOdomLines;
   auto run =
       s2::runSlam(log, source, config, [&](std::size_t done, std::size_t total) { bar.update(done, total); });
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double cpu_seconds = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
   if (!run) {
     fail(run.error().message);
     return kExitUsage;
