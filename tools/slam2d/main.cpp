@@ -167,10 +167,10 @@ int main(int argc, char** argv) {
   const auto& st = run->statistics;
   std::printf(
       "ogf-slam2d: %s: %zu laser records, %zu processed, mode %s, %zu particles, %zu resamplings, "
-      "%zu untrusted matches, %.1f s (%.1fx real time)\n",
+      "%zu untrusted matches, %.1f s wall, %.1f s CPU (%.1fx real time by CPU)\n",
       log_path.c_str(), log.lasers.size(), st.scans_processed, mode_text.c_str(),
       config.mode == slam::CorrectionMode::kRbpf ? config.slam.particles : std::size_t{1}, st.resamplings,
-      st.untrusted_matches, seconds, seconds > 0.0 ? span / seconds : 0.0);
+      st.untrusted_matches, seconds, cpu_seconds, cpu_seconds > 0.0 ? span / cpu_seconds : 0.0);
 
   if (!relations_path.empty()) {
     std::ifstream rin(relations_path);
