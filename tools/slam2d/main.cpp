@@ -88,6 +88,21 @@ int main(int argc, char** argv) {
   app.add_option("--usable-range", config.slam.map_update.usable_range_m,
                  "Beams are matched and mapped up to this range, m (longer ones mark free space only)")
       ->capture_default_str();
+  bool no_two_step = false;
+  app.add_flag("--no-two-step", no_two_step,
+               "Start each particle's scan match from the odometry prediction, not from a "
+               "motion-model draw (two-step sampling off)");
+  app.add_option("--observation-gain", config.slam.observation_gain,
+                 "Weights tempered as exp(l / (gain * particles)) (gmapping's obsSigmaGain)")
+      ->capture_default_str();
+  app.add_option("--proposal-step", config.slam.proposal.sample_step_m,
+                 "Spacing of the improved proposal's sample grid, m")
+      ->capture_default_str();
+  app.add_option("--proposal-step-angle", config.slam.proposal.sample_step_rad, "... and in heading, rad")
+      ->capture_default_str();
+  app.add_option("--no-return-free-range", config.slam.map_update.no_return_free_range_m,
+                 "\"No return\" readings mark free space up to this range, m (0: skipped, as gmapping does)")
+      ->capture_default_str();
   std::string odometry_text = "laser";
   app.add_option(
          "--odometry", odometry_text,
@@ -111,6 +126,7 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   config.mode = *mode;
+  config.slam.two_step_sampling = !no_two_step;
   config.slam.matcher.usable_range_m = config.slam.map_update.usable_range_m;
   if (auto s = config.validate(); !s) {
     fail("configuration: " + s.error().message);

@@ -60,6 +60,7 @@ std::size_t GridFastSlam::bestParticle() const {
 
 Pose2 GridFastSlam::currentPose(const Pose2& odometry) const {
   if (particles_.empty() || !last_odometry_) return odometry;
+  if (last_skipped_pose_) return *last_skipped_pose_;
   const Particle& p = particles_[bestParticle()];
   return compose(p.pose, between(*last_odometry_, odometry));
 }
@@ -67,6 +68,33 @@ Pose2 GridFastSlam::currentPose(const Pose2& odometry) const {
 std::vector<TrajectoryPoint> GridFastSlam::bestTrajectory() const {
   if (particles_.empty()) return {};
   return collectTrajectory(particles_[bestParticle()].node);
+}
+
+Pose2 GridFastSlam::poseWithHindsight(const std::vector<TrajectoryPoint>& points, std::uint64_t scan_id,
+                                      const Pose2& odometry) const {
+  auto node = std::upper_bound(points.begin(), points.end(), scan_id,
+                               [](std::uint64_t id, const TrajectoryPoint& p) { return id < p.scan_id; });
+  if (node != points.begin()) {
+    const TrajectoryPoint& k = *std::prev(node);
+    const auto skipped =
+        std::lower_bound(skipped_.begin(), skipped_.end(), scan_id,
+                         [](const SkippedScanPose& s, std::uint64_t id) { return s.scan_id < id; });
+    if (k.scan_id != scan_id && skipped != skipped_.end() && skipped->scan_id == scan_id &&
+        skipped->base_scan_id == k.scan_id) {
+      return compose(k.pose, skipped->relative);
+    }
+  }
+  return correctedPose(points, scan_id, odometry);
+}
+
+void GridFastSlam::locateSkippedScan(std::uint64_t scan_id, const Pose2& step, const PlanarScan& scan) {
+  const Particle& p = particles_[bestParticle()];
+  const MotionGaussian g = motion_.predict(p.pose, step);
+  const MatchResult m =
+      matcher_.match(p.map, g.mean(), matcher_.prepare(scan, config_.grid_resolution_m), &g);
+  if (!m.converged) return;
+  skipped_.push_back({scan_id, p.node->scan_id, between(p.pose, m.pose)});
+  last_skipped_pose_ = m.pose;
 }
 
 void GridFastSlam::moveParticle(Particle& p, const MotionGaussian& g, const PreparedScan& scan) {
@@ -131,7 +159,9 @@ bool GridFastSlam::addScan(std::uint64_t scan_id, const Pose2& odometry, const P
     return true;
   }
   const Pose2 step = between(*last_odometry_, odometry);
+  last_skipped_pose_.reset();
   if (translationNorm(step) < config_.linear_update_m && std::abs(step.theta) < config_.angular_update_rad) {
+    if (config_.match_skipped_scans) locateSkippedScan(scan_id, step, scan);
     return false;
   }
   const PreparedScan prepared = matcher_.prepare(scan, config_.grid_resolution_m);

@@ -62,7 +62,7 @@ std::vector<Pose2> PoseCorrector::correctedTrajectory(const std::vector<Pose2>& 
   if (!slam_ || slam_->statistics().scans_processed == 0) return odometry;
   const std::vector<TrajectoryPoint> points = slam_->bestTrajectory();
   std::vector<Pose2> out(odometry.size());
-  for (std::size_t i = 0; i < odometry.size(); ++i) out[i] = correctedPose(points, i, odometry[i]);
+  for (std::size_t i = 0; i < odometry.size(); ++i) out[i] = slam_->poseWithHindsight(points, i, odometry[i]);
   return out;
 }
 

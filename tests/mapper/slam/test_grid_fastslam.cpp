@@ -127,6 +127,27 @@ TEST(GridFastSlam, ParticlesShareTheTilesTheyHaveNotChanged) {
   EXPECT_GT(slam->statistics().scans_processed, 10U);
 }
 
+TEST(GridFastSlam, ScansBetweenProcessedOnesAreMatchedAgainstTheBestMap) {
+  const Drive d = driveAroundTheRoom();
+  GridFastSlamConfig c;
+  c.particles = 4;
+  c.linear_update_m = 0.5;
+  auto slam = GridFastSlam::create(c);
+  ASSERT_TRUE(slam.ok());
+  for (std::size_t i = 0; i < d.truth.size(); ++i)
+    slam->addScan(i, d.odometry[i], scanAt(roomWalls(), d.truth[i], 180));
+  const auto& skipped = slam->skippedScanPoses();
+  ASSERT_GT(skipped.size(), d.truth.size() / 2);
+  // Every skipped scan's pose with hindsight is near the truth, though odometry alone drifts.
+  const std::vector<TrajectoryPoint> points = slam->bestTrajectory();
+  double worst = 0.0;
+  for (const SkippedScanPose& s : skipped) {
+    const Pose2 p = slam->poseWithHindsight(points, s.scan_id, d.odometry[s.scan_id]);
+    worst = std::max(worst, std::hypot(p.x - d.truth[s.scan_id].x, p.y - d.truth[s.scan_id].y));
+  }
+  EXPECT_LT(worst, 0.1);
+}
+
 TEST(GridFastSlam, ConfigValidationNamesTheNestedField) {
   GridFastSlamConfig c;
   c.proposal.samples_per_axis = 0;

@@ -44,6 +44,9 @@ struct GridFastSlamConfig {
   double observation_gain = 3.0;
   bool sample_proposal = true;    // draw x_t from N(μ, Σ); false keeps x* (scan-matching odometry)
   bool two_step_sampling = true;  // start each particle's match from a motion-model draw
+  // Scans between processed ones are matched against the best particle's map (not added to it), so
+  // their poses come from the matcher instead of odometry alone. Costs one match per such scan.
+  bool match_skipped_scans = true;
   std::uint64_t seed = 42;
 
   MotionModelConfig motion;
@@ -64,6 +67,14 @@ struct Particle {
   double log_weight_total = 0.0;  // over the whole run, inherited through resampling (gmapping's weightSum)
   TiledGrid map;
   std::shared_ptr<const TrajectoryNode> node;
+};
+
+// A scan between processed ones, located by matching it against the best particle's map: its pose
+// relative to that particle's node of scan `base_scan_id`.
+struct SkippedScanPose {
+  std::uint64_t scan_id = 0;
+  std::uint64_t base_scan_id = 0;
+  Pose2 relative;  // node pose⁻¹ ⊕ matched pose
 };
 
 struct GridFastSlamStatistics {
@@ -91,19 +102,29 @@ class GridFastSlam {
   // odometry since. Before the first scan, `odometry` itself.
   Pose2 currentPose(const Pose2& odometry) const;
   std::vector<TrajectoryPoint> bestTrajectory() const;
+  // Matched poses of the scans between processed ones (match_skipped_scans), by increasing scan_id.
+  const std::vector<SkippedScanPose>& skippedScanPoses() const { return skipped_; }
+  // The pose of scan `scan_id` taken at `odometry`, with hindsight: the best particle's node of the
+  // scan, or its last node before the scan composed with the scan's matched offset (when it was matched
+  // from that node) or with the odometry since. `points` is bestTrajectory().
+  Pose2 poseWithHindsight(const std::vector<TrajectoryPoint>& points, std::uint64_t scan_id,
+                          const Pose2& odometry) const;
   const TiledGrid& bestMap() const { return particles_[bestParticle()].map; }
 
  private:
   explicit GridFastSlam(const GridFastSlamConfig& config);
   void moveParticle(Particle& p, const MotionGaussian& g, const PreparedScan& scan);
   void resampleIfDegenerate();
+  void locateSkippedScan(std::uint64_t scan_id, const Pose2& step, const PlanarScan& scan);
 
   GridFastSlamConfig config_;
   MotionModel motion_;
   ScanMatcher matcher_;
   std::mt19937_64 rng_;
   std::vector<Particle> particles_;
-  std::optional<Pose2> last_odometry_;  // odometry of the last processed scan
+  std::optional<Pose2> last_odometry_;      // odometry of the last processed scan
+  std::optional<Pose2> last_skipped_pose_;  // matched pose of the latest scan if it was skipped
+  std::vector<SkippedScanPose> skipped_;
   GridFastSlamStatistics stats_;
 };
 
