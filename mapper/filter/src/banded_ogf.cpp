@@ -37,13 +37,6 @@ struct BandedOgf::Group {
   std::size_t end = 0;
 };
 
-// Per-thread room for the column Σ[:, i] and the addresses of the stencil cells.
-struct BandedOgf::Scratch {
-  std::vector<float*> base;
-  std::vector<double> column;
-  std::vector<float> columnF;
-};
-
 Result<BandedOgf> BandedOgf::create(const FilterConfig& config) {
   auto resolved = config.resolved();
   if (!resolved) {
@@ -54,18 +47,14 @@ Result<BandedOgf> BandedOgf::create(const FilterConfig& config) {
 
 BandedOgf::BandedOgf(const FilterConfig& resolved)
     : config_(resolved), prior_(resolved.prior()), stencil_(resolved.dimensions, resolved.stencilShape()),
-      storage_(resolved.dimensions, stencil_.forwardOffsets().size()) {
+      storage_(resolved.dimensions, stencil_.forwardOffsets().size()), band_(stencil_, resolved.dimensions),
+      kernel_(bandKernelFor(band_)) {
   for (const CellKey& o : stencil_.forwardOffsets()) {
     priorSlots_.push_back(static_cast<float>(prior_(o)));
   }
   priorVariance_ = static_cast<float>(prior_.variance());
   varianceFloor_ = priorVariance_ * 1e-9F;
   clampZ_ = resolved.clampZ > 0.0 ? resolved.clampZ : std::numeric_limits<double>::infinity();
-  for (const CellKey& o : stencil_.offsets()) {
-    offsetX_.push_back(o.x);
-    offsetY_.push_back(o.y);
-    offsetZ_.push_back(o.z);
-  }
   // Same-colour blocks are one block apart: their measurements touch disjoint cells iff 2·extent ≤ B.
   parallelSafe_ = 2 * stencil_.extent() <= kBlockSide;
   // Which neighbouring blocks a measurement at each local position reaches.
@@ -91,38 +80,17 @@ BandedOgf::BandedOgf(const FilterConfig& resolved)
     }
     neighbourMask_[l] = mask;
   }
-  // Per position in a block and stencil cell: the neighbouring block (5 bits) and the position in it
-  // (9 bits), so a measurement finds its stencil cells by table lookup.
-  const std::size_t cells = stencil_.offsets().size();
-  cellAddress_.resize(neighbourMask_.size() * cells);
-  for (std::size_t l = 0; l < neighbourMask_.size(); ++l) {
-    for (std::size_t c = 0; c < cells; ++c) {
-      const int gx = static_cast<int>(l & 7U) + offsetX_[c];
-      const int gy = static_cast<int>((l >> 3) & 7U) + offsetY_[c];
-      const int gz = static_cast<int>(l >> 6) + offsetZ_[c];
-      const int d = ((gx >> 3) + 1) + 3 * ((gy >> 3) + 1) + 9 * ((gz >> 3) + 1);
-      const int local = (gx & 7) + 8 * ((gy & 7) + 8 * (gz & 7));
-      cellAddress_[l * cells + c] = static_cast<std::uint16_t>((d << 9) | local);
-    }
-  }
-  // The stored pairs grouped by the stencil cell that keeps them (Stencil lists them in that order).
-  pairStart_.assign(cells + 1, 0);
-  for (const StencilPair& pair : stencil_.pairs()) {
-    ++pairStart_[pair.from + 1U];
-    pairTargets_.push_back(static_cast<std::uint32_t>(pair.to) | (static_cast<std::uint32_t>(2 + pair.forward) << 16));
-  }
-  for (std::size_t c = 0; c < cells; ++c) {
-    pairStart_[c + 1] += pairStart_[c];
-  }
 }
 
 void BandedOgf::initialiseBlock(Block& block) {
-  const std::size_t stride = storage_.floatsPerCell();
+  // The prior record in the first cell, then copied over the block in doubling steps.
   float* d = block.data();
-  for (std::size_t l = 0; l < block.cells(); ++l, d += stride) {
-    d[0] = 0.0F;
-    d[1] = priorVariance_;
-    std::copy(priorSlots_.begin(), priorSlots_.end(), d + 2);
+  d[0] = 0.0F;
+  d[1] = priorVariance_;
+  std::copy(priorSlots_.begin(), priorSlots_.end(), d + 2);
+  const std::size_t total = block.values().size();
+  for (std::size_t done = storage_.floatsPerCell(); done < total; done *= 2) {
+    std::memcpy(d + done, d, std::min(done, total - done) * sizeof(float));
   }
 }
 
@@ -233,9 +201,8 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
       std::atomic<std::size_t> next{g0};
       std::vector<UpdateStats> partial(std::min(workers, count));
       auto work = [&](std::size_t w) {
-        Scratch scratch;
         for (std::size_t g = next.fetch_add(1); g < g1; g = next.fetch_add(1)) {
-          applyGroup(sorted[g], all, partial[w], scratch);
+          applyGroup(sorted[g], all, partial[w]);
         }
       };
       {
@@ -250,9 +217,8 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
         stats.skipped += p.skipped;
       }
     } else {
-      Scratch scratch;
       for (std::size_t g = g0; g < g1; ++g) {
-        applyGroup(sorted[g], all, stats, scratch);
+        applyGroup(sorted[g], all, stats);
       }
     }
     g0 = g1;
@@ -289,23 +255,20 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   return stats;
 }
 
-void BandedOgf::applyGroup(const Group& group, std::span<const std::uint64_t> keys, UpdateStats& stats,
-                           Scratch& scratch) {
-  Block* neighbourhood[27] = {};
+void BandedOgf::applyGroup(const Group& group, std::span<const std::uint64_t> keys, UpdateStats& stats) {
+  float* neighbourhood[27] = {};
   for (unsigned d = 0; d < 27; ++d) {
     if ((group.neighbours >> d) & 1U) {
       neighbourhood[d] = storage_.find(group.block + CellKey{static_cast<int>(d % 3) - 1,
                                                              static_cast<int>((d / 3) % 3) - 1,
-                                                             static_cast<int>(d / 9) - 1});
+                                                             static_cast<int>(d / 9) - 1})
+                             ->data();
     }
   }
-  scratch.base.resize(stencil_.offsets().size());
-  scratch.column.resize(stencil_.offsets().size());
-  scratch.columnF.resize(stencil_.offsets().size());
   for (std::size_t i = group.begin; i < group.end; ++i) {
     const auto local = static_cast<std::size_t>((keys[i] >> 1) & 0x7FFFU);
     const int y = (keys[i] & 1U) != 0 ? 1 : -1;
-    if (applyMeasurement(neighbourhood, local, y, scratch)) {
+    if (applyMeasurement(neighbourhood, local, y)) {
       ++stats.applied;
     } else {
       ++stats.skipped;
@@ -313,9 +276,8 @@ void BandedOgf::applyGroup(const Group& group, std::span<const std::uint64_t> ke
   }
 }
 
-bool BandedOgf::applyMeasurement(Block* const* neighbourhood, std::size_t local, int y, Scratch& scratch) {
-  const std::size_t stride = storage_.floatsPerCell();
-  float* self = neighbourhood[kSelfBlock]->data() + local * stride;
+bool BandedOgf::applyMeasurement(float* const* neighbourhood, std::size_t local, int y) {
+  const float* self = neighbourhood[kSelfBlock] + local * band_.stride;
   const double mean = static_cast<double>(self[0]);
   const double var = static_cast<double>(self[1]);
   const double tolerance = config_.skipTolerance;
@@ -326,51 +288,9 @@ bool BandedOgf::applyMeasurement(Block* const* neighbourhood, std::size_t local,
   if (tolerance > 0.0 && std::abs(var * u.meanGain) < tolerance && var * var * u.covShrink < tolerance) {
     return false;
   }
-
-  // Where every stencil cell lives (cells are stored contiguously: mean, variance, forward covariances),
-  // and its covariance with the measured cell (the column Σ[:, i]).
-  float** base = scratch.base.data();
-  double* column = scratch.column.data();
-  float* columnF = scratch.columnF.data();
-  const std::size_t cells = scratch.base.size();
-  const std::uint16_t* address = cellAddress_.data() + local * cells;
-  for (std::size_t s = 0; s < cells; ++s) {
-    base[s] = neighbourhood[address[s] >> 9]->data() + static_cast<std::size_t>(address[s] & 511U) * stride;
-  }
-  const std::int16_t* fwd = stencil_.forwardSlot().data();
-  const std::int16_t* bwd = stencil_.backwardSlot().data();
-  for (std::size_t s = 0; s < cells; ++s) {
-    float v;
-    if (fwd[s] >= 0) {
-      v = self[2 + fwd[s]];
-    } else if (bwd[s] >= 0) {
-      v = base[s][2 + bwd[s]];
-    } else {
-      v = self[1];
-    }
-    column[s] = static_cast<double>(v);
-    columnF[s] = v;
-  }
-
-  // Eq. (5) inside the band: m += Σ[:, i]·gain, Σ_jk −= shrink·Σ_ji·Σ_ki for every stored pair. Means and
-  // variances are accumulated in double, the off-diagonal pairs (most of the work) in float.
-  const double gain = u.meanGain;
-  const double shrink = u.covShrink;
-  const std::uint32_t* targets = pairTargets_.data();
-  const std::uint32_t* starts = pairStart_.data();
-  const float floor = varianceFloor_;
-  for (std::size_t s = 0; s < cells; ++s) {
-    float* p = base[s];
-    p[0] = static_cast<float>(static_cast<double>(p[0]) + gain * column[s]);
-    const double v = static_cast<double>(p[1]) - shrink * column[s] * column[s];
-    p[1] = std::max(static_cast<float>(v), floor);
-    const auto scaled = static_cast<float>(shrink * column[s]);
-    const std::uint32_t end = starts[s + 1];
-    for (std::uint32_t k = starts[s]; k < end; ++k) {
-      const std::uint32_t t = targets[k];
-      p[t >> 16] -= scaled * columnF[t & 0xFFFFU];
-    }
-  }
+  // Eq. (5) inside the band: m += Σ[:, i]·gain, Σ_jk −= shrink·Σ_ji·Σ_ki for every stored pair, in float.
+  kernel_(neighbourhood, local, {static_cast<float>(u.meanGain), static_cast<float>(u.covShrink), varianceFloor_},
+          band_);
   return true;
 }
 

@@ -6,7 +6,7 @@
 namespace ogf::filter {
 
 Block::Block(std::size_t cells, std::size_t forwardSlots)
-    : cells_(cells), size_(cells * (2 + forwardSlots)), data_(std::make_unique<float[]>(size_)) {}
+    : cells_(cells), size_(cells * (2 + forwardSlots)), data_(std::make_unique_for_overwrite<float[]>(size_)) {}
 
 BlockStorage::BlockStorage(int dimensions, std::size_t forwardSlots)
     : dimensions_(dimensions), forwardSlots_(forwardSlots),

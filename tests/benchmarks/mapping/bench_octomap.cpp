@@ -142,21 +142,24 @@ struct OgfResult {
   Timing total, measure, apply;
   std::size_t memory = 0, cells = 0;
   double measurements_per_scan = 0.0;
+  double applied_per_scan = 0.0;  // updates the filter applied (the rest were clamped or negligible)
 };
 
-OgfResult runOgf(const std::vector<RayScan>& scans, double resolution, double max_range, double min_range) {
+OgfResult runOgf(const std::vector<RayScan>& scans, double resolution, double max_range, double min_range,
+                 double clamp_z) {
   ogf::pipeline::MapperConfig config;
   config.setResolution(resolution);
   config.fusion.measurement.max_range_m = max_range;
   config.fusion.measurement.min_range_m = min_range;
   config.filter.threads = 1;
+  config.filter.clampZ = clamp_z;
   auto mapper = ogf::pipeline::ScanMapper::create(config);
   if (!mapper) {
     std::fprintf(stderr, "ogf-bench-octomap: %s\n", mapper.error().message.c_str());
     std::exit(1);
   }
   OgfResult r;
-  std::size_t measurements = 0;
+  std::size_t measurements = 0, applied = 0;
   std::vector<float> x, y, z;
   std::vector<std::int32_t> t;
   for (const RayScan& s : scans) {
@@ -178,7 +181,7 @@ OgfResult runOgf(const std::vector<RayScan>& scans, double resolution, double ma
     const double t0 = cpuMs();
     mapper->measureStatic(points, pose);
     const double t1 = cpuMs();
-    mapper->apply(mapper->measurements());
+    applied += mapper->apply(mapper->measurements()).applied;
     const double m_ms = t1 - t0, a_ms = cpuMs() - t1;
     measurements += mapper->measurements().size();
     r.measure.ms.push_back(m_ms);
@@ -187,7 +190,9 @@ OgfResult runOgf(const std::vector<RayScan>& scans, double resolution, double ma
   }
   r.memory = mapper->filter().memoryBytes();
   r.cells = mapper->filter().allocatedCells();
-  r.measurements_per_scan = static_cast<double>(measurements) / static_cast<double>(std::max<std::size_t>(scans.size(), 1));
+  const auto n_scans = static_cast<double>(std::max<std::size_t>(scans.size(), 1));
+  r.measurements_per_scan = static_cast<double>(measurements) / n_scans;
+  r.applied_per_scan = static_cast<double>(applied) / n_scans;
   return r;
 }
 
@@ -233,6 +238,7 @@ int main(int argc, char** argv) {
   int count = 20;
   std::string pcap, odometry, resolutions = "0.2,0.1";
   double max_range = 30.0, min_range = 0.4;
+  double clamp_z = ogf::filter::FilterConfig{}.clampZ;
   app.add_option("--scans", count, "Scans to map (synthetic street scans 1 m apart, or the first of --pcap)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
@@ -241,6 +247,8 @@ int main(int argc, char** argv) {
   app.add_option("--resolutions", resolutions, "Comma-separated cell sizes, metres")->capture_default_str();
   app.add_option("--max-range", max_range, "Rays cut here (free only beyond), metres")->capture_default_str();
   app.add_option("--min-range", min_range, "Returns closer are dropped before either mapper sees them")
+      ->capture_default_str();
+  app.add_option("--clamp-z", clamp_z, "The OGF's clampZ (filter_config.hpp); 0 applies every update")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
@@ -257,7 +265,7 @@ int main(int argc, char** argv) {
   std::printf("%-6s %-8s %9s %9s %9s %8s %10s %11s %s\n", "res m", "mapper", "mean ms", "p50 ms", "p99 ms",
               "x 10 Hz", "memory MB", "cells", "notes");
   for (const double res : parseList(resolutions)) {
-    const OgfResult ogf = runOgf(scans, res, max_range, min_range);
+    const OgfResult ogf = runOgf(scans, res, max_range, min_range, clamp_z);
     const OctomapResult oct = runOctomap(scans, res, max_range);
     const auto row = [&](const char* name, const Timing& t, std::size_t memory, std::size_t cells, const std::string& notes) {
       std::printf("%-6.2f %-8s %9.1f %9.1f %9.1f %8.2f %10.1f %11zu %s\n", res, name, t.mean(), t.percentile(0.5),
@@ -265,8 +273,8 @@ int main(int argc, char** argv) {
                   notes.c_str());
     };
     row("OGF", ogf.total, ogf.memory, ogf.cells,
-        fmt::format("measure {:.1f} + filter {:.1f} ms; {:.0f} cell measurements/scan; allocated cells",
-                    ogf.measure.mean(), ogf.apply.mean(), ogf.measurements_per_scan));
+        fmt::format("measure {:.1f} + filter {:.1f} ms; {:.0f} cell measurements/scan, {:.0f} applied; allocated cells",
+                    ogf.measure.mean(), ogf.apply.mean(), ogf.measurements_per_scan, ogf.applied_per_scan));
     row("OctoMap", oct.total, oct.memory, oct.leaves, fmt::format("leaves ({} nodes)", oct.nodes));
     std::printf("%-6.2f OGF/OctoMap speed %.2fx, memory %.2fx\n", res, oct.total.mean() / ogf.total.mean(),
                 static_cast<double>(ogf.memory) / static_cast<double>(oct.memory));

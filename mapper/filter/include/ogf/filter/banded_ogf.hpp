@@ -15,6 +15,7 @@
 #include <span>
 #include <vector>
 
+#include "ogf/filter/band_kernel.hpp"
 #include "ogf/filter/block_storage.hpp"
 #include "ogf/filter/change_sink.hpp"
 #include "ogf/filter/filter_config.hpp"
@@ -76,12 +77,11 @@ class BandedOgf {
 
  private:
   struct Group;
-  struct Scratch;
   explicit BandedOgf(const FilterConfig& resolved);
   Block& obtainBlock(const CellKey& blockKey, std::size_t& allocated);
   void initialiseBlock(Block& block);
-  void applyGroup(const Group& group, std::span<const std::uint64_t> keys, UpdateStats& stats, Scratch& scratch);
-  bool applyMeasurement(Block* const* neighbourhood, std::size_t local, int y, Scratch& scratch);
+  void applyGroup(const Group& group, std::span<const std::uint64_t> keys, UpdateStats& stats);
+  bool applyMeasurement(float* const* neighbourhood, std::size_t local, int y);
 
   FilterConfig config_;
   PriorCovariance prior_;
@@ -91,13 +91,9 @@ class BandedOgf {
   float priorVariance_ = 0.0F;
   float varianceFloor_ = 0.0F;
   double clampZ_ = 0.0;
-  // Per stencil offset: the position in a 3×3×3 neighbourhood of blocks and offsets in local coordinates.
-  std::vector<std::int32_t> offsetX_, offsetY_, offsetZ_;
   std::vector<std::uint32_t> neighbourMask_;  // per position in a block: neighbouring blocks reached
-  std::vector<std::uint16_t> cellAddress_;    // per position and stencil cell: block (5 bits), position
-  std::vector<std::uint32_t> pairStart_;      // pairs kept by stencil cell s: [pairStart_[s], [s + 1])
-  // Per pair: the other stencil cell (low 16 bits) and the float index in the keeping cell (high 16).
-  std::vector<std::uint32_t> pairTargets_;
+  BandTables band_;                           // where the stencil cells and their pairs are
+  BandKernel kernel_ = nullptr;               // eq. (5) in the band (compiled for common stencils)
   bool parallelSafe_ = false;
 };
 

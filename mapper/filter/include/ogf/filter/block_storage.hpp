@@ -28,6 +28,7 @@ inline std::size_t localIndexOf(const CellKey& cell) {
 
 class Block {
  public:
+  // The values are left uninitialised: the owner writes every one (the prior, or a restored block).
   Block(std::size_t cells, std::size_t forwardSlots);
   std::size_t cells() const { return cells_; }
   // Layout: cell-major; cell l at l·(2 + F): [mean, variance, slot 0, ..., slot F-1].

@@ -1,0 +1,58 @@
+// The inner loop of the banded OGF: eq. (5) applied to the stored entries of one measurement's stencil
+// (ogf.md §2 and §4). Given the cell's scalar update (probit_update.hpp), it finds the records of the
+// stencil cells in the 3×3×3 neighbourhood of blocks, reads the column Σ[:, i] and applies
+//   m_s  += gain·Σ_si,   Σ_ss −= shrink·Σ_si²,   Σ_st −= shrink·Σ_si·Σ_ti  for every stored pair (s, t).
+//
+// Two implementations with the same arithmetic in the same order, so they give the same floats bit for bit:
+// a generic one driven by run-time tables (any stencil, 2-D or 3-D), and ones compiled for the common 3-D
+// stencils (R = 1, √2, √3, 2, and the default √2 ball + Manhattan 2), whose pair lists are generated at
+// compile time from the same rule as Stencil's and unrolled into straight-line code: no index loads, no
+// loop control, constant offsets. bandKernelFor() picks a compiled kernel only when its tables equal the
+// run-time stencil's.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "ogf/filter/stencil.hpp"
+
+namespace ogf::filter {
+
+// The per-stencil tables of the update, derived from a Stencil and the block layout (8×8×8 cells, x fastest).
+struct BandTables {
+  BandTables(const Stencil& stencil, int dimensions);
+
+  std::size_t cells = 0;   // stencil cells S
+  std::size_t stride = 0;  // floats per cell record: 2 + forward slots
+  std::size_t self = 0;    // index of offset 0
+  // Per local position l and stencil cell s, [l·S + s]: neighbouring block (5 bits, 13 = own) << 9 | position.
+  std::vector<std::uint16_t> address;
+  // Per stencil cell s: where Σ_si is stored: (record of cell `columnCell[s]`, float `columnFloat[s]`).
+  std::vector<std::uint16_t> columnCell;
+  std::vector<std::uint16_t> columnFloat;
+  // The pairs kept by stencil cell s: [pairStart[s], pairStart[s + 1]); per pair the other cell and the float
+  // of s's record that holds Σ_st.
+  std::vector<std::uint32_t> pairStart;
+  std::vector<std::uint16_t> pairOther;
+  std::vector<std::uint16_t> pairFloat;
+};
+
+// The scalars of one update (probit_update.hpp), in float as the records are.
+struct BandUpdate {
+  float gain = 0.0F;           // meanGain
+  float shrink = 0.0F;         // covShrink
+  float varianceFloor = 0.0F;  // variances never drop below this
+};
+
+// Applies one update at position `local` of the centre block. `blocks[d]` is the data of block d of the
+// 3×3×3 neighbourhood (d = (dx+1) + 3(dy+1) + 9(dz+1)); every block the stencil reaches must be present.
+using BandKernel = void (*)(float* const* blocks, std::size_t local, const BandUpdate& update,
+                            const BandTables& tables);
+
+void genericBandKernel(float* const* blocks, std::size_t local, const BandUpdate& update, const BandTables& tables);
+
+// A compiled kernel whose tables equal `tables`, or genericBandKernel when there is none.
+BandKernel bandKernelFor(const BandTables& tables);
+
+}  // namespace ogf::filter

@@ -1,0 +1,268 @@
+// The band update of one measurement: run-time tables, the generic kernel and the compiled ones.
+#include "ogf/filter/band_kernel.hpp"
+
+#include <algorithm>
+#include <array>
+#include <utility>
+
+#include "ogf/filter/filter_config.hpp"
+
+namespace ogf::filter {
+
+BandTables::BandTables(const Stencil& stencil, int dimensions) {
+  const auto offsets = stencil.offsets();
+  cells = offsets.size();
+  stride = 2 + stencil.forwardOffsets().size();
+  self = stencil.selfIndex();
+  // Addresses per position in a block: the neighbouring block (5 bits) and the position in it (9 bits).
+  const std::size_t positions = dimensions == 3 ? 512 : 64;
+  address.resize(positions * cells);
+  for (std::size_t l = 0; l < positions; ++l) {
+    for (std::size_t c = 0; c < cells; ++c) {
+      const int gx = static_cast<int>(l & 7U) + offsets[c].x;
+      const int gy = static_cast<int>((l >> 3) & 7U) + offsets[c].y;
+      const int gz = static_cast<int>(l >> 6) + offsets[c].z;
+      const int d = ((gx >> 3) + 1) + 3 * ((gy >> 3) + 1) + 9 * ((gz >> 3) + 1);
+      const int local = (gx & 7) + 8 * ((gy & 7) + 8 * (gz & 7));
+      address[l * cells + c] = static_cast<std::uint16_t>((d << 9) | local);
+    }
+  }
+  // Σ_si: kept by the measured cell for a forward offset, by cell s for a backward one; Σ_ii is the variance.
+  for (std::size_t s = 0; s < cells; ++s) {
+    const int fwd = stencil.forwardSlot()[s];
+    const int bwd = stencil.backwardSlot()[s];
+    columnCell.push_back(static_cast<std::uint16_t>(fwd >= 0 || bwd < 0 ? self : s));
+    columnFloat.push_back(static_cast<std::uint16_t>(fwd >= 0 ? 2 + fwd : (bwd >= 0 ? 2 + bwd : 1)));
+  }
+  // Stencil lists the pairs grouped by the cell that keeps them, in forward-slot order.
+  pairStart.assign(cells + 1, 0);
+  for (const StencilPair& pair : stencil.pairs()) {
+    ++pairStart[pair.from + 1U];
+    pairOther.push_back(pair.to);
+    pairFloat.push_back(static_cast<std::uint16_t>(2 + pair.forward));
+  }
+  for (std::size_t c = 0; c < cells; ++c) {
+    pairStart[c + 1] += pairStart[c];
+  }
+}
+
+namespace {
+
+// The part of eq. (5) on one stencil cell's own mean and variance; returns shrink·Σ_si for its pairs. Both
+// kernels call this, so their arithmetic is the same.
+inline float updateMeanAndVariance(float* record, float column, const BandUpdate& u) {
+  record[0] = record[0] + u.gain * column;
+  const float scaled = u.shrink * column;
+  record[1] = std::max(record[1] - scaled * column, u.varianceFloor);
+  return scaled;
+}
+
+}  // namespace
+
+void genericBandKernel(float* const* blocks, std::size_t local, const BandUpdate& update, const BandTables& t) {
+  thread_local std::vector<float*> cellScratch;
+  thread_local std::vector<float> columnScratch;
+  cellScratch.resize(t.cells);
+  columnScratch.resize(t.cells);
+  float** cell = cellScratch.data();
+  float* column = columnScratch.data();
+  const std::uint16_t* address = t.address.data() + local * t.cells;
+  for (std::size_t s = 0; s < t.cells; ++s) {
+    cell[s] = blocks[address[s] >> 9] + static_cast<std::size_t>(address[s] & 511U) * t.stride;
+  }
+  for (std::size_t s = 0; s < t.cells; ++s) {
+    column[s] = cell[t.columnCell[s]][t.columnFloat[s]];
+  }
+  for (std::size_t s = 0; s < t.cells; ++s) {
+    float* record = cell[s];
+    const float scaled = updateMeanAndVariance(record, column[s], update);
+    for (std::uint32_t k = t.pairStart[s]; k < t.pairStart[s + 1]; ++k) {
+      record[t.pairFloat[k]] -= scaled * column[t.pairOther[k]];
+    }
+  }
+}
+
+namespace {
+
+// A 3-D stencil known at compile time: |o|² ≤ r2 or |o|₁ ≤ manhattan (StencilShape with R = √r2).
+struct Shape {
+  int r2 = 0;
+  int manhattan = 0;
+};
+
+constexpr int absOf(int v) { return v < 0 ? -v : v; }
+constexpr bool contains(Shape s, int x, int y, int z) {
+  return x * x + y * y + z * z <= s.r2 || absOf(x) + absOf(y) + absOf(z) <= s.manhattan;
+}
+constexpr int reachOf(Shape s) {
+  int e = 0;
+  while ((e + 1) * (e + 1) <= s.r2) {
+    ++e;
+  }
+  return std::max(e, s.manhattan);
+}
+// Lexicographically positive, as isForward.
+constexpr bool forward(int x, int y, int z) { return z > 0 || (z == 0 && (y > 0 || (y == 0 && x > 0))); }
+
+struct Sizes {
+  std::size_t cells = 0;
+  std::size_t forward = 0;
+  std::size_t pairs = 0;
+};
+
+// Offsets in Stencil's order (x, then y, then z), the forward ones, and the pairs kept by each cell.
+template <std::size_t Cells, std::size_t Forward, std::size_t Pairs>
+struct CompiledTables {
+  std::array<int, Cells> x{}, y{}, z{};
+  std::array<std::uint16_t, Cells> columnCell{}, columnFloat{};
+  std::array<std::uint32_t, Cells + 1> pairStart{};
+  std::array<std::uint16_t, Pairs> pairOther{}, pairFloat{};
+  std::size_t self = 0;
+  Sizes sizes{};
+};
+
+template <std::size_t Cells, std::size_t Forward, std::size_t Pairs>
+constexpr CompiledTables<Cells, Forward, Pairs> buildTables(Shape shape) {
+  CompiledTables<Cells, Forward, Pairs> t;
+  std::array<int, Forward> fx{}, fy{}, fz{};
+  const int e = reachOf(shape);
+  std::size_t c = 0;
+  std::size_t f = 0;
+  for (int x = -e; x <= e; ++x) {
+    for (int y = -e; y <= e; ++y) {
+      for (int z = -e; z <= e; ++z) {
+        if (!contains(shape, x, y, z)) {
+          continue;
+        }
+        if (c < Cells) {
+          t.x[c] = x;
+          t.y[c] = y;
+          t.z[c] = z;
+          if (x == 0 && y == 0 && z == 0) {
+            t.self = c;
+          }
+        }
+        ++c;
+        if (forward(x, y, z)) {
+          if (f < Forward) {
+            fx[f] = x;
+            fy[f] = y;
+            fz[f] = z;
+          }
+          ++f;
+        }
+      }
+    }
+  }
+  t.sizes.cells = c;
+  t.sizes.forward = f;
+  const auto slotOf = [&](int x, int y, int z) {
+    for (std::size_t k = 0; k < Forward && k < f; ++k) {
+      if (fx[k] == x && fy[k] == y && fz[k] == z) {
+        return static_cast<int>(k);
+      }
+    }
+    return -1;
+  };
+  const auto cellOf = [&](int x, int y, int z) {
+    for (std::size_t k = 0; k < Cells && k < c; ++k) {
+      if (t.x[k] == x && t.y[k] == y && t.z[k] == z) {
+        return static_cast<int>(k);
+      }
+    }
+    return -1;
+  };
+  std::size_t p = 0;
+  for (std::size_t s = 0; s < Cells && s < c; ++s) {
+    const int fwd = slotOf(t.x[s], t.y[s], t.z[s]);
+    const int bwd = slotOf(-t.x[s], -t.y[s], -t.z[s]);
+    t.columnCell[s] = static_cast<std::uint16_t>(fwd >= 0 || bwd < 0 ? t.self : s);
+    t.columnFloat[s] = static_cast<std::uint16_t>(fwd >= 0 ? 2 + fwd : (bwd >= 0 ? 2 + bwd : 1));
+    t.pairStart[s] = static_cast<std::uint32_t>(p);
+    for (std::size_t k = 0; k < Forward && k < f; ++k) {
+      const int other = cellOf(t.x[s] + fx[k], t.y[s] + fy[k], t.z[s] + fz[k]);
+      if (other >= 0) {
+        if (p < Pairs) {
+          t.pairOther[p] = static_cast<std::uint16_t>(other);
+          t.pairFloat[p] = static_cast<std::uint16_t>(2 + k);
+        }
+        ++p;
+      }
+    }
+  }
+  t.pairStart[Cells] = static_cast<std::uint32_t>(p);
+  t.sizes.pairs = p;
+  return t;
+}
+
+// First pass with generous bounds to count, second with the exact sizes.
+constexpr Sizes sizesOf(Shape shape) { return buildTables<200, 100, 4000>(shape).sizes; }
+
+template <Shape S>
+struct Compiled {
+  static constexpr Sizes kSizes = sizesOf(S);
+  static constexpr auto kTables = buildTables<kSizes.cells, kSizes.forward, kSizes.pairs>(S);
+  static constexpr std::size_t kStride = 2 + kSizes.forward;
+};
+
+template <Shape S, std::size_t s>
+inline void applyCell(float* record, const float* column, const BandUpdate& u) {
+  constexpr auto& t = Compiled<S>::kTables;
+  constexpr std::uint32_t first = t.pairStart[s];
+  const float scaled = updateMeanAndVariance(record, column[s], u);
+  [&]<std::size_t... k>(std::index_sequence<k...>) {
+    ((record[t.pairFloat[first + k]] -= scaled * column[t.pairOther[first + k]]), ...);
+  }(std::make_index_sequence<t.pairStart[s + 1] - first>{});
+}
+
+template <Shape S>
+void compiledBandKernel(float* const* blocks, std::size_t local, const BandUpdate& update, const BandTables& tables) {
+  using C = Compiled<S>;
+  constexpr std::size_t kCells = C::kSizes.cells;
+  constexpr auto& t = C::kTables;
+  const std::uint16_t* address = tables.address.data() + local * kCells;
+  float* cell[kCells];
+  for (std::size_t s = 0; s < kCells; ++s) {
+    cell[s] = blocks[address[s] >> 9] + static_cast<std::size_t>(address[s] & 511U) * C::kStride;
+  }
+  float column[kCells];
+  [&]<std::size_t... s>(std::index_sequence<s...>) {
+    ((column[s] = cell[t.columnCell[s]][t.columnFloat[s]]), ...);
+  }(std::make_index_sequence<kCells>{});
+  [&]<std::size_t... s>(std::index_sequence<s...>) {
+    (applyCell<S, s>(cell[s], column, update), ...);
+  }(std::make_index_sequence<kCells>{});
+}
+
+template <Shape S>
+bool matches(const BandTables& r) {
+  constexpr auto& t = Compiled<S>::kTables;
+  return r.cells == t.sizes.cells && r.stride == Compiled<S>::kStride && r.self == t.self &&
+         std::equal(r.columnCell.begin(), r.columnCell.end(), t.columnCell.begin()) &&
+         std::equal(r.columnFloat.begin(), r.columnFloat.end(), t.columnFloat.begin()) &&
+         r.pairOther.size() == t.sizes.pairs &&
+         std::equal(r.pairStart.begin(), r.pairStart.end(), t.pairStart.begin()) &&
+         std::equal(r.pairOther.begin(), r.pairOther.end(), t.pairOther.begin()) &&
+         std::equal(r.pairFloat.begin(), r.pairFloat.end(), t.pairFloat.begin());
+}
+
+template <Shape S>
+void tryCompiled(const BandTables& tables, BandKernel& chosen) {
+  if (chosen == &genericBandKernel && matches<S>(tables)) {
+    chosen = &compiledBandKernel<S>;
+  }
+}
+
+}  // namespace
+
+BandKernel bandKernelFor(const BandTables& tables) {
+  BandKernel chosen = &genericBandKernel;
+  tryCompiled<Shape{2, 2}>(tables, chosen);  // the default: √2 ball + the axial cells at distance 2
+  tryCompiled<Shape{1, 0}>(tables, chosen);
+  tryCompiled<Shape{2, 0}>(tables, chosen);
+  tryCompiled<Shape{3, 0}>(tables, chosen);
+  tryCompiled<Shape{4, 0}>(tables, chosen);
+  return chosen;
+}
+
+}  // namespace ogf::filter
