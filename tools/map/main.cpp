@@ -78,6 +78,8 @@ struct Options {
   std::string export_ply, export_csv, export_bt, png_dir;
   double png_zmin = 0.0, png_zmax = 2.0;
   std::string log_level = "info";
+  std::string pose_correction = "none", corrected_out;
+  std::size_t particles = 30;
 };
 
 void logProblems(const std::vector<std::string>& problems, std::int64_t total) {
@@ -116,6 +118,7 @@ int main(int argc, char** argv) {
       "  --pcap FILE [--calib FILE] (--odometry FILE | --static)   a Velodyne capture\n"
       "  --lcm-log FILE                                             lidar_scan_t and poses as lcm-logger records them\n"
       "  --pcd FILE...                                              PCL point clouds (rays from each VIEWPOINT)\n"
+      "With --pose-correction scan-match|rbpf the odometry's drift is corrected scan by scan before mapping.\n"
       "Odometry: CSV `utime,x,y,z,qw,qx,qy,qz` (utime in us on the capture's clock; the scan's device time\n"
       "unless --time host) or an LCM log with ogf.odometry_t or bot_core.pose_t on POSE. Scans the odometry\n"
       "does not cover are counted and left out, never extrapolated. --static holds the body at the origin.\n"
@@ -151,6 +154,15 @@ int main(int argc, char** argv) {
   auto* threads_opt = app.add_option("--threads", o.threads, "Filter threads (the map is the same for any count)")
                           ->capture_default_str()
                           ->check(CLI::Range(1, 256));
+  app.add_option("--pose-correction", o.pose_correction,
+                 "Correct odometry drift before mapping: none, scan-match or rbpf (2-D SLAM on a planar cut of "
+                 "each scan)")
+      ->capture_default_str();
+  app.add_option("--particles", o.particles, "Particles of --pose-correction rbpf")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  app.add_option("--corrected-out", o.corrected_out,
+                 "CSV of the corrected body pose of every mapped scan (utime,x,y,z,qw,qx,qy,qz)");
   app.add_option("--log-level", o.log_level, "trace|debug|info|warn|error")->capture_default_str();
   odo_opt->excludes(static_opt);
   pcd_opt->excludes(pcap_opt)->excludes(lcm_opt)->excludes(odo_opt)->excludes(static_opt);
@@ -189,6 +201,29 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   mio::OfflineMapping& run = *created;
+  const auto correction_mode = ogf::slam::parseCorrectionMode(o.pose_correction);
+  if (!correction_mode) {
+    spdlog::error("--pose-correction: {}", correction_mode.error().message);
+    return kExitUsage;
+  }
+  if (*correction_mode != ogf::slam::CorrectionMode::kNone) {
+    if (o.is_static || !o.pcd.empty()) {
+      spdlog::error("--pose-correction needs a moving sensor with odometry (--pcap with --odometry, or --lcm-log)");
+      return kExitUsage;
+    }
+    ogf::correction::ScanPoseCorrectionConfig cc;
+    cc.corrector.mode = *correction_mode;
+    cc.corrector.slam.particles = o.particles;
+    auto correction = ogf::correction::ScanPoseCorrection::create(cc);
+    if (!correction) {
+      spdlog::error("--pose-correction: {}", correction.error().message);
+      return kExitUsage;
+    }
+    run.setPoseCorrection(std::move(*correction));
+  } else if (!o.corrected_out.empty()) {
+    spdlog::error("--corrected-out needs --pose-correction scan-match or rbpf");
+    return kExitUsage;
+  }
   const auto& m = config.fusion.measurement;
   spdlog::info("resolution {} m, range {} .. {} m, filter threads {}", m.resolution_m, m.min_range_m, m.max_range_m,
                run.mapper().filter().config().threads);
@@ -300,6 +335,14 @@ int main(int argc, char** argv) {
       auto png = mio::writeTopDownPngs(cells, {o.png_zmin, o.png_zmax}, o.png_dir);
       if (!png) report("--png", png.error());
       else spdlog::info("{}: occupancy.png and entropy.png, {} x {} pixels", o.png_dir, png->width, png->height);
+    }
+  }
+  if (!o.corrected_out.empty()) {
+    if (auto st = mio::writeOdometryCsv(o.corrected_out, run.correctedPoses()); !st) {
+      spdlog::error("--corrected-out: {}", st.error().message);
+      rc = kExitNothingMapped;
+    } else {
+      spdlog::info("{}: {} corrected poses ({})", o.corrected_out, run.correctedPoses().size(), o.pose_correction);
     }
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();

@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -284,3 +285,71 @@ TEST(OgfMapProgram, NoInputIsAUsageError) {
 }
 
 }  // namespace
+
+namespace {
+// utime -> (x, y) of a pose CSV (utime,x,y,z,qw,qx,qy,qz with a header line).
+std::map<long long, std::pair<double, double>> readPositions(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  std::map<long long, std::pair<double, double>> out;
+  long long t = 0;
+  double x = 0, y = 0;
+  while (std::getline(in, line))
+    if (std::sscanf(line.c_str(), "%lld,%lf,%lf", &t, &x, &y) == 3) out[t] = {x, y};
+  return out;
+}
+
+// Mean planar distance of `poses` from the true pose at (or just after) the same time.
+double meanPositionError(const std::map<long long, std::pair<double, double>>& poses,
+                         const std::map<long long, std::pair<double, double>>& truth) {
+  double sum = 0.0;
+  for (const auto& [t, p] : poses) {
+    auto it = truth.lower_bound(t);
+    if (it == truth.end()) --it;
+    sum += std::hypot(p.first - it->second.first, p.second - it->second.second);
+  }
+  return poses.empty() ? 1e9 : sum / static_cast<double>(poses.size());
+}
+}  // namespace
+
+TEST(OgfMapProgram, ScanMatchingCorrectsDriftingOdometryAndWritesTheCorrectedTrajectory) {
+  ogf::testing::ScratchDir dir;
+  ASSERT_EQ(runProgram({kSim, "--out", (dir / "sim").string(), "--duration", "8", "--odometry-drift", "slip-and-bias",
+                        "--seed", "3"},
+                       dir.path())
+                .exit_code,
+            0);
+  // The simulated sensor sits 1 m above the body (sim.yaml's sensor_to_body).
+  writeFile(dir / "map.yaml", "extrinsic: {translation: [0, 0, 1], quaternion: [1, 0, 0, 0]}\n");
+  const auto corrected = dir / "corrected.csv";
+  const auto run = runProgram({kMap, "--config", (dir / "map.yaml").string(), "--pcap",
+                               (dir / "sim" / "capture.pcap").string(), "--odometry",
+                               (dir / "sim" / "odometry.csv").string(), "--out", (dir / "m").string(),
+                               "--pose-correction", "scan-match", "--corrected-out", corrected.string()},
+                              dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto poses = readPositions(corrected);
+  EXPECT_EQ(static_cast<long long>(poses.size()), summaryOf(run.stdout_text).scans);
+  const auto truth = readPositions(dir / "sim" / "trajectory_true.csv");
+  const double odometry_error = meanPositionError(readPositions(dir / "sim" / "odometry.csv"), truth);
+  const double corrected_error = meanPositionError(poses, truth);
+  EXPECT_GT(odometry_error, 0.05);  // the drift is there to correct
+  EXPECT_LT(corrected_error, 0.5 * odometry_error) << "odometry " << odometry_error << " m";
+}
+
+TEST(OgfMapProgram, PoseCorrectionFlagsAreCheckedBeforeAnyWork) {
+  ogf::testing::ScratchDir dir;
+  const auto bogus = runProgram({kMap, "--pcap", "x.pcap", "--odometry", "o.csv", "--out", "m", "--pose-correction",
+                                 "gmapping"},
+                                dir.path());
+  EXPECT_EQ(bogus.exit_code, 2) << bogus.output;
+  EXPECT_NE(bogus.output.find("none, scan-match, rbpf"), std::string::npos) << bogus.output;
+  const auto orphan = runProgram({kMap, "--pcap", "x.pcap", "--odometry", "o.csv", "--out", "m", "--corrected-out",
+                                  "c.csv"},
+                                 dir.path());
+  EXPECT_EQ(orphan.exit_code, 2) << orphan.output;
+  const auto tripod = runProgram({kMap, "--pcap", "x.pcap", "--static", "--out", "m", "--pose-correction", "rbpf"},
+                                 dir.path());
+  EXPECT_EQ(tripod.exit_code, 2) << tripod.output;
+}

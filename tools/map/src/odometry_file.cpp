@@ -135,4 +135,18 @@ Result<OdometryFile> readOdometry(const std::filesystem::path& path, const std::
   return readOdometryCsv(path);
 }
 
+Status writeOdometryCsv(const std::filesystem::path& path, const std::vector<fusion::Pose>& poses) {
+  std::ofstream out(path);
+  if (!out) return Error{path.string() + ": cannot create"};
+  out << "utime,x,y,z,qw,qx,qy,qz\n";
+  for (const fusion::Pose& p : poses) {
+    const Eigen::Quaterniond q = p.orientation.normalized();
+    out << fmt::format("{},{:.6f},{:.6f},{:.6f},{:.9f},{:.9f},{:.9f},{:.9f}\n", p.utime, p.position.x(),
+                       p.position.y(), p.position.z(), q.w(), q.x(), q.y(), q.z());
+  }
+  out.flush();
+  if (!out) return Error{path.string() + ": write failed"};
+  return Ok{};
+}
+
 }  // namespace ogf::map_io

@@ -42,9 +42,25 @@ ScanOutcome OfflineMapping::fold(std::size_t points) {
 
 ScanOutcome OfflineMapping::addScan(const ScanRecord& scan, TimeBase base) {
   ++counts_.scans_in;
-  if (!poses_ || mapper_.measure(scan.points(base), *poses_) != fusion::PoseCoverage::kCovered) {
+  if (!poses_) {
     ++counts_.scans_uncovered;
     return ScanOutcome::kUncovered;
+  }
+  const fusion::ScanPoints points = scan.points(base);
+  correction::ScanCorrection applied;
+  const fusion::PoseCoverage coverage = correction_ ? mapper_.measure(points, *poses_, *correction_, &applied)
+                                                    : mapper_.measure(points, *poses_);
+  if (coverage != fusion::PoseCoverage::kCovered) {
+    ++counts_.scans_uncovered;
+    return ScanOutcome::kUncovered;
+  }
+  if (correction_) {
+    const fusion::ScanTimeSpan span = fusion::timeSpanOf(points);
+    fusion::Pose p;
+    p.utime = span.begin_utime + (span.end_utime - span.begin_utime) / 2;
+    p.position = applied.map_from_body.translation();
+    p.orientation = Eigen::Quaterniond(applied.map_from_body.linear());
+    corrected_.push_back(p);
   }
   return fold(scan.size());
 }

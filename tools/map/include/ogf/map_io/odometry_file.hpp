@@ -33,6 +33,10 @@ bool isLcmLog(const std::filesystem::path& path);
 // The poses on `channel` of an LCM log, each decoded as odometry_t or bot_core.pose_t by its fingerprint.
 Result<OdometryFile> readOdometryLcmLog(const std::filesystem::path& path, const std::string& channel = "POSE");
 
+// Writes poses as the CSV the readers take (with its header line), e.g. the corrected trajectory of a
+// pose-corrected run for ogf-eval --corrected.
+Status writeOdometryCsv(const std::filesystem::path& path, const std::vector<fusion::Pose>& poses);
+
 // CSV or LCM log, by content.
 Result<OdometryFile> readOdometry(const std::filesystem::path& path, const std::string& lcm_channel = "POSE");
 

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <ogf/common/result.hpp>
+#include <ogf/correction/scan_pose_correction.hpp>
 #include <ogf/fusion/pose_buffer.hpp>
 #include <ogf/pipeline/scan_mapper.hpp>
 
@@ -37,6 +38,12 @@ class OfflineMapping {
  public:
   static Result<OfflineMapping> create(const pipeline::MapperConfig& config);
 
+  // Moves every moving-sensor scan by a pose correction (scan matching or RBPF on a planar cut of the
+  // scan) before it is measured; the corrected body pose of each mapped scan is kept (correctedPoses()).
+  void setPoseCorrection(correction::ScanPoseCorrection correction) { correction_.emplace(std::move(correction)); }
+  // The corrected body pose at the middle of each mapped scan, in scan order (empty without a correction).
+  const std::vector<fusion::Pose>& correctedPoses() const { return corrected_; }
+
   // Loads the whole odometry (in order); rejected poses are counted. Call once before addScan.
   void setOdometry(std::span<const fusion::Pose> poses);
   // The odometry's time span; nullopt when it holds fewer than one pose.
@@ -60,6 +67,8 @@ class OfflineMapping {
   pipeline::ScanMapper mapper_;
   pipeline::MapperConfig config_;
   std::optional<fusion::PoseBuffer> poses_;
+  std::optional<correction::ScanPoseCorrection> correction_;
+  std::vector<fusion::Pose> corrected_;
   ScanRecord cloud_;  // addCloud's points as a sensor-frame scan
   OfflineCounts counts_;
 };
