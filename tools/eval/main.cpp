@@ -1,8 +1,9 @@
 // ogf-eval: scores an OGF map against the ground truth of a simulator run (ogf-sim's output folder), and
 // an OctoMap built from the same run's rays beside it: accuracy (eq. 13 of Sun et al.), precision and
 // recall of occupied, ROC AUC of the probabilities, coverage and gap filling. A table on stdout; top-down
-// PNGs, the occupied cells as PLY and the OctoMap as .bt on request. This file owns the command line, the
-// logs and the exit code; the work is in ogf_eval.
+// PNGs, the occupied cells as PLY and the OctoMap as .bt on request. With --odometry/--corrected, the
+// absolute trajectory error of those poses against the run's trajectory_true.csv (with or without --map).
+// This file owns the command line, the logs and the exit code; the work is in ogf_eval.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -16,6 +17,7 @@
 
 #include <ogf/filter/map_queries.hpp>
 #include <ogf/sim/ground_truth.hpp>
+#include <ogf/sim/pose_files.hpp>
 #include <ogf/transport/logging.hpp>
 
 #include "ogf/eval/map_loader.hpp"
@@ -23,6 +25,7 @@
 #include "ogf/eval/octomap_baseline.hpp"
 #include "ogf/eval/sim_measurements.hpp"
 #include "ogf/eval/topdown_figures.hpp"
+#include "ogf/eval/trajectory_error.hpp"
 #include "ogf/map_io/cell_ply.hpp"
 #include "ogf/map_io/map_cells.hpp"
 #include "ogf/map_io/topdown_png.hpp"
@@ -92,6 +95,43 @@ Column makeColumn(std::string name, const ogf::sim::GroundTruth& truth, const st
   return c;
 }
 
+// One row per given trajectory file: its ATE against the run's true trajectory. False when a file is
+// unreadable or no pose of it matches the truth's stamps.
+bool printTrajectoryErrors(const std::string& truth_dir,
+                           const std::vector<std::pair<std::string, std::string>>& trajectories) {
+  const std::string truth_path = (fs::path(truth_dir) / "trajectory_true.csv").string();
+  auto truth = ogf::sim::readPoseCsv(truth_path);
+  if (!truth) {
+    spdlog::error("--truth: {}", truth.error().message);
+    return false;
+  }
+  std::printf("\nabsolute trajectory error, position (m), against %s; no alignment (the odometry frame starts on "
+              "the true pose)\n",
+              truth_path.c_str());
+  std::printf("%-34s %8s %12s %12s %12s\n", "trajectory", "poses", "RMSE", "mean", "max");
+  bool ok = true;
+  for (const auto& [label, path] : trajectories) {
+    auto poses = ogf::sim::readPoseCsv(path);
+    if (!poses) {
+      spdlog::error("{}", poses.error().message);
+      ok = false;
+      continue;
+    }
+    const auto e = ev::absoluteTrajectoryError(*truth, *poses);
+    if (e.unmatched > 0) {
+      spdlog::warn("{}: {} of {} poses fall outside the true trajectory's stamps and are not scored", path,
+                   e.unmatched, poses->size());
+    }
+    if (e.matched == 0) {
+      spdlog::error("{}: no pose matches a stamp of {}", path, truth_path);
+      ok = false;
+      continue;
+    }
+    std::printf("%-34s %8zu %12.4f %12.4f %12.4f\n", label.c_str(), e.matched, e.rmse_m, e.mean_m, e.max_m);
+  }
+  return ok;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -110,14 +150,21 @@ int main(int argc, char** argv) {
       "OctoMap: an OcTree at the map's resolution fed the same per-scan measurements (misses along each ray, a hit\n"
       "at its end; default sensor model 0.7/0.4, clamping 0.12/0.97); a node is occupied when p > 0.5 (OctoMap's own\n"
       "threshold), free otherwise, a cell without a node unknown. --octomap FILE.bt scores a given tree instead.\n"
+      "Trajectories: --odometry and --corrected (CSV utime,x,y,z,qw,qx,qy,qz, e.g. the run's odometry.csv and a\n"
+      "pose-corrected trajectory) are scored against the run's trajectory_true.csv: the absolute trajectory error\n"
+      "(position RMSE, mean, max; the truth interpolated to each pose's stamp), without alignment since both start on\n"
+      "the true pose. --map may then be left out.\n"
       "Exit 0 when scored, 1 when an input is unreadable or an output failed, 2 on bad flags."};
   std::string map_path, truth_dir, png_dir, octomap_in, octomap_out, ply_out, log_level = "info";
+  std::string odometry_path, corrected_path;
   double max_range = 30.0, min_range = 0.4;
   bool no_octomap = false;
   ev::HeightBand band;
   int scale = 4;
-  app.add_option("--map", map_path, "OGF map: a map file (ogf-map --out) or a daemon snapshot (snapshot.ogfs)")
-      ->required()->check(CLI::ExistingFile);
+  app.add_option("--map", map_path,
+                 "OGF map: a map file (ogf-map --out) or a daemon snapshot (snapshot.ogfs); required unless "
+                 "--odometry or --corrected is given")
+      ->check(CLI::ExistingFile);
   app.add_option("--truth", truth_dir, "ogf-sim output folder (truth.grid, capture.pcap, odometry.csv, sim.yaml)")
       ->required()->check(CLI::ExistingDirectory);
   app.add_option("--png", png_dir, "Folder for truth.png, ogf_/octomap_classes.png, ogf_/octomap_errors.png and the "
@@ -131,6 +178,10 @@ int main(int argc, char** argv) {
   app.add_option("--export-ply", ply_out, "Write the OGF map's occupied cells as PLY");
   app.add_option("--max-range", max_range, "Ray cut for the recomputed measurements (use the mapper's), metres")->capture_default_str();
   app.add_option("--min-range", min_range, "Minimum range for the recomputed measurements, metres")->capture_default_str();
+  app.add_option("--odometry", odometry_path, "Raw odometry poses to score (CSV, e.g. the run's odometry.csv)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--corrected", corrected_path, "Corrected poses to score (CSV utime,x,y,z,qw,qx,qy,qz)")
+      ->check(CLI::ExistingFile);
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error")->capture_default_str();
   try {
     app.parse(argc, argv);
@@ -145,6 +196,18 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   ogf::transport::setupLogging("ogf-eval", *level);
+
+  std::vector<std::pair<std::string, std::string>> trajectories;
+  if (!odometry_path.empty()) trajectories.emplace_back("odometry (raw)", odometry_path);
+  if (!corrected_path.empty()) trajectories.emplace_back("corrected", corrected_path);
+  if (map_path.empty()) {
+    if (trajectories.empty()) {
+      std::fprintf(stderr, "--map is required (unless --odometry or --corrected is given)\nRun with --help for more "
+                           "information.\n");
+      return kExitUsage;
+    }
+    return printTrajectoryErrors(truth_dir, trajectories) ? kExitOk : kExitFailed;
+  }
 
   auto truth = ogf::sim::readGroundTruth((fs::path(truth_dir) / "truth.grid").string());
   if (!truth) {
@@ -227,6 +290,7 @@ int main(int argc, char** argv) {
   printTable(cols, gaps);
 
   int rc = kExitOk;
+  if (!trajectories.empty() && !printTrajectoryErrors(truth_dir, trajectories)) rc = kExitFailed;
   const auto report = [&](const char* what, const ogf::Status& st) {
     if (!st) {
       spdlog::error("{}: {}", what, st.error().message);
