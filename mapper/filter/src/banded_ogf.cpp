@@ -9,7 +9,6 @@
 #include <limits>
 #include <string>
 #include <thread>
-#include <unordered_map>
 #include <utility>
 
 #include "ogf/filter/map_checksum.hpp"
@@ -108,27 +107,39 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   UpdateStats stats;
   const bool flat = config_.dimensions == 2;
 
-  // 1. The blocks of the batch, and per measurement a key (block, position in block, y).
-  std::unordered_map<CellKey, std::uint32_t, CellKeyHash> blockIndex;
+  // 1. The blocks of the batch (a group each), and per measurement its group and a code (position in the
+  //    block, y). Consecutive measurements mostly share a block: the last one is checked first.
+  Batch& batchWork = scratch_;
+  batchWork.blocks.clear();
+  batchWork.groupOf.clear();
+  batchWork.codes.clear();
   std::vector<Group> groups;
-  std::vector<std::uint64_t> keys;
-  keys.reserve(batch.size());
+  CellKey lastBlock{};
+  std::uint32_t lastGroup = BlockKeyTable::kAbsent;
   for (const Measurement& m : batch) {
     if ((m.y != 1 && m.y != -1) || (flat && m.key.z != 0)) {
       ++stats.rejected;
       continue;
     }
     const CellKey block = blockKeyOf(m.key);
-    const auto [it, inserted] = blockIndex.try_emplace(block, static_cast<std::uint32_t>(groups.size()));
-    if (inserted) {
-      groups.push_back({block, colourOf(block), 0, 0, 0});
+    if (lastGroup == BlockKeyTable::kAbsent || !(block == lastBlock)) {
+      bool inserted = false;
+      lastGroup = batchWork.blocks.findOrInsert(block, static_cast<std::uint32_t>(groups.size()), inserted);
+      lastBlock = block;
+      if (inserted) {
+        groups.push_back({block, colourOf(block), 0, 0, 0});
+      }
     }
     const std::size_t local = localIndexOf(m.key);
-    groups[it->second].neighbours |= neighbourMask_[local];
-    keys.push_back((static_cast<std::uint64_t>(it->second) << 32) | (local << 1) | (m.y > 0 ? 1U : 0U));
+    Group& g = groups[lastGroup];
+    g.neighbours |= neighbourMask_[local];
+    ++g.end;  // the count for now
+    batchWork.groupOf.push_back(lastGroup);
+    batchWork.codes.push_back(static_cast<std::uint16_t>((local << 1) | (m.y > 0 ? 1U : 0U)));
   }
 
-  // 2. The deterministic order: colour, block key, position in the block (then y).
+  // 2. The deterministic order: colour, block key, position in the block (then y). Groups are sorted, the
+  //    measurements placed by counting, then each group's few codes sorted.
   std::vector<std::uint32_t> order(groups.size());
   for (std::uint32_t g = 0; g < order.size(); ++g) {
     order[g] = g;
@@ -137,33 +148,36 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
     return groups[a].colour != groups[b].colour ? groups[a].colour < groups[b].colour
                                                 : groups[a].block < groups[b].block;
   });
-  std::vector<std::uint32_t> rank(groups.size());
   std::vector<Group> sorted(groups.size());
+  std::size_t placed = 0;
   for (std::uint32_t r = 0; r < order.size(); ++r) {
-    rank[order[r]] = r;
+    Group& g = groups[order[r]];
+    const std::size_t count = g.end;
+    g.begin = placed;
+    g.end = placed;  // the cursor while placing
+    placed += count;
+  }
+  batchWork.sorted.resize(placed);
+  for (std::size_t i = 0; i < batchWork.codes.size(); ++i) {
+    batchWork.sorted[groups[batchWork.groupOf[i]].end++] = batchWork.codes[i];
+  }
+  for (std::uint32_t r = 0; r < order.size(); ++r) {
     sorted[r] = groups[order[r]];
-  }
-  for (std::uint64_t& k : keys) {
-    k = (static_cast<std::uint64_t>(rank[k >> 32]) << 32) | (k & 0xFFFFFFFFU);
-  }
-  std::sort(keys.begin(), keys.end());
-  for (std::size_t i = 0; i < keys.size();) {
-    Group& g = sorted[keys[i] >> 32];
-    g.begin = i;
-    while (i < keys.size() && (keys[i] >> 32) == (keys[g.begin] >> 32)) {
-      ++i;
-    }
-    g.end = i;
+    std::sort(batchWork.sorted.begin() + static_cast<std::ptrdiff_t>(sorted[r].begin),
+              batchWork.sorted.begin() + static_cast<std::ptrdiff_t>(sorted[r].end));
   }
 
-  // 3. Every block the batch touches, allocated up front (serially, in order).
+  // 3. Every block the batch touches, allocated up front (serially, in order); each group's neighbourhood
+  //    of block data kept for step 5.
   std::vector<CellKey> touched;
-  for (const Group& g : sorted) {
+  batchWork.neighbourhoods.assign(sorted.size() * 27, nullptr);
+  for (std::size_t r = 0; r < sorted.size(); ++r) {
+    const Group& g = sorted[r];
     for (unsigned d = 0; d < 27; ++d) {
       if ((g.neighbours >> d) & 1U) {
         const CellKey key = g.block + CellKey{static_cast<int>(d % 3) - 1, static_cast<int>((d / 3) % 3) - 1,
                                               static_cast<int>(d / 9) - 1};
-        obtainBlock(key, stats.blocksAllocated);
+        batchWork.neighbourhoods[r * 27 + d] = obtainBlock(key, stats.blocksAllocated).data();
         if (sink != nullptr) {
           touched.push_back(key);
         }
@@ -189,7 +203,6 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   }
 
   // 5. Colour by colour; blocks of one colour in parallel.
-  const std::span<const std::uint64_t> all(keys);
   for (std::size_t g0 = 0; g0 < sorted.size();) {
     std::size_t g1 = g0;
     while (g1 < sorted.size() && sorted[g1].colour == sorted[g0].colour) {
@@ -202,7 +215,7 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
       std::vector<UpdateStats> partial(std::min(workers, count));
       auto work = [&](std::size_t w) {
         for (std::size_t g = next.fetch_add(1); g < g1; g = next.fetch_add(1)) {
-          applyGroup(sorted[g], all, partial[w]);
+          applyGroup(sorted[g], batchWork.sorted, &batchWork.neighbourhoods[g * 27], partial[w]);
         }
       };
       {
@@ -218,7 +231,7 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
       }
     } else {
       for (std::size_t g = g0; g < g1; ++g) {
-        applyGroup(sorted[g], all, stats);
+        applyGroup(sorted[g], batchWork.sorted, &batchWork.neighbourhoods[g * 27], stats);
       }
     }
     g0 = g1;
@@ -255,19 +268,11 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   return stats;
 }
 
-void BandedOgf::applyGroup(const Group& group, std::span<const std::uint64_t> keys, UpdateStats& stats) {
-  float* neighbourhood[27] = {};
-  for (unsigned d = 0; d < 27; ++d) {
-    if ((group.neighbours >> d) & 1U) {
-      neighbourhood[d] = storage_.find(group.block + CellKey{static_cast<int>(d % 3) - 1,
-                                                             static_cast<int>((d / 3) % 3) - 1,
-                                                             static_cast<int>(d / 9) - 1})
-                             ->data();
-    }
-  }
+void BandedOgf::applyGroup(const Group& group, std::span<const std::uint16_t> codes, float* const* neighbourhood,
+                           UpdateStats& stats) {
   for (std::size_t i = group.begin; i < group.end; ++i) {
-    const auto local = static_cast<std::size_t>((keys[i] >> 1) & 0x7FFFU);
-    const int y = (keys[i] & 1U) != 0 ? 1 : -1;
+    const auto local = static_cast<std::size_t>(codes[i] >> 1);
+    const int y = (codes[i] & 1U) != 0 ? 1 : -1;
     if (applyMeasurement(neighbourhood, local, y)) {
       ++stats.applied;
     } else {

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "ogf/filter/band_kernel.hpp"
+#include "ogf/filter/block_key_table.hpp"
 #include "ogf/filter/block_storage.hpp"
 #include "ogf/filter/change_sink.hpp"
 #include "ogf/filter/filter_config.hpp"
@@ -80,7 +81,17 @@ class BandedOgf {
   explicit BandedOgf(const FilterConfig& resolved);
   Block& obtainBlock(const CellKey& blockKey, std::size_t& allocated);
   void initialiseBlock(Block& block);
-  void applyGroup(const Group& group, std::span<const std::uint64_t> keys, UpdateStats& stats);
+  // Reused from batch to batch: the batch's blocks, per measurement its group and code (position << 1 | y),
+  // the codes in the order of application, and per group the data of its 3×3×3 neighbourhood of blocks.
+  struct Batch {
+    BlockKeyTable blocks;
+    std::vector<std::uint32_t> groupOf;
+    std::vector<std::uint16_t> codes;
+    std::vector<std::uint16_t> sorted;
+    std::vector<float*> neighbourhoods;
+  };
+  void applyGroup(const Group& group, std::span<const std::uint16_t> codes, float* const* neighbourhood,
+                  UpdateStats& stats);
   bool applyMeasurement(float* const* neighbourhood, std::size_t local, int y);
 
   FilterConfig config_;
@@ -95,6 +106,7 @@ class BandedOgf {
   BandTables band_;                           // where the stencil cells and their pairs are
   BandKernel kernel_ = nullptr;               // eq. (5) in the band (compiled for common stencils)
   bool parallelSafe_ = false;
+  Batch scratch_;
 };
 
 }  // namespace ogf::filter
