@@ -31,6 +31,8 @@ int main(int argc, char** argv) {
       "  trans <mean> ± <std> m max <max>\n"
       "  rot <mean> ± <std> deg\n"
       "  relations <matched> matched, <unmatched> unmatched of <total>; rot max <max> deg\n"
+      "  sqr trans <mean> ± <std> m^2, sqr rot <mean> ± <std> deg^2   (the squared errors, as tables also "
+      "give)\n"
       "Exit 0 when scored, 1 when a file is unreadable or no relation matched, 2 on bad flags."};
   std::string result_path, relations_path;
   double tolerance = 0.1;  // metricEvaluator's g_MaxTimeRelationToSlam
@@ -102,6 +104,9 @@ int main(int argc, char** argv) {
   std::printf("rot %.4f ± %.4f deg\n", metric.rotation_deg.mean, metric.rotation_deg.std);
   std::printf("relations %zu matched, %zu unmatched of %zu; rot max %.4f deg\n", metric.translation.count,
               metric.unmatched, relations->size(), metric.rotation_deg.max);
+  std::printf("sqr trans %.4f ± %.4f m^2, sqr rot %.4f ± %.4f deg^2\n", metric.translation_squared.mean,
+              metric.translation_squared.std, metric.rotation_squared_deg.mean,
+              metric.rotation_squared_deg.std);
   if (metric.unmatched > 0) {
     std::fprintf(stderr, "ogf-slam-eval: %zu of %zu relations had no result pose within %g s of a stamp\n",
                  metric.unmatched, relations->size(), tolerance);

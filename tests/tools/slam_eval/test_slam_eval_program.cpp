@@ -39,6 +39,7 @@ const std::string kResultLog =
 // Errors: exact; 0.5 m off in y; 0.2 rad off in yaw.
 // trans {0, 0.5, 0}: mean 0.1667, sample std sqrt(1/12) = 0.2887, max 0.5.
 // rot {0, 0, 11.4592 deg}: mean 3.8197, sample std 6.6159.
+// Squared: trans {0, 0.25, 0}: 0.0833 ± 0.1443; rot {0, 0, 131.3123}: 43.7708 ± 75.8132.
 const std::string kRelations =
     "10.000001 11.000002 1 0 0 0 0 0\n"
     "11.000002 12.000003 0 0.5 0 0 0 1.570796\n"
@@ -59,7 +60,8 @@ TEST(SlamEvalProgram, PrintsTheHandComputedMetric) {
   EXPECT_EQ(run.stdout_text,
             "trans 0.1667 ± 0.2887 m max 0.5000\n"
             "rot 3.8197 ± 6.6159 deg\n"
-            "relations 3 matched, 0 unmatched of 3; rot max 11.4592 deg\n");
+            "relations 3 matched, 0 unmatched of 3; rot max 11.4592 deg\n"
+            "sqr trans 0.0833 ± 0.1443 m^2, sqr rot 43.7708 ± 75.8132 deg^2\n");
 }
 
 TEST(SlamEvalProgram, MatchesStampsPrintedWithFewerDecimals) {

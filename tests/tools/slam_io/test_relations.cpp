@@ -94,6 +94,10 @@ TEST(EvaluateRelations, StatisticsAreMeanSampleStdAndMax) {
   EXPECT_NEAR(m.translation.std, std::sqrt(78.0 / 72.0), 1e-12);
   EXPECT_NEAR(m.translation.max, 2.0, 1e-12);
   EXPECT_NEAR(m.rotation_deg.max, 0.0, 1e-12);
+  // Squared errors 0, 0.25, 4: mean 4.25 / 3, sample variance ((17/12)^2 + (7/6)^2 + (31/12)^2) / 2.
+  EXPECT_NEAR(m.translation_squared.mean, 4.25 / 3.0, 1e-12);
+  EXPECT_NEAR(m.translation_squared.std, std::sqrt((289.0 + 196.0 + 961.0) / 144.0 / 2.0), 1e-12);
+  EXPECT_NEAR(m.translation_squared.max, 4.0, 1e-12);
 }
 
 TEST(EvaluateRelations, StampsMatchTheNearestPoseWithinTheTolerance) {

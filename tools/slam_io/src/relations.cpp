@@ -109,6 +109,10 @@ RelationMetric evaluateRelations(const std::vector<StampedPose>& trajectory,
   }
   metric.translation = statistics(translation);
   metric.rotation_deg = statistics(rotation);
+  for (double& e : translation) e *= e;
+  for (double& e : rotation) e *= e;
+  metric.translation_squared = statistics(translation);
+  metric.rotation_squared_deg = statistics(rotation);
   return metric;
 }
 

@@ -40,6 +40,9 @@ struct RelationMetric {
   ErrorStatistics translation;    // metres, sqrt(dx^2 + dy^2)
   ErrorStatistics rotation_deg;   // degrees, |dyaw| normalised to (-180, 180]
   std::size_t unmatched = 0;      // relations whose stamps had no pose within the tolerance
+  // The squared errors (metricEvaluator -q), which the published tables give beside the absolute ones.
+  ErrorStatistics translation_squared;   // m^2, dx^2 + dy^2
+  ErrorStatistics rotation_squared_deg;  // deg^2, dyaw^2
 };
 
 // For each relation, the poses with the nearest stamps (within `tolerance_s`), their relative motion
