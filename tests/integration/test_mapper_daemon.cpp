@@ -9,12 +9,15 @@
 #include <lcm/lcm-cpp.hpp>
 #include <ogf/map_request_t.hpp>
 #include <ogf/mapper_status_t.hpp>
+#include <ogf/odometry_t.hpp>
 
 #include <atomic>
 #include <csignal>
 #include <cstdlib>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <random>
@@ -241,3 +244,84 @@ TEST_F(MapperDaemonTest, KillNineAtRandomInstantsResumesExactlyTheAcknowledgedMa
 }
 
 }  // namespace
+
+// The corrected poses on POSE_CORRECTED, received on their own thread.
+class CorrectedPoseListener {
+ public:
+  explicit CorrectedPoseListener(const std::string& url) : lcm_(url) {
+    lcm_.subscribe("POSE_CORRECTED", &CorrectedPoseListener::onPose, this);
+    thread_ = std::thread([this] {
+      while (!stop_) lcm_.handleTimeout(50);
+    });
+  }
+  ~CorrectedPoseListener() {
+    stop_ = true;
+    thread_.join();
+  }
+  std::vector<ogf::odometry_t> poses() const {
+    std::lock_guard lk(mu_);
+    return poses_;
+  }
+
+ private:
+  void onPose(const lcm::ReceiveBuffer*, const std::string&, const ogf::odometry_t* p) {
+    std::lock_guard lk(mu_);
+    poses_.push_back(*p);
+  }
+  lcm::LCM lcm_;
+  mutable std::mutex mu_;
+  std::vector<ogf::odometry_t> poses_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+TEST_F(MapperDaemonTest, ScanMatchingCorrectsDriftingOdometryAndPublishesTheCorrectedPoses) {
+  const std::string url = ogf::testing::loopbackUdpmUrl(33);
+  std::ofstream(dir_ / "mapper.yaml") << "status_interval_s: 0.1\npose_correction: {mode: scan-match}\n";
+  StatusListener status(url);
+  CorrectedPoseListener corrected(url);
+  ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--in-memory", "--config", (dir_ / "mapper.yaml").string(),
+                       "--log-level", "warn"},
+                      (dir_ / "mapper.log").string());
+  ASSERT_TRUE(mapper.started());
+  ASSERT_TRUE(status.waitFor([](const auto&) { return true; }, 10s)) << mapper.log();
+
+  // Odometry that over-reads x by 0.05 m per second (the robot itself moves at about 0.08 m/s), while the scans come from the true poses.
+  constexpr int kScans = 60;
+  constexpr double kDriftPerSecond = 0.05;
+  std::map<std::int64_t, std::pair<double, double>> truth;
+  lcm::LCM lcm(url);
+  std::int64_t t_first = -1;
+  for (int i = 0; i < kScans; ++i) {
+    auto step = ogf::testing::feedStep(i, 1500);
+    for (auto& p : step.poses) {
+      if (t_first < 0) t_first = p.utime;
+      truth[p.utime] = {p.position[0], p.position[1]};
+      p.position[0] += kDriftPerSecond * static_cast<double>(p.utime - t_first) * 1e-6;
+    }
+    publishStep(lcm, step);
+    std::this_thread::sleep_for(20ms);
+    for (int w = 0; w < 400; ++w) {
+      const auto s = status.latest();
+      if (!s || s->scans_in - s->scans_mapped - s->scans_dropped_behind - s->scans_dropped_no_pose < 2) break;
+      std::this_thread::sleep_for(5ms);
+    }
+  }
+  const auto done = status.waitFor([](const ogf::mapper_status_t& s) { return s.scans_mapped == kScans; }, 60s);
+  ASSERT_TRUE(done) << mapper.log();
+  std::this_thread::sleep_for(300ms);
+  const auto poses = corrected.poses();
+  ASSERT_EQ(static_cast<int>(poses.size()), kScans) << "one corrected pose per mapped scan";
+  // The last corrected pose against the truth at its time, and the odometry's error there.
+  const auto& last = poses.back();
+  auto it = truth.lower_bound(last.utime);
+  ASSERT_NE(it, truth.end());
+  const double odometry_error = kDriftPerSecond * static_cast<double>(it->first - t_first) * 1e-6;
+  const double corrected_error = std::hypot(last.position[0] - it->second.first, last.position[1] - it->second.second);
+  EXPECT_GT(odometry_error, 0.25);
+  EXPECT_LT(corrected_error, 0.3 * odometry_error) << "odometry error " << odometry_error << " m";
+  EXPECT_EQ(last.frame_id, "map");
+  std::printf("corrected error %.3f m, odometry error %.3f m\n", corrected_error, odometry_error);
+  mapper.signal(SIGTERM);
+  EXPECT_EQ(mapper.wait(20s), 0) << mapper.log();
+}

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "ogf/adapters/message_adapters.hpp"
+#include <ogf/odometry_t.hpp>
 
 namespace ogf::mapper_daemon {
 
@@ -44,17 +45,24 @@ Result<std::unique_ptr<MapperDaemon>> MapperDaemon::create(const MapperOptions& 
   if (auto st = options.validate(); !st) return st.error();
   auto mapper = pipeline::ScanMapper::create(options.map);
   if (!mapper) return mapper.error();
-  std::unique_ptr<MapperDaemon> d(new MapperDaemon(options, lcm, loop, std::move(*mapper)));
+  std::optional<correction::ScanPoseCorrection> correction;
+  if (options.pose_correction.corrector.mode != slam::CorrectionMode::kNone) {
+    auto c = correction::ScanPoseCorrection::create(options.pose_correction);
+    if (!c) return Error{"pose_correction: " + c.error().message};
+    correction.emplace(std::move(*c));
+  }
+  std::unique_ptr<MapperDaemon> d(new MapperDaemon(options, lcm, loop, std::move(*mapper), std::move(correction)));
   d->restore();
   return d;
 }
 
 MapperDaemon::MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, transport::DaemonLoop& loop,
-                           pipeline::ScanMapper mapper)
+                           pipeline::ScanMapper mapper, std::optional<correction::ScanPoseCorrection> correction)
     : options_(options),
       lcm_(lcm),
       loop_(loop),
       mapper_(std::move(mapper)),
+      correction_(std::move(correction)),
       deltas_({options.map.filter.resolution, newMapId(), ogf::messages::kMaxDeltaCellsPerMessage}),
       drop_rng_(options.test_seed),
       poses_(options.map.fusion.pose_buffer),
@@ -247,9 +255,20 @@ void MapperDaemon::workerLoop() {
       if (!entry) break;
       const ScanPtr scan = std::move(entry->payload);
       const auto t0 = Clock::now();
-      const auto coverage = mapper_.measure(scanPointsOf(*scan, options_.time_base), poses_);
+      const fusion::ScanPoints points = scanPointsOf(*scan, options_.time_base);
+      // With pose correction only the placing needs the pose buffer's lock; the correction (an RBPF may
+      // take a while) runs after it is released, so odometry and scans keep arriving meanwhile.
+      const auto coverage = correction_ ? mapper_.place(points, poses_) : mapper_.measure(points, poses_);
+      const fusion::ScanTimeSpan span = fusion::timeSpanOf(points);
       lk.unlock();
-      if (coverage == fusion::PoseCoverage::kCovered) mapScan(scan);
+      if (coverage == fusion::PoseCoverage::kCovered) {
+        if (correction_) {
+          correction::ScanCorrection applied;
+          mapper_.measurePlaced(*correction_, &applied);
+          publishCorrectedPose(span.begin_utime + (span.end_utime - span.begin_utime) / 2, applied);
+        }
+        mapScan(scan);
+      }
       const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
       lk.lock();
       worker_heartbeat_ = steadyUtime();
@@ -295,6 +314,22 @@ void MapperDaemon::mapScan(const ScanPtr& scan) {
   stats_.cells = static_cast<std::int64_t>(mapper_.filter().allocatedCells());
   stats_.memory_bytes = static_cast<std::int64_t>(mapper_.filter().memoryBytes());
   stats_.filter_checksum = static_cast<std::int64_t>(mapper_.filter().checksum());
+}
+
+void MapperDaemon::publishCorrectedPose(std::int64_t utime, const correction::ScanCorrection& applied) {
+  ogf::odometry_t m{};
+  m.utime = utime;  // the scan's middle, on the clock the odometry shares with the scans
+  m.frame_id = "map";
+  m.child_frame_id = "body";
+  const Eigen::Vector3d t = applied.map_from_body.translation();
+  const Eigen::Quaterniond q(applied.map_from_body.linear());
+  for (int i = 0; i < 3; ++i) m.position[i] = t[i];
+  m.orientation[0] = q.w();
+  m.orientation[1] = q.x();
+  m.orientation[2] = q.y();
+  m.orientation[3] = q.z();
+  m.num_covariance = 0;
+  lcm_.publish(options_.corrected_pose_channel, &m);
 }
 
 void MapperDaemon::publishKeyframe() {

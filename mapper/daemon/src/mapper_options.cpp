@@ -72,7 +72,9 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
 
 Status MapperOptions::validate() const {
   if (auto st = map.validate(); !st) return Error{"map: " + st.error().message};
-  for (const auto* ch : {&scan_channel, &pose_channel, &delta_channel, &request_channel, &status_channel}) {
+  if (auto st = pose_correction.validate(); !st) return Error{"pose_correction: " + st.error().message};
+  for (const auto* ch : {&scan_channel, &pose_channel, &delta_channel, &request_channel, &status_channel,
+                         &corrected_pose_channel}) {
     if (ch->empty() || ch->size() > 63) return Error{"channels: '" + *ch + "' must be 1 to 63 characters"};
   }
   if (!(snapshot_interval_s > 0)) return Error{"snapshot_interval_s: must be > 0"};
@@ -106,7 +108,8 @@ namespace {
 Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path, MapperOptions& o) {
   if (!root || root.IsNull()) return okStatus();
   OGF_TRY(checkKeys(path, root, "", {"lcm_url", "channels", "time_base", "state_dir", "snapshot_interval_s",
-                                     "keyframe_interval_s", "status_interval_s", "map", "filter", "fusion"}));
+                                     "keyframe_interval_s", "status_interval_s", "map", "filter", "fusion",
+                                     "pose_correction"}));
   OGF_TRY(read(path, root, "", "lcm_url", o.lcm_url));
   std::string state_dir = o.state_dir.string();
   OGF_TRY(read(path, root, "", "state_dir", state_dir));
@@ -121,12 +124,26 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
     else return Error{where(path, tb, "time_base") + ": 'device' or 'host', got '" + v + "'"};
   }
   if (const auto ch = root["channels"]) {
-    OGF_TRY(checkKeys(path, ch, "channels", {"scan", "pose", "delta", "request", "status"}));
+    OGF_TRY(checkKeys(path, ch, "channels", {"scan", "pose", "delta", "request", "status", "corrected_pose"}));
     OGF_TRY(read(path, ch, "channels", "scan", o.scan_channel));
     OGF_TRY(read(path, ch, "channels", "pose", o.pose_channel));
     OGF_TRY(read(path, ch, "channels", "delta", o.delta_channel));
     OGF_TRY(read(path, ch, "channels", "request", o.request_channel));
     OGF_TRY(read(path, ch, "channels", "status", o.status_channel));
+    OGF_TRY(read(path, ch, "channels", "corrected_pose", o.corrected_pose_channel));
+  }
+  if (const auto pc = root["pose_correction"]) {
+    OGF_TRY(checkKeys(path, pc, "pose_correction", {"mode", "particles", "band_z_min", "band_z_max", "seed"}));
+    if (const auto mode = pc["mode"]) {
+      const auto parsed = slam::parseCorrectionMode(mode.as<std::string>());
+      if (!parsed) return Error{where(path, mode, "pose_correction.mode") + ": " + parsed.error().message};
+      o.pose_correction.corrector.mode = *parsed;
+    }
+    auto& slam_config = o.pose_correction.corrector.slam;
+    OGF_TRY(read(path, pc, "pose_correction", "particles", slam_config.particles));
+    OGF_TRY(read(path, pc, "pose_correction", "seed", slam_config.seed));
+    OGF_TRY(read(path, pc, "pose_correction", "band_z_min", o.pose_correction.projection.z_min_m));
+    OGF_TRY(read(path, pc, "pose_correction", "band_z_max", o.pose_correction.projection.z_max_m));
   }
   auto& m = o.map.fusion.measurement;
   if (const auto map = root["map"]) {
@@ -185,7 +202,8 @@ std::string exampleMapperConfig() {
   s << "# ogf-mapper configuration (YAML). Every key is optional; shown with its default.\n"
     << "lcm_url: \"\"                # empty: $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0\n"
     << "channels: {scan: " << d.scan_channel << ", pose: " << d.pose_channel << ", delta: " << d.delta_channel
-    << ", request: " << d.request_channel << ", status: " << d.status_channel << "}\n"
+    << ", request: " << d.request_channel << ", status: " << d.status_channel
+    << ", corrected_pose: " << d.corrected_pose_channel << "}\n"
     << "time_base: device          # the scan clock odometry utime shares: device or host\n"
     << "state_dir: \"\"              # snapshots + journal; empty keeps the map in memory only\n"
     << "snapshot_interval_s: " << d.snapshot_interval_s << "\n"
@@ -209,7 +227,14 @@ std::string exampleMapperConfig() {
     << "  max_pending_scans: " << d.map.fusion.pending.max_pending_scans << "\n"
     << "  max_pending_points: " << d.map.fusion.pending.max_pending_points << "\n"
     << "  jump_translation_m: " << d.map.fusion.pose_buffer.jump_translation_m << "\n"
-    << "  jump_rotation_rad: " << d.map.fusion.pose_buffer.jump_rotation_rad << "\n";
+    << "  jump_rotation_rad: " << d.map.fusion.pose_buffer.jump_rotation_rad << "\n"
+    << "pose_correction:            # between odometry and the map; corrected poses on channels.corrected_pose\n"
+    << "  mode: none                # none, scan-match (improved odometry) or rbpf (grid-based FastSLAM)\n"
+    << "  particles: " << d.pose_correction.corrector.slam.particles << "             # rbpf only\n"
+    << "  band_z_min: " << d.pose_correction.projection.z_min_m
+    << "           # body-frame height band cut into the planar scan, metres\n"
+    << "  band_z_max: " << d.pose_correction.projection.z_max_m << "\n"
+    << "  seed: " << d.pose_correction.corrector.slam.seed << "\n";
   return s.str();
 }
 

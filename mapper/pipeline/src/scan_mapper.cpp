@@ -46,20 +46,30 @@ fusion::PoseCoverage ScanMapper::measure(const fusion::ScanPoints& scan, const f
 fusion::PoseCoverage ScanMapper::measure(const fusion::ScanPoints& scan, const fusion::PoseBuffer& poses,
                                          correction::ScanPoseCorrection& correction,
                                          correction::ScanCorrection* applied) {
+  const fusion::PoseCoverage c = place(scan, poses);
+  if (c == fusion::PoseCoverage::kCovered) measurePlaced(correction, applied);
+  return c;
+}
+
+fusion::PoseCoverage ScanMapper::place(const fusion::ScanPoints& scan, const fusion::PoseBuffer& poses) {
   measurements_ = {};
   const fusion::PoseCoverage c = deskew_.place(scan, poses, origins_, endpoints_);
   if (c != fusion::PoseCoverage::kCovered) return c;
   const fusion::ScanTimeSpan span = fusion::timeSpanOf(scan);
   const fusion::PoseLookup reference = poses.interpolate(span.begin_utime + (span.end_utime - span.begin_utime) / 2);
   if (!reference.ok()) return reference.coverage;  // cannot happen after place() covered the span
-  const correction::ScanCorrection result = correction.correct(reference.pose.odomFromBody(), endpoints_);
+  reference_odom_from_body_ = reference.pose.odomFromBody();
+  return c;
+}
+
+void ScanMapper::measurePlaced(correction::ScanPoseCorrection& correction, correction::ScanCorrection* applied) {
+  const correction::ScanCorrection result = correction.correct(reference_odom_from_body_, endpoints_);
   if (correction.mode() != slam::CorrectionMode::kNone) {
     for (Eigen::Vector3d& o : origins_) o = result.map_from_odom * o;
     for (Eigen::Vector3d& e : endpoints_) e = result.map_from_odom * e;
   }
   if (applied != nullptr) *applied = result;
   measurements_ = set_.build(origins_, endpoints_);
-  return c;
 }
 
 void ScanMapper::measureStatic(const fusion::ScanPoints& scan, const Eigen::Isometry3d& odom_from_sensor) {

@@ -1,6 +1,7 @@
 // ogf-mapper's process: subscribes VELODYNE_SCAN and POSE, holds scans until the odometry covers them,
 // maps them on a worker thread (journal first, then the filter, then OGF_MAP_DELTA), answers keyframe
-// requests, snapshots the map, and publishes OGF_MAPPER_STATUS. The Asio thread only receives and
+// requests, snapshots the map, and publishes OGF_MAPPER_STATUS. With pose correction on, each scan's pose
+// is corrected (scan matching or RBPF) before mapping and the corrected pose goes out on POSE_CORRECTED. The Asio thread only receives and
 // queues, so a slow update never stalls LCM; when mapping falls behind, PendingScans drops whole scans
 // and counts them.
 #pragma once
@@ -56,12 +57,14 @@ class MapperDaemon {
  private:
   using ScanPtr = std::shared_ptr<const ogf::lidar_scan_t>;
 
-  MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, transport::DaemonLoop& loop, pipeline::ScanMapper mapper);
+  MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, transport::DaemonLoop& loop, pipeline::ScanMapper mapper,
+               std::optional<correction::ScanPoseCorrection> correction);
   void restore();
   void onScan(const ogf::lidar_scan_t& scan, const lcm::ReceiveBuffer& rbuf);
   void onPose(const lcm::ReceiveBuffer& rbuf);
   void workerLoop();
   void mapScan(const ScanPtr& scan);
+  void publishCorrectedPose(std::int64_t utime, const correction::ScanCorrection& applied);
   void publishKeyframe();
   void takeSnapshot();
   void persistenceFailed(const std::string& what);
@@ -76,6 +79,7 @@ class MapperDaemon {
 
   // Owned by the worker once started.
   pipeline::ScanMapper mapper_;
+  std::optional<correction::ScanPoseCorrection> correction_;  // absent in pose_correction mode none
   delta::DeltaStream deltas_;
   std::optional<persistence::StateDirectory> state_;
   std::vector<delta::PublishedCell> changes_;

@@ -9,6 +9,7 @@
 
 #include "ogf/adapters/message_adapters.hpp"
 #include "ogf/common/result.hpp"
+#include "ogf/correction/scan_pose_correction.hpp"
 #include "ogf/pipeline/mapper_config.hpp"
 
 namespace ogf::mapper_daemon {
@@ -22,11 +23,14 @@ struct MapperOptions {
   std::string delta_channel = "OGF_MAP_DELTA";
   std::string request_channel = "OGF_MAP_REQUEST";
   std::string status_channel = "OGF_MAPPER_STATUS";
+  std::string corrected_pose_channel = "POSE_CORRECTED";  // published only when pose correction is on
   // Which scan clock the odometry's utime shares: the sensor's device time (GPS/PPS or top-of-hour +
   // host hour) or the driver host's receive time.
   ScanTimeBase time_base = ScanTimeBase::kDevice;
 
   pipeline::MapperConfig map;
+  // The optional stage between odometry and the OGF (issue 8): none, scan-match or rbpf.
+  correction::ScanPoseCorrectionConfig pose_correction;
 
   // Where snapshots and the journal live; empty = map in memory only.
   std::filesystem::path state_dir;

@@ -38,6 +38,12 @@ class ScanMapper {
   fusion::PoseCoverage measure(const fusion::ScanPoints& scan, const fusion::PoseBuffer& poses,
                                correction::ScanPoseCorrection& correction,
                                correction::ScanCorrection* applied = nullptr);
+  // That call in two steps, so a daemon can hold the pose buffer's lock only for the first: place()
+  // deskews the scan and looks up its reference pose; measurePlaced() corrects (which may take a while
+  // for an RBPF) and builds the measurement set.
+  fusion::PoseCoverage place(const fusion::ScanPoints& scan, const fusion::PoseBuffer& poses);
+  void measurePlaced(correction::ScanPoseCorrection& correction, correction::ScanCorrection* applied = nullptr);
+
   // The same for a sensor that does not move (a tripod): every point from one sensor pose.
   void measureStatic(const fusion::ScanPoints& scan, const Eigen::Isometry3d& odom_from_sensor);
   std::span<const Measurement> measurements() const { return measurements_; }
@@ -69,6 +75,7 @@ class ScanMapper {
   filter::BandedOgf filter_;
   std::vector<Eigen::Vector3d> origins_;
   std::vector<Eigen::Vector3d> endpoints_;
+  Eigen::Isometry3d reference_odom_from_body_ = Eigen::Isometry3d::Identity();  // set by place()
   std::span<const Measurement> measurements_;
 };
 
