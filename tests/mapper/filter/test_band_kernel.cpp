@@ -39,23 +39,26 @@ TEST(BandKernel, CompiledKernelsEqualTheGenericOneBitForBit) {
   for (const StencilShape& shape : shapes) {
     const Stencil stencil(3, shape);
     const BandTables tables(stencil, 3);
-    const BandKernel compiled = bandKernelFor(tables);
-    EXPECT_NE(compiled, &genericBandKernel) << "R " << shape.radius << ", L " << shape.manhattanRadius;
-    auto a = randomBlocks(tables, 7);
-    auto b = a;
-    const std::vector<float*> pa = pointers(a);
-    const std::vector<float*> pb = pointers(b);
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<float> gain(-0.5F, 0.5F);
-    std::uniform_real_distribution<float> shrink(0.0F, 0.3F);
-    for (std::size_t local = 0; local < 512; ++local) {
-      const BandUpdate u{gain(rng), shrink(rng), 1e-9F};
-      compiled(pa.data(), local, u, tables);
-      genericBandKernel(pb.data(), local, u, tables);
-    }
-    for (std::size_t d = 0; d < 27; ++d) {
-      EXPECT_EQ(std::memcmp(a[d].data(), b[d].data(), a[d].size() * sizeof(float)), 0)
-          << "block " << d << ", R " << shape.radius << ", L " << shape.manhattanRadius;
+    // The baseline encoding, and the AVX one where this CPU can run it.
+    for (const bool avx : {false, cpuHasAvx()}) {
+      const BandKernel compiled = bandKernelFor(tables, avx);
+      EXPECT_NE(compiled, &genericBandKernel) << "R " << shape.radius << ", L " << shape.manhattanRadius;
+      auto a = randomBlocks(tables, 7);
+      auto b = a;
+      const std::vector<float*> pa = pointers(a);
+      const std::vector<float*> pb = pointers(b);
+      std::mt19937 rng(3);
+      std::uniform_real_distribution<float> gain(-0.5F, 0.5F);
+      std::uniform_real_distribution<float> shrink(0.0F, 0.3F);
+      for (std::size_t local = 0; local < 512; ++local) {
+        const BandUpdate u{gain(rng), shrink(rng), 1e-9F};
+        compiled(pa.data(), local, u, tables);
+        genericBandKernel(pb.data(), local, u, tables);
+      }
+      for (std::size_t d = 0; d < 27; ++d) {
+        EXPECT_EQ(std::memcmp(a[d].data(), b[d].data(), a[d].size() * sizeof(float)), 0)
+            << "block " << d << ", R " << shape.radius << ", L " << shape.manhattanRadius << ", avx " << avx;
+      }
     }
   }
 }

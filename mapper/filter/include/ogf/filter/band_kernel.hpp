@@ -8,7 +8,7 @@
 // stencils (R = 1, √2, √3, 2, and the default √2 ball + Manhattan 2), whose pair lists are generated at
 // compile time from the same rule as Stencil's and unrolled into straight-line code: no index loads, no
 // loop control, constant offsets. bandKernelFor() picks a compiled kernel only when its tables equal the
-// run-time stencil's.
+// run-time stencil's, in AVX encoding when the CPU has it (the build itself assumes only x86-64's SSE2).
 #pragma once
 
 #include <cstddef>
@@ -52,7 +52,11 @@ using BandKernel = void (*)(float* const* blocks, std::size_t local, const BandU
 
 void genericBandKernel(float* const* blocks, std::size_t local, const BandUpdate& update, const BandTables& tables);
 
-// A compiled kernel whose tables equal `tables`, or genericBandKernel when there is none.
-BandKernel bandKernelFor(const BandTables& tables);
+// Whether this CPU (and OS) can run AVX code.
+bool cpuHasAvx();
+
+// A compiled kernel whose tables equal `tables` (its AVX encoding when `avx`), or genericBandKernel when
+// there is none. Every choice gives the same floats.
+BandKernel bandKernelFor(const BandTables& tables, bool avx = cpuHasAvx());
 
 }  // namespace ogf::filter
