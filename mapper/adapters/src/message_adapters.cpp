@@ -5,6 +5,9 @@
 
 #include <cmath>
 #include <cstring>
+#include <optional>
+#include <string>
+#include <utility>
 
 #include "ogf/messages/decode_message.hpp"
 #include "ogf/messages/limits.hpp"
@@ -20,6 +23,16 @@ std::int64_t fingerprintOf(const void* data, std::size_t size) {
   return static_cast<std::int64_t>(v);
 }
 
+// Times are microseconds since the Unix epoch. Any real clock lies in [0, 2^62) (2^62 µs is some 146,000
+// years); bounding them there keeps every sum and difference of times downstream (a point's time is a
+// scan's start plus its offset, interpolation divides time differences) inside int64.
+constexpr std::int64_t kMaxUtime = std::int64_t{1} << 62;
+
+std::optional<std::string> notATime(const char* field, std::int64_t utime) {
+  if (utime >= 0 && utime < kMaxUtime) return std::nullopt;
+  return std::string(field) + ": " + std::to_string(utime) + " is not a time (microseconds since 1970, in [0, 2^62))";
+}
+
 template <class Message>
 Result<Message> decodeExactly(const void* data, std::size_t size, const char* type) {
   Message m;
@@ -27,9 +40,8 @@ Result<Message> decodeExactly(const void* data, std::size_t size, const char* ty
   return m;
 }
 
-}  // namespace
-
-Result<fusion::Pose> decodePose(const void* data, std::size_t size) {
+// The pose as the message gives it, before the checks every pose gets.
+Result<fusion::Pose> decodePoseFields(const void* data, std::size_t size) {
   const std::int64_t fp = fingerprintOf(data, size);
   fusion::Pose pose;
   if (fp == ogf::odometry_t::getHash()) {
@@ -51,6 +63,16 @@ Result<fusion::Pose> decodePose(const void* data, std::size_t size) {
   return Error{"fingerprint matches neither ogf.odometry_t nor bot_core.pose_t"};
 }
 
+}  // namespace
+
+Result<fusion::Pose> decodePose(const void* data, std::size_t size) {
+  auto pose = decodePoseFields(data, size);
+  if (pose) {
+    if (auto why = notATime("utime", pose->utime)) return Error{*why};
+  }
+  return pose;
+}
+
 Status validateScan(const ogf::lidar_scan_t& s) {
   if (s.num_points < 0 || s.num_points > ogf::messages::kMaxScanPoints)
     return Error{"num_points: " + std::to_string(s.num_points) + " outside [0, " +
@@ -58,6 +80,11 @@ Status validateScan(const ogf::lidar_scan_t& s) {
   const auto n = static_cast<std::size_t>(s.num_points);
   if (s.x.size() != n || s.y.size() != n || s.z.size() != n || s.time_offset_ns.size() != n)
     return Error{"arrays: lengths differ from num_points " + std::to_string(n)};
+  for (const auto& [field, utime] : {std::pair{"utime", s.utime}, std::pair{"device_utime_start", s.device_utime_start},
+                                      std::pair{"device_utime_end", s.device_utime_end},
+                                      std::pair{"host_utime_start", s.host_utime_start},
+                                      std::pair{"host_utime_end", s.host_utime_end}})
+    if (auto why = notATime(field, utime)) return Error{*why};
   if (s.device_utime_end < s.device_utime_start) return Error{"device_utime_end: before device_utime_start"};
   if (s.host_utime_end < s.host_utime_start) return Error{"host_utime_end: before host_utime_start"};
   for (std::size_t i = 0; i < n; ++i) {

@@ -17,11 +17,12 @@ namespace ogf::adapters {
 // Which scan clock the odometry's utime shares: the sensor's device time or the driver host's receive time.
 enum class ScanTimeBase { kDevice, kHost };
 
-// Decodes a POSE message of either type. Errors say why ("fingerprint matches neither ...", "truncated").
+// Decodes a POSE message of either type; its utime must be a time in [0, 2^62) µs. Errors say why
+// ("fingerprint matches neither ...", "truncated", "utime: ... is not a time").
 Result<fusion::Pose> decodePose(const void* data, std::size_t size);
 
 // Checks a decoded scan: point count within limits and equal to every array's length, non-negative time
-// offsets, finite coordinates, end not before start. The error names the field.
+// offsets, finite coordinates, times in [0, 2^62) µs, end not before start. The error names the field.
 Status validateScan(const ogf::lidar_scan_t& scan);
 
 // The scan's points as the fusion layer reads them, timed on `base`. The spans point into `scan`.
