@@ -1,0 +1,263 @@
+// Bad input at ogf-driver as a real process on UDP over loopback: a real capture (VeloView's VLP-16
+// test capture) is sent to the data and position ports, and after the first packets every kind of bad
+// datagram is mixed into it: random bytes of random sizes, empty, truncated and oversized datagrams,
+// wrong-size position packets, data packets with a bad block flag in each block or an azimuth beyond
+// 36000, random 1206-byte payloads, position packets with a bad PPS byte or garbage NMEA, and valid
+// packets from another host. Checked: each is counted in VELODYNE_STATUS (bad_size, bad_block_flag,
+// bad_other, foreign_sender), the driver keeps running, and the scans it publishes are exactly those the
+// driver library decodes from the capture alone.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <lcm/lcm-cpp.hpp>
+#include <ogf/driver_status_t.hpp>
+#include <ogf/lidar_scan_t.hpp>
+
+#include <csignal>
+#include <filesystem>
+#include <mutex>
+#include <random>
+#include <thread>
+
+#include "capture_decoding.hpp"
+#include "latest_message.hpp"
+#include "ogf/velodyne/wire_format.hpp"
+#include "support/child_process.hpp"
+#include "support/multicast.hpp"
+#include "support/shared_data.hpp"
+
+namespace {
+
+using namespace std::chrono_literals;
+namespace fs = std::filesystem;
+using ogf::testing::ChildProcess;
+using Bytes = std::vector<std::uint8_t>;
+
+constexpr const char* kCapture = "data/real/vlp-16-test-90deg-1-50-frames.pcap";
+constexpr std::int64_t kCleanStart = 300;  // valid data packets before any bad one: the model is decided
+
+// A UDP socket bound to `address` (127.0.0.1 is the sensor, 127.0.0.2 another host on its LAN).
+class Sender {
+ public:
+  explicit Sender(std::uint32_t address) : fd_(::socket(AF_INET, SOCK_DGRAM, 0)) {
+    sockaddr_in from{};
+    from.sin_family = AF_INET;
+    from.sin_addr.s_addr = htonl(address);
+    bound_ = fd_ >= 0 && ::bind(fd_, reinterpret_cast<sockaddr*>(&from), sizeof(from)) == 0;
+  }
+  ~Sender() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  Sender(const Sender&) = delete;
+  Sender& operator=(const Sender&) = delete;
+  bool ok() const { return bound_; }
+  void send(int port, const Bytes& payload) const {
+    sockaddr_in to{};
+    to.sin_family = AF_INET;
+    to.sin_port = htons(static_cast<std::uint16_t>(port));
+    to.sin_addr.s_addr = htonl(0x7F000001);
+    ::sendto(fd_, payload.data(), payload.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof(to));
+  }
+
+ private:
+  int fd_;
+  bool bound_ = false;
+};
+
+// What the driver must count: the capture's own packets plus every bad datagram sent.
+struct Expected {
+  std::int64_t extra_position = 0, bad_size = 0, bad_block_flag = 0, bad_other = 0, foreign = 0;
+};
+
+// The scans ogf-driver publishes, in order.
+class ScanLog {
+ public:
+  explicit ScanLog(const std::string& url) : lcm_(url) {
+    lcm_.subscribe("BAD_SCAN", &ScanLog::onScan, this)->setQueueCapacity(10000);
+    thread_ = std::thread([this] {
+      while (!stop_) lcm_.handleTimeout(50);
+    });
+  }
+  ~ScanLog() {
+    stop_ = true;
+    thread_.join();
+  }
+  std::vector<ogf::lidar_scan_t> scans() const {
+    std::lock_guard lk(mu_);
+    return scans_;
+  }
+
+ private:
+  void onScan(const lcm::ReceiveBuffer*, const std::string&, const ogf::lidar_scan_t* s) {
+    std::lock_guard lk(mu_);
+    scans_.push_back(*s);
+  }
+  lcm::LCM lcm_;
+  mutable std::mutex mu_;
+  std::vector<ogf::lidar_scan_t> scans_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+Bytes randomBytes(std::mt19937& rng, std::size_t n) {
+  std::uniform_int_distribution<int> byte(0, 255);
+  Bytes b(n);
+  for (auto& x : b) x = static_cast<std::uint8_t>(byte(rng));
+  return b;
+}
+
+TEST(DriverBadInput, EveryBadDatagramIsCountedAndTheValidScansStillComeOut) {
+  OGF_REQUIRE_SHARED_FILE(capture, kCapture);
+  if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
+  const std::string url = ogf::testing::loopbackUdpmUrl(52);
+  ogf::testing::LatestMessage<ogf::driver_status_t> status(url, "BAD_STATUS");
+  ScanLog scans(url);
+  const int data_port = 30000 + static_cast<int>(::getpid() % 20000) + 52;
+  const int position_port = data_port + 1000;
+  const fs::path log = fs::temp_directory_path() / ("ogf-badinput-driver-" + std::to_string(::getpid()) + ".log");
+  ChildProcess driver({OGF_BIN_DIR "/ogf-driver", "--bind-address", "127.0.0.1", "--data-port",
+                       std::to_string(data_port), "--position-port", std::to_string(position_port), "--sensor-ip",
+                       "127.0.0.1", "--lcm-url", url, "--scan-channel", "BAD_SCAN", "--status-channel",
+                       "BAD_STATUS", "--no-packets", "--log-level", "warn"},
+                      log.string());
+  ASSERT_TRUE(driver.started());
+  ASSERT_TRUE(status.waitFor([](const auto&) { return true; }, 15s)) << driver.log();
+
+  // The library on the capture alone, configured as the driver's defaults: the scans to expect, and what the
+  // capture itself holds that is rejected (counted before any bad datagram is added).
+  const auto expected = ogf::testing::decodeCapture(capture, ogf::velodyne::StreamConfig{});
+  Expected want;
+  want.bad_size = expected.counters.bad_size;
+  want.bad_block_flag = expected.counters.bad_block_flag;
+  want.bad_other = expected.counters.bad_other;
+  std::int64_t data_sent = 0, position_sent = 0;
+
+  const Sender sensor(0x7F000001), other_host(0x7F000002);
+  ASSERT_TRUE(sensor.ok() && other_host.ok());
+  std::mt19937 rng(7);
+  // Sizes that are neither a data (1206) nor a position (512) packet.
+  const std::vector<std::size_t> wrong_sizes = {0, 1, 100, 511, 513, 1205, 1207, 1248, 1500, 9000, 65000};
+  const auto sendBadData = [&](const Bytes& valid) {
+    for (std::size_t n : wrong_sizes) {
+      sensor.send(data_port, randomBytes(rng, n));  // truncated, oversized, empty
+      ++want.bad_size;
+    }
+    std::uniform_int_distribution<std::size_t> any_size(0, 2000);
+    for (int i = 0; i < 20; ++i) {
+      std::size_t n = any_size(rng);
+      if (n == ogf::velodyne::wire::kDataPacketSize) ++n;
+      sensor.send(data_port, randomBytes(rng, n));
+      ++want.bad_size;
+    }
+    Bytes random1206 = randomBytes(rng, ogf::velodyne::wire::kDataPacketSize);
+    random1206[0] = 0x00;  // never the 0xEEFF flag by chance
+    sensor.send(data_port, random1206);
+    ++want.bad_block_flag;
+    for (int block = 0; block < 12; ++block) {
+      Bytes flagged = valid;
+      flagged[static_cast<std::size_t>(100 * block)] = 0xFF;  // 0xDDFF: the lower bank of an HDL-64E
+      flagged[static_cast<std::size_t>(100 * block + 1)] = 0xDD;
+      sensor.send(data_port, flagged);
+      ++want.bad_block_flag;
+    }
+    Bytes azimuth = valid;
+    azimuth[3 * 100 + 2] = 0xA1;  // block 3's azimuth 36001 (0x8CA1)
+    azimuth[3 * 100 + 3] = 0x8C;
+    sensor.send(data_port, azimuth);
+    ++want.bad_other;
+    other_host.send(data_port, valid);
+    ++want.foreign;
+  };
+  const auto sendBadPosition = [&](const Bytes& valid) {
+    for (std::size_t n : {std::size_t{0}, std::size_t{511}, std::size_t{513}, std::size_t{1206}}) {
+      sensor.send(position_port, randomBytes(rng, n));
+      ++want.bad_size;
+    }
+    Bytes pps = valid;
+    pps[202] = 9;  // PPS status beyond 3
+    sensor.send(position_port, pps);
+    ++want.bad_other;
+    // Garbage NMEA is not an error (the packet's timestamp and PPS state stand; the sentence gives no fix).
+    Bytes nmea = valid;
+    const Bytes garbage = randomBytes(rng, 306);
+    std::copy(garbage.begin(), garbage.end(), nmea.begin() + 206);
+    nmea[206] = '$';
+    sensor.send(position_port, nmea);
+    ++want.extra_position;
+    Bytes sentence = valid;
+    const std::string fake = "$GPRMC,999999,Q,not,a,fix*00\r\n";
+    std::copy(fake.begin(), fake.end(), sentence.begin() + 206);
+    sensor.send(position_port, sentence);
+    ++want.extra_position;
+    other_host.send(position_port, valid);
+    ++want.foreign;
+  };
+
+  auto reader = ogf::driver_sources::PcapFileReader::open(capture);
+  ASSERT_TRUE(reader);
+  ogf::driver_sources::PcapRecord record;
+  while ((*reader)->next(record) != ogf::driver_sources::ReadStatus::End && (*reader)->error().empty()) {
+    if (record.kind != ogf::driver_sources::FrameKind::Udp) continue;
+    const auto& d = record.datagram;
+    const Bytes payload(d.payload.begin(), d.payload.end());
+    if (d.destination_port == 2368) {
+      sensor.send(data_port, payload);
+      ++data_sent;
+      if (data_sent > kCleanStart && data_sent % 100 == 0) sendBadData(payload);
+    } else if (d.destination_port == 8308) {
+      sensor.send(position_port, payload);
+      ++position_sent;
+      if (data_sent > kCleanStart && position_sent % 20 == 0) sendBadPosition(payload);
+    }
+    std::this_thread::sleep_for(300us);  // about the sensor's own rate
+  }
+  ASSERT_GT(data_sent, kCleanStart);
+  const std::int64_t want_data = expected.counters.data_packets;
+  const std::int64_t want_position = expected.counters.position_packets + want.extra_position;
+
+  const auto counted = status.waitFor(
+      [&](const ogf::driver_status_t& s) {
+        return s.data_packets == want_data && s.position_packets == want_position && s.bad_size == want.bad_size &&
+               s.bad_block_flag == want.bad_block_flag && s.bad_other == want.bad_other &&
+               s.foreign_sender == want.foreign;
+      },
+      20s);
+  const auto s = status.latest();
+  ASSERT_TRUE(s);
+  EXPECT_TRUE(counted) << "status: data " << s->data_packets << "/" << want_data << ", position "
+                       << s->position_packets << "/" << want_position << ", bad_size " << s->bad_size << "/"
+                       << want.bad_size << ", bad_block_flag " << s->bad_block_flag << "/" << want.bad_block_flag
+                       << ", bad_other " << s->bad_other << "/" << want.bad_other << ", foreign_sender "
+                       << s->foreign_sender << "/" << want.foreign;
+  EXPECT_FALSE(driver.wait(0ms).has_value()) << "the driver exited:\n" << driver.log();
+  driver.signal(SIGTERM);  // publishes the scan in progress
+  ASSERT_EQ(driver.wait(20s), 0) << driver.log();
+  std::this_thread::sleep_for(500ms);
+
+  const auto got = scans.scans();
+  ASSERT_EQ(got.size(), expected.scans.size());
+  std::int64_t points = 0;
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    const auto& e = expected.scans[i];
+    ASSERT_EQ(static_cast<std::size_t>(got[i].num_points), e.points.size()) << "scan " << i;
+    EXPECT_EQ(got[i].packets_received, e.packets_received) << "scan " << i;
+    for (std::size_t p = 0; p < e.points.size(); p += 101) {
+      EXPECT_EQ(got[i].x[p], e.points[p].x);
+      EXPECT_EQ(got[i].time_offset_ns[p], e.points[p].time_offset_ns);
+    }
+    points += got[i].num_points;
+  }
+  std::printf("[ figures  ] driver bad input: %lld valid data + %lld position packets, bad_size %lld, "
+              "bad_block_flag %lld, bad_other %lld, foreign_sender %lld counted; %zu scans (%lld points) "
+              "identical to the clean decode\n",
+              static_cast<long long>(want_data), static_cast<long long>(want_position),
+              static_cast<long long>(want.bad_size), static_cast<long long>(want.bad_block_flag),
+              static_cast<long long>(want.bad_other), static_cast<long long>(want.foreign), got.size(),
+              static_cast<long long>(points));
+  fs::remove(log);
+}
+
+}  // namespace
