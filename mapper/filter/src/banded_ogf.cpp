@@ -3,6 +3,8 @@
 #include "ogf/filter/banded_ogf.hpp"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <atomic>
 #include <cmath>
 #include <cstring>
@@ -23,6 +25,27 @@ constexpr std::size_t kSelfBlock = 13;  // (1, 1, 1) in the 3×3×3 neighbourhoo
 
 std::uint32_t colourOf(const CellKey& blockKey) {
   return static_cast<std::uint32_t>((blockKey.x & 1) | ((blockKey.y & 1) << 1) | ((blockKey.z & 1) << 2));
+}
+
+// Sorts a group's codes (position << 1 | y, below 1024): through a 1024-bit set when they are distinct (one
+// measurement per cell, as a scan's are), by std::sort when one repeats.
+void sortCodes(std::span<std::uint16_t> codes) {
+  std::array<std::uint64_t, 16> present{};
+  for (const std::uint16_t c : codes) {
+    std::uint64_t& word = present[c >> 6];
+    const std::uint64_t bit = std::uint64_t{1} << (c & 63U);
+    if ((word & bit) != 0) {
+      std::sort(codes.begin(), codes.end());
+      return;
+    }
+    word |= bit;
+  }
+  std::size_t i = 0;
+  for (std::size_t w = 0; w < present.size(); ++w) {
+    for (std::uint64_t rest = present[w]; rest != 0; rest &= rest - 1) {
+      codes[i++] = static_cast<std::uint16_t>(w * 64 + static_cast<std::size_t>(std::countr_zero(rest)));
+    }
+  }
 }
 
 }  // namespace
@@ -163,8 +186,7 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   }
   for (std::uint32_t r = 0; r < order.size(); ++r) {
     sorted[r] = groups[order[r]];
-    std::sort(batchWork.sorted.begin() + static_cast<std::ptrdiff_t>(sorted[r].begin),
-              batchWork.sorted.begin() + static_cast<std::ptrdiff_t>(sorted[r].end));
+    sortCodes(std::span<std::uint16_t>(batchWork.sorted).subspan(sorted[r].begin, sorted[r].end - sorted[r].begin));
   }
 
   // 3. Every block the batch touches, allocated up front (serially, in order); each group's neighbourhood
