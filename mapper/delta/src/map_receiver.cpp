@@ -6,13 +6,16 @@ namespace {
 // 2^16 parts of 3300 cells is 216 M cells, far beyond any map one mapper keeps; the bound caps what a
 // corrupt part_count can make a client allocate.
 constexpr std::int32_t kMaxParts = 1 << 16;
+// Sequence numbers count updates from 0; 2^62 is beyond any mapper's life and keeps seq + 1 inside int64
+// (a keyframe claiming INT64_MAX made the next-update lookup overflow; found by fuzz_map_delta_stream).
+constexpr std::int64_t kMaxSeq = std::int64_t{1} << 62;
 
 }  // namespace
 
 bool MapReceiver::wellFormed(const ogf::map_delta_t& m) {
   if (m.kind != ogf::map_delta_t::KIND_DELTA && m.kind != ogf::map_delta_t::KIND_KEYFRAME) return false;
   if (m.part_count < 1 || m.part_count > kMaxParts || m.part_index < 0 || m.part_index >= m.part_count) return false;
-  if (m.seq < 0 || !(m.resolution > 0.0)) return false;
+  if (m.seq < 0 || m.seq >= kMaxSeq || !(m.resolution > 0.0)) return false;
   const auto n = static_cast<std::size_t>(m.num_cells);
   return m.num_cells >= 0 && m.key_x.size() == n && m.key_y.size() == n && m.key_z.size() == n &&
          m.probability.size() == n && m.cell_class.size() == n && m.variance.size() == n;
