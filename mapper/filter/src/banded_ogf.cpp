@@ -48,6 +48,16 @@ void sortCodes(std::span<std::uint16_t> codes) {
   }
 }
 
+// Calls visit(l) for every set bit l of a 512-bit set, in increasing order.
+template <class Visit>
+void forEachBit(const std::array<std::uint64_t, 8>& bits, Visit&& visit) {
+  for (std::size_t w = 0; w < bits.size(); ++w) {
+    for (std::uint64_t rest = bits[w]; rest != 0; rest &= rest - 1) {
+      visit(w * 64 + static_cast<std::size_t>(std::countr_zero(rest)));
+    }
+  }
+}
+
 }  // namespace
 
 // The measurements of a batch in one block.
@@ -190,37 +200,60 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   }
 
   // 3. Every block the batch touches, allocated up front (serially, in order); each group's neighbourhood
-  //    of block data kept for step 5.
-  std::vector<CellKey> touched;
+  //    of block data kept for step 5. With a sink, the blocks are also numbered for step 4.
   batchWork.neighbourhoods.assign(sorted.size() * 27, nullptr);
+  batchWork.touchedIndex.clear();
+  batchWork.touched.clear();
+  batchWork.groupTouched.resize(sink != nullptr ? sorted.size() * 27 : 0);
   for (std::size_t r = 0; r < sorted.size(); ++r) {
     const Group& g = sorted[r];
     for (unsigned d = 0; d < 27; ++d) {
       if ((g.neighbours >> d) & 1U) {
         const CellKey key = g.block + CellKey{static_cast<int>(d % 3) - 1, static_cast<int>((d / 3) % 3) - 1,
                                               static_cast<int>(d / 9) - 1};
-        batchWork.neighbourhoods[r * 27 + d] = obtainBlock(key, stats.blocksAllocated).data();
+        float* data = obtainBlock(key, stats.blocksAllocated).data();
+        batchWork.neighbourhoods[r * 27 + d] = data;
         if (sink != nullptr) {
-          touched.push_back(key);
+          bool inserted = false;
+          const auto next = static_cast<std::uint32_t>(batchWork.touched.size());
+          batchWork.groupTouched[r * 27 + d] = batchWork.touchedIndex.findOrInsert(key, next, inserted);
+          if (inserted) {
+            batchWork.touched.push_back({key, data, {}});
+          }
         }
       }
     }
   }
 
-  // 4. Before values (mean, variance) of every touched block, to find what changed.
-  const std::size_t n = storage_.cellsPerBlock();
+  // 4. With a sink: the cells the updates can change (the stencils of the measurements), and their mean and
+  //    variance before, to find what changed. Blocks in key order, cells in position order.
   const std::size_t stride = storage_.floatsPerCell();
+  std::vector<std::uint32_t> touchedOrder;
   std::vector<float> before;
   if (sink != nullptr) {
-    std::sort(touched.begin(), touched.end());
-    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-    before.resize(touched.size() * 2 * n);
-    for (std::size_t b = 0; b < touched.size(); ++b) {
-      const float* d = storage_.find(touched[b])->data();
-      for (std::size_t l = 0; l < n; ++l) {
-        before[(b * n + l) * 2] = d[l * stride];
-        before[(b * n + l) * 2 + 1] = d[l * stride + 1];
+    const std::size_t cells = band_.cells;
+    for (std::size_t r = 0; r < sorted.size(); ++r) {
+      for (std::size_t i = sorted[r].begin; i < sorted[r].end; ++i) {
+        const std::uint16_t* address = band_.address.data() + (batchWork.sorted[i] >> 1) * cells;
+        for (std::size_t c = 0; c < cells; ++c) {
+          TouchedBlock& t = batchWork.touched[batchWork.groupTouched[r * 27 + (address[c] >> 9)]];
+          t.cells[(address[c] & 511U) >> 6] |= std::uint64_t{1} << (address[c] & 63U);
+        }
       }
+    }
+    touchedOrder.resize(batchWork.touched.size());
+    for (std::uint32_t t = 0; t < touchedOrder.size(); ++t) {
+      touchedOrder[t] = t;
+    }
+    std::sort(touchedOrder.begin(), touchedOrder.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return batchWork.touched[a].key < batchWork.touched[b].key;
+    });
+    for (const std::uint32_t t : touchedOrder) {
+      const TouchedBlock& block = batchWork.touched[t];
+      forEachBit(block.cells, [&](std::size_t l) {
+        before.push_back(block.data[l * stride]);
+        before.push_back(block.data[l * stride + 1]);
+      });
     }
   }
 
@@ -261,30 +294,32 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
 
   // 6. Report the cells whose class or quantised probability changed.
   if (sink != nullptr) {
-    for (std::size_t b = 0; b < touched.size(); ++b) {
-      const float* now = storage_.find(touched[b])->data();
-      for (std::size_t l = 0; l < n; ++l) {
-        const float* cell = now + l * stride;
-        const float* old = before.data() + (b * n + l) * 2;
-        if (std::memcmp(cell, old, 2 * sizeof(float)) == 0) {
-          continue;
+    const float* old = before.data();
+    for (const std::uint32_t t : touchedOrder) {
+      const TouchedBlock& block = batchWork.touched[t];
+      forEachBit(block.cells, [&](std::size_t l) {
+        const float* cell = block.data + l * stride;
+        const float* was = old;
+        old += 2;
+        if (std::memcmp(cell, was, 2 * sizeof(float)) == 0) {
+          return;
         }
         const double m1 = static_cast<double>(cell[0]);
         const double s1 = static_cast<double>(cell[1]);
-        const double m0 = static_cast<double>(old[0]);
-        const double s0 = static_cast<double>(old[1]);
+        const double m0 = static_cast<double>(was[0]);
+        const double s0 = static_cast<double>(was[1]);
         CellChange c;
         c.quantisedProbability = quantiseProbability(predictiveProbability(m1, s1));
         c.occupancyClass = occupancyClass(m1, config_.occupiedThreshold, config_.freeThreshold);
         if (c.quantisedProbability == quantiseProbability(predictiveProbability(m0, s0)) &&
             c.occupancyClass == occupancyClass(m0, config_.occupiedThreshold, config_.freeThreshold)) {
-          continue;
+          return;
         }
-        c.key = storage_.cellKey(touched[b], l);
+        c.key = storage_.cellKey(block.key, l);
         c.mean = cell[0];
         c.variance = cell[1];
         sink->cellChanged(c);
-      }
+      });
     }
   }
   return stats;

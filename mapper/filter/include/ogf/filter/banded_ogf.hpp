@@ -10,6 +10,7 @@
 
 #include <ogf/core/cell_key.hpp>
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -81,14 +82,24 @@ class BandedOgf {
   explicit BandedOgf(const FilterConfig& resolved);
   Block& obtainBlock(const CellKey& blockKey, std::size_t& allocated);
   void initialiseBlock(Block& block);
+  // A block the batch's updates reach, and which of its cells they can change (bit per position).
+  struct TouchedBlock {
+    CellKey key;
+    float* data = nullptr;
+    std::array<std::uint64_t, 8> cells{};
+  };
   // Reused from batch to batch: the batch's blocks, per measurement its group and code (position << 1 | y),
-  // the codes in the order of application, and per group the data of its 3×3×3 neighbourhood of blocks.
+  // the codes in the order of application, per group the data of its 3×3×3 neighbourhood of blocks; with a
+  // change sink, the touched blocks and, per group and neighbour, the touched block's number.
   struct Batch {
     BlockKeyTable blocks;
     std::vector<std::uint32_t> groupOf;
     std::vector<std::uint16_t> codes;
     std::vector<std::uint16_t> sorted;
     std::vector<float*> neighbourhoods;
+    BlockKeyTable touchedIndex;
+    std::vector<TouchedBlock> touched;
+    std::vector<std::uint32_t> groupTouched;
   };
   void applyGroup(const Group& group, std::span<const std::uint16_t> codes, float* const* neighbourhood,
                   UpdateStats& stats);
