@@ -27,17 +27,12 @@ bool MapReceiver::addPart(std::map<std::int64_t, Assembly>& table, const ogf::ma
     a.kind = m.kind;
     a.map_id = m.map_id;
     a.part_count = m.part_count;
-    a.have.assign(static_cast<std::size_t>(m.part_count), false);
-    a.parts.resize(static_cast<std::size_t>(m.part_count));
     a.checksum = static_cast<std::uint64_t>(m.map_checksum);
   } else if (a.part_count != m.part_count || a.map_id != m.map_id) {
     return false;
   }
-  const auto idx = static_cast<std::size_t>(m.part_index);
-  if (a.have[idx]) return true;  // duplicate part
-  a.have[idx] = true;
-  ++a.parts_seen;
-  auto& cells = a.parts[idx];
+  if (a.parts.count(m.part_index) != 0) return true;  // duplicate part
+  auto& cells = a.parts[m.part_index];
   cells.reserve(m.key_x.size());
   for (std::size_t i = 0; i < m.key_x.size(); ++i) {
     cells.push_back({{m.key_x[i], m.key_y[i], m.key_z[i]}, m.probability[i], m.cell_class[i], m.variance[i]});
@@ -47,7 +42,7 @@ bool MapReceiver::addPart(std::map<std::int64_t, Assembly>& table, const ogf::ma
 
 void MapReceiver::applyKeyframe(std::int64_t seq, Assembly& a) {
   map_.clear();
-  for (const auto& part : a.parts)
+  for (const auto& [index, part] : a.parts)
     for (const PublishedCell& c : part) map_.set(c);
   applied_seq_ = seq;
   map_id_ = a.map_id;
@@ -67,7 +62,7 @@ MapReceiver::Outcome MapReceiver::drain() {
   while (!need_keyframe_) {
     auto next = deltas_.find(applied_seq_ + 1);
     if (next != deltas_.end() && next->second.complete()) {
-      for (const auto& part : next->second.parts)
+      for (const auto& [index, part] : next->second.parts)
         for (const PublishedCell& c : part) map_.set(c);
       server_checksum_ = next->second.checksum;
       applied_seq_ = next->first;

@@ -54,13 +54,12 @@ class MapReceiver {
     std::int8_t kind = 0;
     std::int64_t map_id = 0;
     std::int32_t part_count = 0;
-    std::int32_t parts_seen = 0;
-    std::vector<bool> have;
-    // Cells by part index: applied in part order whatever order the parts arrived in, so a cell that
-    // appears twice in one update ends as the mapper left it.
-    std::vector<std::vector<PublishedCell>> parts;
+    // Cells by part index, only for the parts that arrived (a part count claims no memory): applied in
+    // part order whatever order the parts arrived in, so a cell that appears twice in one update ends as
+    // the mapper left it.
+    std::map<std::int32_t, std::vector<PublishedCell>> parts;
     std::uint64_t checksum = 0;
-    bool complete() const { return parts_seen == part_count; }
+    bool complete() const { return static_cast<std::int32_t>(parts.size()) == part_count; }
   };
 
   static bool wellFormed(const ogf::map_delta_t& m);
