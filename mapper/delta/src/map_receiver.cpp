@@ -49,11 +49,13 @@ void MapReceiver::applyKeyframe(std::int64_t seq, Assembly& a) {
   server_checksum_ = a.checksum;
   need_keyframe_ = false;
   ++keyframes_applied_;
-  // Everything at or before the keyframe is in it.
+  // Everything at or before the keyframe is in it. `a` is among the keyframes erased here, so nothing of it
+  // is read after (its map id was read after the erase, a use after free found by fuzz_map_delta_stream).
+  const std::int64_t map_id = a.map_id;
   for (auto it = keyframes_.begin(); it != keyframes_.end() && it->first <= seq;) it = keyframes_.erase(it);
   for (auto it = deltas_.begin(); it != deltas_.end() && it->first <= seq;) it = deltas_.erase(it);
   for (auto it = deltas_.begin(); it != deltas_.end();) {
-    it = (it->second.map_id != a.map_id) ? deltas_.erase(it) : std::next(it);
+    it = (it->second.map_id != map_id) ? deltas_.erase(it) : std::next(it);
   }
 }
 

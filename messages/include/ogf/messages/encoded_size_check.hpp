@@ -42,10 +42,10 @@ class CountReader {
     pos_ += 4;
     return static_cast<std::int32_t>(v);
   }
-  // A string: int32 length (with the NUL), then the bytes.
+  // A string: int32 length (with the NUL, so at least 1), then the bytes.
   bool string() {
     const auto n = int32();
-    return n && *n >= 0 && skip(static_cast<std::size_t>(*n));
+    return n && *n >= 1 && skip(static_cast<std::size_t>(*n));
   }
   std::size_t remaining() const { return size_ - pos_; }
   bool ok() const { return ok_; }
@@ -107,6 +107,39 @@ struct EncodedSizeCheck<ogf::velodyne_packets_t> {
     if (auto e = checkCount(r, n, 16, kMaxPacketsPerBatch, "num_packets")) return e;
     r.skip(static_cast<std::size_t>(*n) * 16);
     return checkCount(r, r.int32(), 1, static_cast<std::int64_t>(kMaxPacketsPerBatch) * kMaxPacketBytes, "num_bytes");
+  }
+};
+
+// Types whose only variable fields are strings: lcm-gen's decode trusts a string's length too, and a length
+// of -2^31 wraps to 2^31 - 1 (assign() then reads 2 GiB past the buffer; a 37-byte map_request_t did that
+// to ogf-mapper, found by tests/fuzz/messages). Each string's length must be within what remains.
+template <>
+struct EncodedSizeCheck<ogf::map_request_t> {
+  static std::optional<std::string> check(const void* data, std::size_t size) {
+    CountReader r(data, size);
+    if (!(r.skip(8 + 8) && r.string())) return "requester: length beyond the buffer";
+    return std::nullopt;
+  }
+};
+
+template <>
+struct EncodedSizeCheck<ogf::driver_status_t> {
+  static std::optional<std::string> check(const void* data, std::size_t size) {
+    CountReader r(data, size);
+    if (!(r.skip(8 + 8) && r.string())) return "source: length beyond the buffer";
+    // model, return_mode, three rates, nine counters, pps_state, gps_fix_valid, then nmea.
+    if (!(r.skip(1 + 1 + 3 * 4 + 9 * 8 + 1 + 1) && r.string())) return "nmea: length beyond the buffer";
+    return std::nullopt;
+  }
+};
+
+template <>
+struct EncodedSizeCheck<ogf::mapper_status_t> {
+  static std::optional<std::string> check(const void* data, std::size_t size) {
+    CountReader r(data, size);
+    // utime and nine counters, three timings, five more int64, persistence_ok, then persistence_error.
+    if (!(r.skip(8 + 10 * 8 + 3 * 4 + 5 * 8 + 1) && r.string())) return "persistence_error: length beyond the buffer";
+    return std::nullopt;
   }
 };
 

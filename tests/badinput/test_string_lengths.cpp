@@ -1,0 +1,66 @@
+// Messages whose string length fields lie: lcm-gen's decode trusts them, and a length of -2^31 wraps to
+// 2^31 - 1, so a 37-byte map_request_t (which ogf-mapper receives on OGF_MAP_REQUEST) made it allocate and
+// read 2 GiB past the buffer. The safe decode must refuse every such message of every type with a string,
+// and still decode the valid ones.
+#include <gtest/gtest.h>
+
+#include <ogf/driver_status_t.hpp>
+#include <ogf/map_request_t.hpp>
+#include <ogf/mapper_status_t.hpp>
+#include <ogf/odometry_t.hpp>
+
+#include <cstdint>
+#include <limits>
+
+#include "lcm_bytes.hpp"
+#include "ogf/messages/decode_message.hpp"
+
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+
+// `bytes` with the int32 at `at` replaced by `value` (big-endian).
+Bytes withInt32At(Bytes bytes, std::size_t at, std::int32_t value) {
+  const auto v = static_cast<std::uint32_t>(value);
+  for (std::size_t i = 0; i < 4; ++i) bytes[at + i] = static_cast<std::uint8_t>(v >> (24 - 8 * i));
+  return bytes;
+}
+
+// Every lying length at string-length offset `at` is refused; the valid message decodes.
+template <class Message>
+void expectLyingLengthsRefused(const Message& valid, std::size_t at) {
+  const Bytes good = ogf::testing::encodeMessage(valid);
+  Message out;
+  EXPECT_FALSE(ogf::messages::decodeMessage(good.data(), good.size(), out).has_value());
+  for (const std::int32_t lie : {std::numeric_limits<std::int32_t>::min(), -1, 0, 1 << 20,
+                                 std::numeric_limits<std::int32_t>::max()}) {
+    const Bytes bad = withInt32At(good, at, lie);
+    Message m;
+    EXPECT_TRUE(ogf::messages::decodeMessage(bad.data(), bad.size(), m).has_value())
+        << Message::getTypeName() << " with a string length " << lie << " at byte " << at;
+  }
+}
+
+TEST(StringLengths, LyingLengthsAreRefusedInEveryTypeWithAString) {
+  ogf::map_request_t request{};
+  request.requester = "client";
+  expectLyingLengthsRefused(request, 16);
+
+  ogf::odometry_t odometry{};
+  odometry.frame_id = "odom";
+  odometry.child_frame_id = "base";
+  expectLyingLengthsRefused(odometry, 16);
+  expectLyingLengthsRefused(odometry, 16 + 4 + 5);
+
+  ogf::driver_status_t driver{};
+  driver.source = "udp";
+  driver.nmea = "$GPRMC";
+  expectLyingLengthsRefused(driver, 16);
+  expectLyingLengthsRefused(driver, 16 + 4 + 4 + 1 + 1 + 12 + 72 + 1 + 1);
+
+  ogf::mapper_status_t mapper{};
+  mapper.persistence_error = "disk full";
+  expectLyingLengthsRefused(mapper, 8 + 80 + 12 + 40 + 1);
+}
+
+}  // namespace
