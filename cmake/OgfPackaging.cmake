@@ -1,0 +1,58 @@
+# Installation layout beyond the programs, and the Debian package (CPack DEB) of the whole project.
+# Included last from the top-level CMakeLists.txt, once every install() rule exists.
+#
+#   cmake --install build --prefix /tmp/x     bin/ogf-*, lib/systemd/system/*, etc/ogf/*.yaml,
+#                                              lib/sysctl.d/, share/java/lcmtypes_ogf.jar, share/doc/ogf/
+#   cd build && cpack                          ogf_<version>-1_<arch>.deb: the same under /usr, with the
+#                                              configuration in /etc/ogf (conffiles) and units in
+#                                              /lib/systemd/system (packaging/debian-layout.cmake)
+#
+# Depends is computed by dpkg-shlibdeps (package dpkg-dev) from the programs' shared libraries. The
+# maintainer scripts (packaging/debian/) reload systemd but enable and start nothing.
+
+# Documentation the units' Documentation= line points at (file:///usr/share/doc/ogf/README.md).
+install(FILES "${PROJECT_SOURCE_DIR}/README.md" DESTINATION "${CMAKE_INSTALL_DOCDIR}")
+install(DIRECTORY "${PROJECT_SOURCE_DIR}/docs/" DESTINATION "${CMAKE_INSTALL_DOCDIR}" FILES_MATCHING PATTERN "*.md")
+install(FILES "${PROJECT_SOURCE_DIR}/packaging/debian/copyright" DESTINATION "${CMAKE_INSTALL_DOCDIR}")
+
+set(OGF_PACKAGE_MAINTAINER "ogf maintainers <maintainers@users.noreply.h-seed-a49a0451.example>"
+    CACHE STRING "Maintainer field of the Debian package")
+
+set(CPACK_GENERATOR "DEB")
+set(CPACK_SOURCE_GENERATOR "TGZ")
+set(CPACK_PACKAGE_NAME "ogf")
+set(CPACK_PACKAGE_VENDOR "ogf")
+set(CPACK_PACKAGE_VERSION "${PROJECT_VERSION}")
+set(CPACK_PACKAGE_CONTACT "${OGF_PACKAGE_MAINTAINER}")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "${PROJECT_DESCRIPTION}")
+set(CPACK_PACKAGING_INSTALL_PREFIX "/usr")
+set(CPACK_STRIP_FILES ON)
+set(CPACK_PRE_BUILD_SCRIPTS "${PROJECT_SOURCE_DIR}/packaging/debian-layout.cmake")
+
+set(CPACK_DEBIAN_PACKAGE_NAME "ogf")
+set(CPACK_DEBIAN_PACKAGE_RELEASE 1)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_MAINTAINER "${OGF_PACKAGE_MAINTAINER}")
+set(CPACK_DEBIAN_PACKAGE_SECTION "science")
+set(CPACK_DEBIAN_PACKAGE_PRIORITY "optional")
+set(CPACK_DEBIAN_COMPRESSION_TYPE "xz")
+# The synopsis is CPACK_PACKAGE_DESCRIPTION_SUMMARY; this is the extended part (lines under 80 columns).
+set(CPACK_DEBIAN_PACKAGE_DESCRIPTION "ogf-driver reads a Velodyne VLP-16 (or HDL-32E, VLP-32C) over UDP or a
+capture and publishes scans on LCM; ogf-mapper builds an occupancy map from
+them with the Occupancy Grid Filter and keeps it across restarts. Both run
+as hardened systemd services (ogf.target, not enabled on install). Also
+ships the replay, simulation, decoding, map and evaluation tools, and
+lcmtypes_ogf.jar for lcm-spy.")
+# Depends from the ELF programs' DT_NEEDED, through dpkg-shlibdeps and the shlibs of installed packages.
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+# lcm-logger records the bus on the robot; lcm-spy (a Java GUI, usually on a laptop) needs the rest.
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "liblcm-bin")
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS "liblcm-java, libjchart2d-java, default-jre")
+set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA
+    "${PROJECT_SOURCE_DIR}/packaging/debian/conffiles"
+    "${PROJECT_SOURCE_DIR}/packaging/debian/postinst"
+    "${PROJECT_SOURCE_DIR}/packaging/debian/prerm"
+    "${PROJECT_SOURCE_DIR}/packaging/debian/postrm")
+set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
+
+include(CPack)
