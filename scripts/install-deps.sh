@@ -14,6 +14,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev liboctomap-dev
   # fuzzing (clang's libFuzzer runtime) and tooling used by the tests
   clang libclang-rt-14-dev iproute2 unzip python3
+  # packaging: cpack's Depends (dpkg-shlibdeps), the package check, the clean Debian 12 to install it in
+  dpkg-dev lintian debootstrap
 )
 
 missing=()
