@@ -160,6 +160,10 @@ int main(int argc, char** argv) {
   }
 
   int rc = kExitOk;
+  if (run->reversed_steps_repaired > 0) {
+    fail("odometry moved forward in " + std::to_string(run->reversed_steps_repaired) +
+         " steps while ODOM's tv was negative; their translation was reversed");
+  }
   if (!out_path.empty()) {
     std::ofstream out(out_path);
     for (std::size_t i = 0; i < log.lasers.size(); ++i) {

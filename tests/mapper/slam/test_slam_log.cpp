@@ -54,6 +54,27 @@ TEST(SlamLog, LaserOffsetIsTheLaserPoseSeenFromTheRobot) {
   EXPECT_NEAR(scan.sensor_pose.x, 0.04, 1e-6);
 }
 
+TEST(SlamLog, ForwardOdometryWhileReversingIsRepaired) {
+  // ODOM says tv = -0.5 m/s, yet the laser records' odometry advances along the heading (fr079's defect).
+  std::istringstream in("ODOM 0 0 0 -0.5 0 0 1.0 host 0\n" + flaser(0, 0, 0, 0, 0, 0, "1.0") +
+                        flaser(0, 0, 0, 0.5, 0, 0, "2.0") + "ODOM 0 0 0 -0.5 0 0 2.0 host 0\n" +
+                        flaser(0, 0, 0, 1.0, 0, 0, "3.0") + "ODOM 0 0 0 0.5 0 0 3.0 host 0\n");
+  const SlamLog log = readSlamLog(in, "mem");
+  std::vector<slam::Pose2> odo = odometryAtLaserStamps(log, OdometrySource::kLaserRecords);
+  EXPECT_EQ(repairReversedOdometry(log, odo), 1U);
+  EXPECT_NEAR(odo[1].x, -0.5, 1e-12);  // reversed
+  EXPECT_NEAR(odo[2].x, 0.0, 1e-12);   // tv > 0 at 3.0: the forward step stays forward
+}
+
+TEST(SlamLog, OdometryThatReversesCorrectlyIsLeftAlone) {
+  std::istringstream in("ODOM 0 0 0 -0.5 0 0 1.0 host 0\n" + flaser(0, 0, 0, 0, 0, 0, "1.0") +
+                        flaser(0, 0, 0, -0.5, 0, 0, "2.0"));
+  const SlamLog log = readSlamLog(in, "mem");
+  std::vector<slam::Pose2> odo = odometryAtLaserStamps(log, OdometrySource::kLaserRecords);
+  EXPECT_EQ(repairReversedOdometry(log, odo), 0U);
+  EXPECT_NEAR(odo[1].x, -0.5, 1e-12);
+}
+
 TEST(SlamLog, MaxRecordsStopsReading) {
   std::istringstream in(flaser(0, 0, 0, 0, 0, 0, "1.0") + flaser(0, 0, 0, 0, 0, 0, "2.0") +
                         "garbage FLASER\n");

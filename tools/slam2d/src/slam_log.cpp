@@ -64,6 +64,39 @@ std::vector<slam::Pose2> odometryAtLaserStamps(const SlamLog& log, OdometrySourc
   return out;
 }
 
+namespace {
+// Translational velocity below which a step counts as reversing, m/s; ODOM prints tv to 1 mm/s.
+constexpr double kReversingTv = -0.02;
+// A forward component below this is no motion, m.
+constexpr double kStillStep = 1e-3;
+}  // namespace
+
+std::size_t repairReversedOdometry(const SlamLog& log, std::vector<slam::Pose2>& odometry) {
+  const auto& odom = log.odometry;
+  if (odom.empty() || odometry.size() != log.lasers.size() || odometry.empty()) return 0;
+  std::size_t repaired = 0;
+  std::vector<slam::Pose2> out(odometry.size());
+  out[0] = odometry[0];
+  for (std::size_t i = 1; i < odometry.size(); ++i) {
+    slam::Pose2 step = slam::between(odometry[i - 1], odometry[i]);
+    const double t = log.lasers[i].stamp.ipc_timestamp;
+    auto it = std::lower_bound(odom.begin(), odom.end(), t,
+                               [](const auto& o, double s) { return o.stamp.ipc_timestamp < s; });
+    if (it == odom.end() ||
+        (it != odom.begin() && t - std::prev(it)->stamp.ipc_timestamp < it->stamp.ipc_timestamp - t)) {
+      it = std::prev(it);
+    }
+    if (it->tv < kReversingTv && step.x > kStillStep) {
+      step.x = -step.x;
+      step.y = -step.y;
+      ++repaired;
+    }
+    out[i] = slam::compose(out[i - 1], step);
+  }
+  if (repaired > 0) odometry = std::move(out);
+  return repaired;
+}
+
 slam::Pose2 laserOffset(const SlamLog& log) {
   if (log.lasers.empty()) return {};
   const auto& r = log.lasers.front();

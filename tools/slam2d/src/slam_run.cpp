@@ -10,6 +10,7 @@ Result<SlamRunResult> runSlam(const SlamLog& log, OdometrySource odometry,
   if (!corrector) return corrector.error();
   SlamRunResult out;
   out.odometry = odometryAtLaserStamps(log, odometry);
+  out.reversed_steps_repaired = repairReversedOdometry(log, out.odometry);
   const slam::Pose2 offset = laserOffset(log);
   for (std::size_t i = 0; i < log.lasers.size(); ++i) {
     (void)corrector->correct(out.odometry[i], toPlanarScan(log.lasers[i], offset));

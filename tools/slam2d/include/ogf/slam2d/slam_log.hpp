@@ -35,6 +35,14 @@ enum class OdometrySource {
 // when the log has no ODOM line, the record's robot pose.
 std::vector<slam::Pose2> odometryAtLaserStamps(const SlamLog& log, OdometrySource source);
 
+// Repairs odometry that moves forward while the robot reverses: in fr079 every step with a negative
+// ODOM tv (200 laser steps at -0.5 m/s) advances the odometry pose along its heading, which the
+// ground-truth relations and the scans contradict. Each step between consecutive laser records whose
+// nearest ODOM line has tv < 0 and whose translation points forward gets its translation negated; the
+// poses are then chained again. Logs without ODOM lines, or without such steps, are left as they are.
+// Returns the number of steps repaired.
+std::size_t repairReversedOdometry(const SlamLog& log, std::vector<slam::Pose2>& odometry);
+
 // The laser's pose on the robot, from the first record's laser pose seen from its robot pose (fr079's
 // laser sits 0.04 m ahead of the robot centre; the other logs give zero).
 slam::Pose2 laserOffset(const SlamLog& log);

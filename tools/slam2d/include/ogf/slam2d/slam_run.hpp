@@ -14,7 +14,8 @@
 namespace ogf::slam2d {
 
 struct SlamRunResult {
-  std::vector<slam::Pose2> odometry;   // per laser record
+  std::vector<slam::Pose2> odometry;  // per laser record, after repairReversedOdometry
+  std::size_t reversed_steps_repaired = 0;
   std::vector<slam::Pose2> corrected;  // per laser record, with hindsight
   slam::GridFastSlamStatistics statistics;
   std::optional<slam::TiledGrid> map;  // the best particle's (absent in mode none)
