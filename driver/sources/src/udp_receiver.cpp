@@ -1,6 +1,7 @@
 #include "ogf/driver_sources/udp_receiver.hpp"
 
 #include <arpa/inet.h>
+#include <linux/sock_diag.h>
 #include <sys/socket.h>
 #include <sys/time.h>
 
@@ -9,6 +10,16 @@
 #include <cstring>
 
 namespace ogf::driver_sources {
+namespace {
+
+// The kernel's counter is 32 bits; carry its wraps into 64. A datagram queued before the last SO_MEMINFO
+// read carries an older (smaller) count: a step back, not a wrap, so it changes nothing.
+std::uint64_t widenDropCount(std::uint32_t now, std::uint64_t previous) {
+  const auto step = static_cast<std::int32_t>(now - static_cast<std::uint32_t>(previous));
+  return step > 0 ? previous + static_cast<std::uint64_t>(step) : previous;
+}
+
+}  // namespace
 
 UdpReceiver::UdpReceiver(boost::asio::io_context& io, Handler handler)
     : socket_(io), handler_(std::move(handler)) {}
@@ -36,6 +47,7 @@ velodyne::Result<std::unique_ptr<UdpReceiver>> UdpReceiver::open(boost::asio::io
   r->granted_buffer_ = granted.value();
   const int on = 1;
   ::setsockopt(r->socket_.native_handle(), SOL_SOCKET, SO_TIMESTAMP, &on, sizeof(on));
+  ::setsockopt(r->socket_.native_handle(), SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof(on));
   r->socket_.bind(endpoint, ec);
   if (ec) return velodyne::Error{"udp " + where + ": bind: " + ec.message()};
   r->socket_.non_blocking(true, ec);
@@ -57,7 +69,7 @@ void UdpReceiver::drain() {
   for (int i = 0; i < 1024; ++i) {
     sockaddr_in from{};
     iovec iov{buffer_.data(), buffer_.size()};
-    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timeval))];
+    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timeval)) + CMSG_SPACE(sizeof(std::uint32_t))];
     msghdr msg{};
     msg.msg_name = &from;
     msg.msg_namelen = sizeof(from);
@@ -82,12 +94,27 @@ void UdpReceiver::drain() {
       if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMP) {
         std::memcpy(&stamp, CMSG_DATA(c), sizeof(stamp));
         have_stamp = true;
+      } else if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_RXQ_OVFL) {
+        // The socket's cumulative drop counter (a u32 that wraps) as this datagram was queued.
+        std::uint32_t drops = 0;
+        std::memcpy(&drops, CMSG_DATA(c), sizeof(drops));
+        kernel_drops_ = widenDropCount(drops, kernel_drops_);
       }
     }
     if (!have_stamp) ::gettimeofday(&stamp, nullptr);
     d.utime = static_cast<std::int64_t>(stamp.tv_sec) * 1'000'000 + stamp.tv_usec;
     handler_(d);
   }
+}
+
+std::uint64_t UdpReceiver::kernelDrops() {
+  // SO_MEMINFO (Linux 4.6) fills SK_MEMINFO_VARS u32 values, the drop counter among them.
+  std::uint32_t meminfo[SK_MEMINFO_VARS] = {};
+  socklen_t len = sizeof(meminfo);
+  if (::getsockopt(socket_.native_handle(), SOL_SOCKET, SO_MEMINFO, meminfo, &len) == 0 &&
+      len >= (SK_MEMINFO_DROPS + 1) * sizeof(std::uint32_t))
+    kernel_drops_ = widenDropCount(meminfo[SK_MEMINFO_DROPS], kernel_drops_);
+  return kernel_drops_;
 }
 
 }  // namespace ogf::driver_sources

@@ -1,6 +1,9 @@
 // Receives UDP datagrams on one port through Boost.Asio, with the kernel receive timestamp (SO_TIMESTAMP)
 // of each, and asks for a large SO_RCVBUF so a burst at the sensor's packet rate is not dropped by the
-// kernel. Non-blocking: datagrams are drained on each readiness notification.
+// kernel. Non-blocking: datagrams are drained on each readiness notification. Datagrams the kernel dropped
+// on this socket (receive buffer full) are counted: SO_RXQ_OVFL hands the socket's drop counter to every
+// received datagram (socket(7)), and SO_MEMINFO reads it at any moment, so drops after the last datagram
+// are counted too.
 #pragma once
 
 #include <array>
@@ -37,6 +40,9 @@ class UdpReceiver {
   std::uint16_t port() const { return port_; }
   // Datagrams longer than the buffer (cut by the kernel): counted, not delivered.
   std::uint64_t oversized() const { return oversized_; }
+  // Datagrams the kernel dropped on this socket since it was opened (its receive buffer was full), as of
+  // now: the latest of SO_RXQ_OVFL's count and SO_MEMINFO's (the same kernel counter, sk_drops).
+  std::uint64_t kernelDrops();
 
  private:
   UdpReceiver(boost::asio::io_context& io, Handler handler);
@@ -48,6 +54,7 @@ class UdpReceiver {
   int granted_buffer_ = 0;
   std::uint16_t port_ = 0;
   std::uint64_t oversized_ = 0;
+  std::uint64_t kernel_drops_ = 0;
   std::array<std::uint8_t, 65536> buffer_{};
 };
 
