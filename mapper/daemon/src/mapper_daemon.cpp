@@ -73,11 +73,31 @@ MapperDaemon::MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, transpor
 
 MapperDaemon::~MapperDaemon() { stop(); }
 
-void MapperDaemon::persistenceFailed(const std::string& what) {
-  spdlog::error("persistence: {}; mapping goes on in memory", what);
+void MapperDaemon::persistenceFailed(const std::string& what, bool retry) {
   std::lock_guard lk(mu_);
+  // Said once per failure, not at every retry that meets the same one.
+  if (stats_.persistence_ok || stats_.persistence_error != what)
+    spdlog::error("persistence: {}; mapping goes on in memory{}", what,
+                  retry ? ", the state directory is tried again at each snapshot" : "");
   stats_.persistence_ok = false;
   stats_.persistence_error = what;
+  retry_persistence_ = retry;
+}
+
+bool MapperDaemon::applyRecovered(const persistence::RecoveredState& rec, const std::string& snapshot_source) {
+  for (const auto& note : rec.notes) spdlog::warn("state directory: {}", note);
+  if (!rec.snapshot_map.empty()) {
+    if (auto st = mapper_.restoreFilter(rec.snapshot_map, snapshot_source); !st) {
+      spdlog::error("state directory: {}; starting a new map", st.error().message);
+      return false;
+    }
+  }
+  for (const auto& r : rec.replay) mapper_.apply(r.measurements);
+  snapshot_seq_ = rec.snapshot_seq;
+  spdlog::info("restored map {} at seq {} (snapshot {} + {} journal records): {} cells, checksum {:016x}", rec.map_id,
+               rec.last_seq, rec.snapshot_seq, rec.replay.size(), mapper_.filter().allocatedCells(),
+               mapper_.filter().checksum());
+  return true;
 }
 
 void MapperDaemon::restore() {
@@ -85,7 +105,19 @@ void MapperDaemon::restore() {
   if (!options_.state_dir.empty()) {
     auto dir = persistence::StateDirectory::open(options_.state_dir);
     if (!dir) {
-      persistenceFailed(dir.error().message);
+      persistenceFailed(dir.error().message, true);
+      // A directory that can be read but not written (read-only): still map on from the saved map, so that
+      // once it is writable again the next snapshot holds the saved map and what was mapped since, instead
+      // of replacing it with a map that lacks it.
+      auto rec = persistence::StateDirectory::read(options_.state_dir, newMapId());
+      if (!rec) {
+        spdlog::error("state directory: {}; starting a new map in memory and not persisting", rec.error().message);
+        retry_persistence_ = false;  // never write over a map that could not be read
+      } else if (applyRecovered(*rec, (options_.state_dir / "snapshot.ogfs").string())) {
+        seq = rec->last_seq;
+      } else {
+        retry_persistence_ = false;
+      }
     } else {
       auto rec = dir->recover(newMapId());
       if (!rec) {
@@ -99,27 +131,12 @@ void MapperDaemon::restore() {
         rec = dir->recover(newMapId());
       }
       if (!rec) {
-        persistenceFailed(rec.error().message);
+        persistenceFailed(rec.error().message, true);
+      } else if (applyRecovered(*rec, dir->snapshotPath().string())) {
+        seq = rec->last_seq;
+        state_.emplace(std::move(*dir));
       } else {
-        for (const auto& note : rec->notes) spdlog::warn("state directory: {}", note);
-        bool ok = true;
-        if (!rec->snapshot_map.empty()) {
-          if (auto st = mapper_.restoreFilter(rec->snapshot_map, dir->snapshotPath().string()); !st) {
-            spdlog::error("state directory: {}; starting a new map", st.error().message);
-            ok = false;
-          }
-        }
-        if (ok) {
-          for (const auto& r : rec->replay) mapper_.apply(r.measurements);
-          seq = rec->last_seq;
-          snapshot_seq_ = rec->snapshot_seq;
-          state_.emplace(std::move(*dir));
-          spdlog::info("restored map {} at seq {} (snapshot {} + {} journal records): {} cells, checksum {:016x}",
-                       rec->map_id, seq, rec->snapshot_seq, rec->replay.size(), mapper_.filter().allocatedCells(),
-                       mapper_.filter().checksum());
-        } else {
-          persistenceFailed("the saved map does not fit the configuration (see the log); not persisting");
-        }
+        persistenceFailed("the saved map does not fit the configuration (see the log); not persisting", false);
       }
     }
   }
@@ -284,7 +301,7 @@ void MapperDaemon::workerLoop() {
     lk.unlock();
     const auto now = steadyUtime();
     if (keyframe || now - last_keyframe_steady_ > keyframe_us) publishKeyframe();
-    if (state_ && now - last_snapshot_steady_ > snapshot_us) takeSnapshot();
+    if ((state_ || retry_persistence_) && now - last_snapshot_steady_ > snapshot_us) takeSnapshot();
     lk.lock();
   }
 }
@@ -296,7 +313,7 @@ void MapperDaemon::mapScan(const ScanPtr& scan) {
   if (state_) {
     if (auto st = state_->journal(seq, scan->utime, measurements); !st) {
       state_.reset();
-      persistenceFailed(st.error().message);
+      persistenceFailed(st.error().message, true);
     }
   }
   changes_.clear();
@@ -346,12 +363,13 @@ void MapperDaemon::publishKeyframe() {
 
 void MapperDaemon::takeSnapshot() {
   last_snapshot_steady_ = steadyUtime();
-  if (!state_ && !options_.state_dir.empty()) {
-    // Persistence failed earlier: try the directory again, starting over with a full snapshot.
+  if (!state_ && retry_persistence_) {
+    // Persistence failed earlier (no space, read-only, I/O error): try the directory again, starting over
+    // with a full snapshot of the map in memory.
     auto dir = persistence::StateDirectory::open(options_.state_dir);
-    if (!dir) return;
+    if (!dir) return persistenceFailed(dir.error().message, true);
     auto rec = dir->recover(deltas_.mapId());
-    if (!rec) return;
+    if (!rec) return persistenceFailed(rec.error().message, true);
     state_.emplace(std::move(*dir));
     snapshot_seq_ = -1;
   }
@@ -359,12 +377,14 @@ void MapperDaemon::takeSnapshot() {
   const auto bytes = filter::encodeMap(mapper_.filter());
   if (auto st = state_->snapshot(deltas_.seq(), bytes); !st) {
     state_.reset();
-    persistenceFailed(st.error().message);
+    persistenceFailed(st.error().message, true);
     return;
   }
   snapshot_seq_ = deltas_.seq();
   spdlog::info("snapshot at seq {}: {} bytes", snapshot_seq_, bytes.size());
   std::lock_guard lk(mu_);
+  if (!stats_.persistence_ok) spdlog::info("persistence: {} is written again; the map is saved at seq {}",
+                                           options_.state_dir.string(), snapshot_seq_);
   stats_.persistence_ok = true;
   stats_.persistence_error.clear();
 }

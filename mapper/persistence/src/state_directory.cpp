@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -65,11 +66,43 @@ Result<StateDirectory> StateDirectory::open(const std::filesystem::path& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) return Error{dir.string() + ": cannot create the state directory: " + ec.message()};
-  if (::access(dir.c_str(), W_OK) != 0) return Error{dir.string() + ": the state directory is not writable"};
+  if (::access(dir.c_str(), W_OK) != 0)
+    return Error{dir.string() + ": the state directory is not writable: " + std::strerror(errno)};
   return StateDirectory(dir);
 }
 
+Result<RecoveredState> StateDirectory::read(const std::filesystem::path& dir, std::int64_t new_map_id) {
+  std::optional<JournalContents> resumable;
+  return StateDirectory(dir).readState(new_map_id, resumable);
+}
+
 Result<RecoveredState> StateDirectory::recover(std::int64_t new_map_id) {
+  std::optional<JournalContents> resumable;
+  auto state = readState(new_map_id, resumable);
+  if (!state) return state.error();
+  RecoveredState& out = *state;
+  map_id_ = out.map_id;
+  writer_.reset();
+  if (resumable) {
+    // The journal continues the snapshot: keep appending to it.
+    auto w = JournalWriter::resume(journalPath(), *resumable);
+    if (!w) return w.error();
+    writer_.emplace(std::move(*w));
+  } else {
+    // No journal to continue: write the replayed records into a fresh one after the snapshot, so the
+    // directory again holds snapshot + journal = the map.
+    auto w = JournalWriter::create(journalPath(), map_id_, out.snapshot_seq);
+    if (!w) return w.error();
+    writer_.emplace(std::move(*w));
+    for (const auto& rec : out.replay)
+      if (auto st = writer_->append(rec.seq, rec.utime, rec.measurements); !st) return st.error();
+    if (auto st = writer_->flush(); !st) return st.error();
+  }
+  return state;
+}
+
+Result<RecoveredState> StateDirectory::readState(std::int64_t new_map_id,
+                                                 std::optional<JournalContents>& resumable) const {
   RecoveredState out;
   std::error_code ec;
   if (std::filesystem::exists(snapshotPath(), ec)) {
@@ -107,26 +140,10 @@ Result<RecoveredState> StateDirectory::recover(std::int64_t new_map_id) {
       }
       if (skipped != 0)
         out.notes.push_back(std::to_string(skipped) + " journal records already in the snapshot were skipped");
-      if (skipped == 0 && out.snapshot_seq == contents->base_seq) {
-        // The journal continues the snapshot: keep appending to it.
-        auto w = JournalWriter::resume(journalPath(), *contents);
-        if (!w) return w.error();
-        writer_.emplace(std::move(*w));
-      }
+      if (skipped == 0 && out.snapshot_seq == contents->base_seq) resumable = std::move(*contents);
     }
   }
   if (out.map_id == 0) out.map_id = new_map_id;
-  map_id_ = out.map_id;
-  if (!writer_) {
-    // No journal to continue: write the replayed records into a fresh one after the snapshot, so the
-    // directory again holds snapshot + journal = the map.
-    auto w = JournalWriter::create(journalPath(), map_id_, out.snapshot_seq);
-    if (!w) return w.error();
-    writer_.emplace(std::move(*w));
-    for (const auto& rec : out.replay)
-      if (auto st = writer_->append(rec.seq, rec.utime, rec.measurements); !st) return st.error();
-    if (auto st = writer_->flush(); !st) return st.error();
-  }
   return out;
 }
 

@@ -127,4 +127,32 @@ TEST_F(StateDirectoryTest, UnusablePathIsAnErrorNamingIt) {
   fs::remove(dir_.string() + "-file");
 }
 
+TEST_F(StateDirectoryTest, ReadGivesWhatRecoverWouldAndWritesNothing) {
+  const std::vector<std::uint8_t> map{1, 2, 3};
+  {
+    auto sd = StateDirectory::open(dir_);
+    ASSERT_TRUE(sd->recover(7).ok());
+    for (int i = 1; i <= 2; ++i) ASSERT_TRUE(sd->journal(i, 0, set(i)).ok());
+    ASSERT_TRUE(sd->snapshot(2, map).ok());
+    ASSERT_TRUE(sd->journal(3, 0, set(3)).ok());
+  }
+  const auto journal_size = fs::file_size(dir_ / "journal.ogfj");
+  const auto snapshot_time = fs::last_write_time(dir_ / "snapshot.ogfs");
+  auto r = StateDirectory::read(dir_, 99);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r->map_id, 7);
+  EXPECT_EQ(r->snapshot_seq, 2);
+  EXPECT_EQ(r->snapshot_map, map);
+  ASSERT_EQ(r->replay.size(), 1u);
+  EXPECT_EQ(r->replay[0].measurements, set(3));
+  EXPECT_EQ(r->last_seq, 3);
+  EXPECT_EQ(fs::file_size(dir_ / "journal.ogfj"), journal_size);
+  EXPECT_EQ(fs::last_write_time(dir_ / "snapshot.ogfs"), snapshot_time);
+  // A directory that does not exist reads as a new map, and is not created.
+  auto none = StateDirectory::read(dir_ / "absent", 5);
+  ASSERT_TRUE(none.ok());
+  EXPECT_EQ(none->map_id, 5);
+  EXPECT_FALSE(fs::exists(dir_ / "absent"));
+}
+
 }  // namespace

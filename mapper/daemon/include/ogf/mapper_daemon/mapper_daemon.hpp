@@ -67,7 +67,10 @@ class MapperDaemon {
   void publishCorrectedPose(std::int64_t utime, const correction::ScanCorrection& applied);
   void publishKeyframe();
   void takeSnapshot();
-  void persistenceFailed(const std::string& what);
+  // Logs (once per distinct failure) and reports it in the status; `retry`: try the directory again at
+  // each snapshot (an I/O failure), not when writing would replace a saved map that could not be used.
+  void persistenceFailed(const std::string& what, bool retry);
+  bool applyRecovered(const persistence::RecoveredState& rec, const std::string& snapshot_source);
   void publishStatus();
   void armStatusTimer();
   static std::int64_t steadyUtime();
@@ -86,6 +89,7 @@ class MapperDaemon {
   std::int64_t last_snapshot_steady_ = 0;
   std::int64_t last_keyframe_steady_ = 0;
   std::int64_t snapshot_seq_ = 0;
+  bool retry_persistence_ = false;
   std::mt19937 drop_rng_;
 
   // Shared between the Asio thread and the worker.

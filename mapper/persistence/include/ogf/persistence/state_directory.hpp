@@ -35,8 +35,13 @@ struct RecoveredState {
 
 class StateDirectory {
  public:
-  // Uses `dir`, creating it when missing. Fails when it cannot be created or written.
+  // Uses `dir`, creating it when missing. Fails when it cannot be created or written, with the system's
+  // reason (a read-only file system, no space, permission).
   static Result<StateDirectory> open(const std::filesystem::path& dir);
+
+  // What recover() would restore from `dir`, read without writing anything: for a directory that cannot be
+  // written (read-only), so the saved map is still used, and not replaced by a new one once it can be.
+  static Result<RecoveredState> read(const std::filesystem::path& dir, std::int64_t new_map_id);
 
   // Reads the snapshot and the journal. A damaged snapshot is an error (never half-load a map); a torn
   // journal tail is cut (noted). Then opens the journal for appending after the last record.
@@ -56,6 +61,8 @@ class StateDirectory {
 
  private:
   explicit StateDirectory(std::filesystem::path dir) : dir_(std::move(dir)) {}
+  // The reading half of recover(); `resumable` is set when the journal continues the snapshot as it is.
+  Result<RecoveredState> readState(std::int64_t new_map_id, std::optional<JournalContents>& resumable) const;
 
   std::filesystem::path dir_;
   std::int64_t map_id_ = 0;
