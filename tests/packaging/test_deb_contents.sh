@@ -59,7 +59,7 @@ diff <(sort "$control/conffiles") <(printf '/etc/ogf/driver.yaml\n/etc/ogf/mappe
   bad "conffiles: $(tr '\n' ' ' <"$control/conffiles")"
 for s in postinst prerm postrm; do
   [ -x "$control/$s" ] || bad "no executable $s"
-  grep -Eq '^[^#]*systemctl[^#]*\b(enable|start)\b' "$control/$s" && bad "$s enables or starts a unit"
+  grep -Eq '^[^#]*(systemctl|deb-systemd-invoke|deb-systemd-helper)[^#]*\b(enable|start)\b' "$control/$s" && bad "$s enables or starts a unit"
 done
 # The units run what the package installs and read the configuration it installs.
 for unit in ogf-driver ogf-mapper; do
