@@ -225,6 +225,7 @@ void DriverApp::publishStatus() {
   s.kernel_drops = 0;
   for (const auto& socket : {data_socket_.get(), position_socket_.get()})
     if (socket != nullptr) s.kernel_drops += static_cast<std::int64_t>(socket->kernelDrops());
+  if (live_) s.kernel_drops += static_cast<std::int64_t>(live_->kernelDrops());
   if (lcm_.publish(config_.status_channel, &s) != 0) ++publish_errors_;
   last_status_packets_ = c.data_packets;
   last_status_scans_ = scans_published_;
