@@ -1,5 +1,6 @@
 // Faults on the daemons as real processes on real LCM (udpm on loopback):
-// - ogf-mapper killed (SIGKILL) at random instants, OGF_MAPPER_KILLS times (default 20): after every kill
+// - ogf-mapper killed (SIGKILL) at random instants, OGF_MAPPER_KILLS times (default 20; one in four while
+//   it starts and restores, the others while or after it maps a few scans): after every kill
 //   the snapshot loads with the strict loaders (container CRC, then the map file's checksums and fields)
 //   and the journal's header reads; the restarted daemon resumes with exactly the map an uninterrupted run
 //   has at the update it restored (same filter checksum) and never behind the last update it acknowledged.
@@ -128,10 +129,20 @@ TEST_F(FaultTest, MapperKilledAtRandomInstantsResumesEveryAcknowledgedUpdateAndI
   ASSERT_TRUE(reference.ok());
   std::mt19937 rng(20261121);
   std::int64_t acknowledged = 0;
-  int survived = 0;
+  int survived = 0, killed_starting = 0;
   for (int round = 0; round <= kills; ++round) {
     status.emplace(url, "OGF_MAPPER_STATUS");
     auto mapper = startMapper(url, dir_ / "state", "mapper-" + std::to_string(round) + ".log");
+    if (round < kills && std::uniform_int_distribution<int>(0, 3)(rng) == 0) {
+      // One round in four: killed while starting (restoring, cutting a torn journal tail, opening).
+      std::this_thread::sleep_for(std::chrono::milliseconds(std::uniform_int_distribution<int>(0, 150)(rng)));
+      mapper->signal(SIGKILL);
+      ASSERT_TRUE(mapper->wait(10s).has_value());
+      ++survived;
+      ++killed_starting;
+      ASSERT_EQ(strictLoadProblems(dir_ / "state"), "") << "after kill " << survived << " (while starting)";
+      continue;
+    }
     const auto first = status->waitFor([](const auto&) { return true; }, 15s);
     ASSERT_TRUE(first) << mapper->log();
     const std::int64_t restored = first->delta_seq;
@@ -162,8 +173,9 @@ TEST_F(FaultTest, MapperKilledAtRandomInstantsResumesEveryAcknowledgedUpdateAndI
     const std::string problems = strictLoadProblems(dir_ / "state");
     ASSERT_EQ(problems, "") << "after kill " << survived;
   }
-  std::printf("[ figures  ] mapper kill -9: %d kills survived, last acknowledged seq %lld, nothing lost\n", survived,
-              static_cast<long long>(acknowledged));
+  std::printf("[ figures  ] mapper kill -9: %d kills survived (%d while starting), last acknowledged seq %lld, "
+              "nothing lost\n",
+              survived, killed_starting, static_cast<long long>(acknowledged));
 }
 
 TEST_F(FaultTest, DriverKilledAtRandomInstantsPublishesAgainWithinOneScan) {
