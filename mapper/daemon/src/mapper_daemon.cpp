@@ -276,13 +276,12 @@ void MapperDaemon::workerLoop() {
       // With pose correction only the placing needs the pose buffer's lock; the correction (an RBPF may
       // take a while) runs after it is released, so odometry and scans keep arriving meanwhile.
       const auto coverage = correction_ ? mapper_.place(points, poses_) : mapper_.measure(points, poses_);
-      const fusion::ScanTimeSpan span = fusion::timeSpanOf(points);
       lk.unlock();
       if (coverage == fusion::PoseCoverage::kCovered) {
         if (correction_) {
           correction::ScanCorrection applied;
           mapper_.measurePlaced(*correction_, &applied);
-          publishCorrectedPose(span.begin_utime + (span.end_utime - span.begin_utime) / 2, applied);
+          publishCorrectedPose(mapper_.referencePose().utime, applied);
         }
         mapScan(scan);
       }

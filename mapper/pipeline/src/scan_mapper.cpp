@@ -58,12 +58,12 @@ fusion::PoseCoverage ScanMapper::place(const fusion::ScanPoints& scan, const fus
   const fusion::ScanTimeSpan span = fusion::timeSpanOf(scan);
   const fusion::PoseLookup reference = poses.interpolate(span.begin_utime + (span.end_utime - span.begin_utime) / 2);
   if (!reference.ok()) return reference.coverage;  // cannot happen after place() covered the span
-  reference_odom_from_body_ = reference.pose.odomFromBody();
+  reference_ = reference.pose;
   return c;
 }
 
 void ScanMapper::measurePlaced(correction::ScanPoseCorrection& correction, correction::ScanCorrection* applied) {
-  const correction::ScanCorrection result = correction.correct(reference_odom_from_body_, endpoints_);
+  const correction::ScanCorrection result = correction.correct(reference_.odomFromBody(), endpoints_);
   if (correction.mode() != slam::CorrectionMode::kNone) {
     for (Eigen::Vector3d& o : origins_) o = result.map_from_odom * o;
     for (Eigen::Vector3d& e : endpoints_) e = result.map_from_odom * e;

@@ -55,9 +55,8 @@ ScanOutcome OfflineMapping::addScan(const ScanRecord& scan, TimeBase base) {
     return ScanOutcome::kUncovered;
   }
   if (correction_) {
-    const fusion::ScanTimeSpan span = fusion::timeSpanOf(points);
     fusion::Pose p;
-    p.utime = span.begin_utime + (span.end_utime - span.begin_utime) / 2;
+    p.utime = mapper_.referencePose().utime;
     p.position = applied.map_from_body.translation();
     p.orientation = Eigen::Quaterniond(applied.map_from_body.linear());
     corrected_.push_back(p);

@@ -43,6 +43,9 @@ class ScanMapper {
   // for an RBPF) and builds the measurement set.
   fusion::PoseCoverage place(const fusion::ScanPoints& scan, const fusion::PoseBuffer& poses);
   void measurePlaced(correction::ScanPoseCorrection& correction, correction::ScanCorrection* applied = nullptr);
+  // The body's odometry pose at the middle of the last scan place() covered: the instant a correction
+  // refers to (its utime stamps the corrected pose).
+  const fusion::Pose& referencePose() const { return reference_; }
 
   // The same for a sensor that does not move (a tripod): every point from one sensor pose.
   void measureStatic(const fusion::ScanPoints& scan, const Eigen::Isometry3d& odom_from_sensor);
@@ -75,7 +78,7 @@ class ScanMapper {
   filter::BandedOgf filter_;
   std::vector<Eigen::Vector3d> origins_;
   std::vector<Eigen::Vector3d> endpoints_;
-  Eigen::Isometry3d reference_odom_from_body_ = Eigen::Isometry3d::Identity();  // set by place()
+  fusion::Pose reference_;  // set by place()
   std::span<const Measurement> measurements_;
 };
 
