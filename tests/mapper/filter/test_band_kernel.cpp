@@ -39,10 +39,11 @@ TEST(BandKernel, CompiledKernelsEqualTheGenericOneBitForBit) {
   for (const StencilShape& shape : shapes) {
     const Stencil stencil(3, shape);
     const BandTables tables(stencil, 3);
-    // The baseline encoding, and the AVX one where this CPU can run it.
-    for (const bool avx : {false, cpuHasAvx()}) {
-      const BandKernel compiled = bandKernelFor(tables, avx);
-      EXPECT_NE(compiled, &genericBandKernel) << "R " << shape.radius << ", L " << shape.manhattanRadius;
+    // The baseline arithmetic, and the fused one where this CPU has FMA.
+    for (const bool fma : {false, cpuHasFma()}) {
+      const BandKernel compiled = bandKernelFor(tables, fma);
+      const BandKernel generic = genericBandKernelFor(fma);
+      EXPECT_NE(compiled, generic) << "R " << shape.radius << ", L " << shape.manhattanRadius;
       auto a = randomBlocks(tables, 7);
       auto b = a;
       const std::vector<float*> pa = pointers(a);
@@ -53,11 +54,11 @@ TEST(BandKernel, CompiledKernelsEqualTheGenericOneBitForBit) {
       for (std::size_t local = 0; local < 512; ++local) {
         const BandUpdate u{gain(rng), shrink(rng), 1e-9F};
         compiled(pa.data(), local, u, tables);
-        genericBandKernel(pb.data(), local, u, tables);
+        generic(pb.data(), local, u, tables);
       }
       for (std::size_t d = 0; d < 27; ++d) {
         EXPECT_EQ(std::memcmp(a[d].data(), b[d].data(), a[d].size() * sizeof(float)), 0)
-            << "block " << d << ", R " << shape.radius << ", L " << shape.manhattanRadius << ", avx " << avx;
+            << "block " << d << ", R " << shape.radius << ", L " << shape.manhattanRadius << ", fma " << fma;
       }
     }
   }
@@ -65,8 +66,11 @@ TEST(BandKernel, CompiledKernelsEqualTheGenericOneBitForBit) {
 
 TEST(BandKernel, OtherStencilsUseTheGenericKernel) {
   // A 3-D stencil nothing was compiled for, and the default shape in 2-D (a disc, other tables).
-  EXPECT_EQ(bandKernelFor(BandTables(Stencil(3, {std::sqrt(5.0), 0}), 3)), &genericBandKernel);
-  EXPECT_EQ(bandKernelFor(BandTables(Stencil(2, {std::sqrt(2.0), 2}), 2)), &genericBandKernel);
+  for (const bool fma : {false, cpuHasFma()}) {
+    EXPECT_EQ(bandKernelFor(BandTables(Stencil(3, {std::sqrt(5.0), 0}), 3), fma), genericBandKernelFor(fma));
+    EXPECT_EQ(bandKernelFor(BandTables(Stencil(2, {std::sqrt(2.0), 2}), 2), fma), genericBandKernelFor(fma));
+  }
+  EXPECT_EQ(genericBandKernelFor(false), &genericBandKernel);
 }
 
 }  // namespace

@@ -8,7 +8,12 @@
 // stencils (R = 1, √2, √3, 2, and the default √2 ball + Manhattan 2), whose pair lists are generated at
 // compile time from the same rule as Stencil's and unrolled into straight-line code: no index loads, no
 // loop control, constant offsets. bandKernelFor() picks a compiled kernel only when its tables equal the
-// run-time stencil's, in AVX encoding when the CPU has it (the build itself assumes only x86-64's SSE2).
+// run-time stencil's.
+//
+// Two arithmetics: the x86-64 baseline (the build assumes only SSE2) multiplies, then subtracts; on a CPU
+// with AVX2 and FMA every entry is one fused multiply-add (one rounding). The choice is made once per
+// process from the CPU, so a map is bit-identical for any thread count and batch order on one machine,
+// while an FMA and a non-FMA machine differ in the last bits of the floats.
 #pragma once
 
 #include <cstddef>
@@ -50,13 +55,17 @@ struct BandUpdate {
 using BandKernel = void (*)(float* const* blocks, std::size_t local, const BandUpdate& update,
                             const BandTables& tables);
 
+// The generic kernel in the baseline arithmetic.
 void genericBandKernel(float* const* blocks, std::size_t local, const BandUpdate& update, const BandTables& tables);
 
-// Whether this CPU (and OS) can run AVX code.
-bool cpuHasAvx();
+// Whether this CPU (and OS) can run AVX2 + FMA code.
+bool cpuHasFma();
 
-// A compiled kernel whose tables equal `tables` (its AVX encoding when `avx`), or genericBandKernel when
-// there is none. Every choice gives the same floats.
-BandKernel bandKernelFor(const BandTables& tables, bool avx = cpuHasAvx());
+// The generic kernel: in the fused arithmetic when `fma` (and the build has it), else genericBandKernel.
+BandKernel genericBandKernelFor(bool fma);
+
+// A compiled kernel whose tables equal `tables`, or the generic one when there is none; in the fused
+// arithmetic when `fma`. Kernels of one arithmetic give the same floats, bit for bit.
+BandKernel bandKernelFor(const BandTables& tables, bool fma = cpuHasFma());
 
 }  // namespace ogf::filter
