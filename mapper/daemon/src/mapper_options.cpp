@@ -167,7 +167,8 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
   if (const auto f = root["filter"]) {
     auto& fc = o.map.filter;
     OGF_TRY(checkKeys(path, f, "filter", {"sigma", "amplitude", "stencil_radius", "taper_support", "occupied_threshold",
-                                          "free_threshold", "skip_tolerance", "threads"}));
+                                          "free_threshold", "skip_tolerance", "clamp_z", "free_clamp_z",
+                                          "threads"}));
     OGF_TRY(readOptional(path, f, "filter", "sigma", fc.kernelSigma));
     OGF_TRY(readOptional(path, f, "filter", "amplitude", fc.kernelAmplitude));
     OGF_TRY(readOptional(path, f, "filter", "stencil_radius", fc.stencilRadius));
@@ -175,6 +176,8 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
     OGF_TRY(read(path, f, "filter", "occupied_threshold", fc.occupiedThreshold));
     OGF_TRY(read(path, f, "filter", "free_threshold", fc.freeThreshold));
     OGF_TRY(read(path, f, "filter", "skip_tolerance", fc.skipTolerance));
+    OGF_TRY(read(path, f, "filter", "clamp_z", fc.clampZ));
+    OGF_TRY(read(path, f, "filter", "free_clamp_z", fc.freeClampZ));
     OGF_TRY(read(path, f, "filter", "threads", fc.threads));
   }
   if (const auto fu = root["fusion"]) {
@@ -220,6 +223,8 @@ std::string exampleMapperConfig() {
     << "  occupied_threshold: 0.65\n"
     << "  free_threshold: 0.35\n"
     << "  skip_tolerance: 1e-4\n"
+    << "  clamp_z: 3                # skip a measurement agreeing with its cell beyond this probit z; 0: never\n"
+    << "  free_clamp_z: 1.5         # the same for free measurements (most of a scan); 0: clamp_z\n"
     << "  threads: 1\n"
     << "fusion:\n"
     << "  max_pose_wait_s: " << d.map.fusion.pending.max_pose_wait_s << "\n"

@@ -87,6 +87,7 @@ BandedOgf::BandedOgf(const FilterConfig& resolved)
   priorVariance_ = static_cast<float>(prior_.variance());
   varianceFloor_ = priorVariance_ * 1e-9F;
   clampZ_ = resolved.clampZ > 0.0 ? resolved.clampZ : std::numeric_limits<double>::infinity();
+  freeClampZ_ = resolved.clampZ > 0.0 && resolved.freeClampZ > 0.0 ? std::min(clampZ_, resolved.freeClampZ) : clampZ_;
   // Same-colour blocks are one block apart: their measurements touch disjoint cells iff 2·extent ≤ B.
   parallelSafe_ = 2 * stencil_.extent() <= kBlockSide;
   // Which neighbouring blocks a measurement at each local position reaches.
@@ -343,7 +344,7 @@ bool BandedOgf::applyMeasurement(float* const* neighbourhood, std::size_t local,
   const double mean = static_cast<double>(self[0]);
   const double var = static_cast<double>(self[1]);
   const double tolerance = config_.skipTolerance;
-  if (static_cast<double>(y) * mean / std::sqrt(1.0 + var) > clampZ_) {
+  if (static_cast<double>(y) * mean / std::sqrt(1.0 + var) > (y < 0 ? freeClampZ_ : clampZ_)) {
     return false;
   }
   const ProbitUpdate u = probitUpdate(y, mean, var);

@@ -115,6 +115,9 @@ Result<FilterConfig> FilterConfig::resolved() const {
   if (!std::isfinite(c.clampZ) || c.clampZ < 0.0) {
     return fieldError("clampZ", c.clampZ, "must be >= 0 (0: never clamp)");
   }
+  if (!std::isfinite(c.freeClampZ) || c.freeClampZ < 0.0) {
+    return fieldError("freeClampZ", c.freeClampZ, "must be >= 0 (0: free measurements use clampZ)");
+  }
   if (c.threads < 1 || c.threads > 256) {
     return fieldError("threads", c.threads, "must lie in [1, 256]");
   }

@@ -73,6 +73,7 @@ struct Header {
   double freeThreshold = 0.0;
   double skipTolerance = 0.0;
   double clampZ = 0.0;
+  double freeClampZ = 0.0;  // version 2 on
   std::int32_t manhattanRadius = 0;
   std::uint32_t blockSide = 0;
   std::uint32_t floatsPerCell = 0;
@@ -102,6 +103,7 @@ void writeHeaderFields(Writer& w, const Header& h) {
   w.put(h.freeThreshold);
   w.put(h.skipTolerance);
   w.put(h.clampZ);
+  w.put(h.freeClampZ);
   w.put(h.manhattanRadius);
   w.put(h.blockSide);
   w.put(h.floatsPerCell);
@@ -116,11 +118,18 @@ bool readHeaderFields(Reader& r, Header& h) {
       return false;
     }
   }
-  return r.get(h.version, "version") && r.get(h.dimensions, "dimensions") && r.get(h.resolution, "resolution") &&
-         r.get(h.sigma, "kernel sigma") && r.get(h.amplitude, "kernel amplitude") &&
-         r.get(h.stencilRadius, "stencil radius") && r.get(h.taperSupport, "taper support") &&
-         r.get(h.occupiedThreshold, "occupied threshold") && r.get(h.freeThreshold, "free threshold") &&
-         r.get(h.skipTolerance, "skip tolerance") && r.get(h.clampZ, "clamp z") && r.get(h.manhattanRadius, "stencil Manhattan radius") &&
+  if (!(r.get(h.version, "version") && r.get(h.dimensions, "dimensions") && r.get(h.resolution, "resolution") &&
+        r.get(h.sigma, "kernel sigma") && r.get(h.amplitude, "kernel amplitude") &&
+        r.get(h.stencilRadius, "stencil radius") && r.get(h.taperSupport, "taper support") &&
+        r.get(h.occupiedThreshold, "occupied threshold") && r.get(h.freeThreshold, "free threshold") &&
+        r.get(h.skipTolerance, "skip tolerance") && r.get(h.clampZ, "clamp z"))) {
+    return false;
+  }
+  // Version 1 has no free clamp: its free measurements used clampZ, which freeClampZ = 0 keeps.
+  if (h.version >= 2 && !r.get(h.freeClampZ, "free clamp z")) {
+    return false;
+  }
+  return r.get(h.manhattanRadius, "stencil Manhattan radius") &&
          r.get(h.blockSide, "block side") && r.get(h.floatsPerCell, "floats per cell") &&
          r.get(h.cellsPerBlock, "cells per block") && r.get(h.blockCount, "block count") &&
          r.get(h.payloadChecksum, "payload checksum");
@@ -166,6 +175,7 @@ std::vector<std::uint8_t> encodeMap(const BandedOgf& map) {
   h.freeThreshold = c.freeThreshold;
   h.skipTolerance = c.skipTolerance;
   h.clampZ = c.clampZ;
+  h.freeClampZ = c.freeClampZ;
   h.manhattanRadius = c.stencilManhattanRadius;
   h.blockSide = kBlockSide;
   h.cellsPerBlock = c.dimensions == 3 ? 512U : 64U;
@@ -195,8 +205,8 @@ Result<BandedOgf> decodeMap(std::span<const std::uint8_t> bytes, std::string_vie
     return r.fail("magic", "not an ogf map file");
   }
   r.seek(8);
-  if (h.version != kMapFileVersion) {
-    return r.fail("version", std::to_string(h.version) + " (this build reads " + std::to_string(kMapFileVersion) + ")");
+  if (h.version != 1 && h.version != kMapFileVersion) {
+    return r.fail("version", std::to_string(h.version) + " (this build reads 1 to " + std::to_string(kMapFileVersion) + ")");
   }
   r.seek(headerEnd);
   if (headerChecksum != checksumOf(bytes.first(headerEnd))) {
@@ -214,6 +224,7 @@ Result<BandedOgf> decodeMap(std::span<const std::uint8_t> bytes, std::string_vie
   config.freeThreshold = h.freeThreshold;
   config.skipTolerance = h.skipTolerance;
   config.clampZ = h.clampZ;
+  config.freeClampZ = h.freeClampZ;
   config.threads = std::clamp(threads, 1, 256);
   auto created = BandedOgf::create(config);
   if (!created) {

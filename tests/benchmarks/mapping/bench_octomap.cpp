@@ -146,13 +146,14 @@ struct OgfResult {
 };
 
 OgfResult runOgf(const std::vector<RayScan>& scans, double resolution, double max_range, double min_range,
-                 double clamp_z) {
+                 double clamp_z, double free_clamp_z) {
   ogf::pipeline::MapperConfig config;
   config.setResolution(resolution);
   config.fusion.measurement.max_range_m = max_range;
   config.fusion.measurement.min_range_m = min_range;
   config.filter.threads = 1;
   config.filter.clampZ = clamp_z;
+  config.filter.freeClampZ = free_clamp_z;
   auto mapper = ogf::pipeline::ScanMapper::create(config);
   if (!mapper) {
     std::fprintf(stderr, "ogf-bench-octomap: %s\n", mapper.error().message.c_str());
@@ -239,6 +240,7 @@ int main(int argc, char** argv) {
   std::string pcap, odometry, resolutions = "0.2,0.1";
   double max_range = 30.0, min_range = 0.4;
   double clamp_z = ogf::filter::FilterConfig{}.clampZ;
+  double free_clamp_z = ogf::filter::FilterConfig{}.freeClampZ;
   app.add_option("--scans", count, "Scans to map (synthetic street scans 1 m apart, or the first of --pcap)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
@@ -249,6 +251,8 @@ int main(int argc, char** argv) {
   app.add_option("--min-range", min_range, "Returns closer are dropped before either mapper sees them")
       ->capture_default_str();
   app.add_option("--clamp-z", clamp_z, "The OGF's clampZ (filter_config.hpp); 0 applies every update")
+      ->capture_default_str();
+  app.add_option("--free-clamp-z", free_clamp_z, "The OGF's freeClampZ for free measurements; 0: --clamp-z")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
@@ -265,7 +269,7 @@ int main(int argc, char** argv) {
   std::printf("%-6s %-8s %9s %9s %9s %8s %10s %11s %s\n", "res m", "mapper", "mean ms", "p50 ms", "p99 ms",
               "x 10 Hz", "memory MB", "cells", "notes");
   for (const double res : parseList(resolutions)) {
-    const OgfResult ogf = runOgf(scans, res, max_range, min_range, clamp_z);
+    const OgfResult ogf = runOgf(scans, res, max_range, min_range, clamp_z, free_clamp_z);
     const OctomapResult oct = runOctomap(scans, res, max_range);
     const auto row = [&](const char* name, const Timing& t, std::size_t memory, std::size_t cells, const std::string& notes) {
       std::printf("%-6.2f %-8s %9.1f %9.1f %9.1f %8.2f %10.1f %11zu %s\n", res, name, t.mean(), t.percentile(0.5),

@@ -134,3 +134,57 @@ TEST(MapFile, LayoutConstantsMatchTheEncoder) {
 
 }  // namespace
 }  // namespace ogf::filter
+
+namespace ogf::filter {
+namespace {
+
+TEST(MapFile, ClampsRoundTrip) {
+  FilterConfig config;
+  config.clampZ = 2.5;
+  config.freeClampZ = 1.25;
+  auto map = BandedOgf::create(config);
+  ASSERT_TRUE(map.ok());
+  map->update(std::vector<Measurement>{{{0, 0, 0}, 1}});
+  const auto loaded = decodeMap(encodeMap(*map));
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_EQ(loaded->config().clampZ, 2.5);
+  EXPECT_EQ(loaded->config().freeClampZ, 1.25);
+}
+
+// A version 1 file (written before the free clamp existed): the same header without its 8 bytes, both
+// checksums recomputed. It loads, its free measurements keep using clampZ (freeClampZ 0), and its blocks
+// are the same.
+TEST(MapFile, VersionOneFilesAreStillRead) {
+  const BandedOgf map = sampleMap(3);
+  std::vector<std::uint8_t> bytes = encodeMap(map);
+  constexpr std::size_t kVersionAt = 8;
+  constexpr std::size_t kFreeClampAt = 88;  // after the clamp at [80, 88)
+  const std::uint32_t one = 1;
+  std::memcpy(bytes.data() + kVersionAt, &one, sizeof one);
+  bytes.erase(bytes.begin() + kFreeClampAt, bytes.begin() + kFreeClampAt + 8);
+  MapChecksum header;
+  header.add(std::as_bytes(std::span(bytes).first(kMapFileHeaderChecksumAt - 8)));
+  const std::uint64_t sum = header.value();
+  std::memcpy(bytes.data() + kMapFileHeaderChecksumAt - 8, &sum, sizeof sum);
+
+  const auto loaded = decodeMap(bytes);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_EQ(loaded->config().freeClampZ, 0.0);
+  EXPECT_EQ(loaded->config().clampZ, map.config().clampZ);
+  EXPECT_EQ(loaded->blockKeys(), map.blockKeys());
+  for (const CellKey& key : map.blockKeys()) {
+    const auto a = map.blockValues(key);
+    const auto b = loaded->blockValues(key);
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)), 0);
+  }
+  // An unknown version is refused, naming the field.
+  const std::uint32_t three = 3;
+  std::memcpy(bytes.data() + kVersionAt, &three, sizeof three);
+  const auto refused = decodeMap(bytes);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().message.find("version"), std::string::npos) << refused.error().message;
+}
+
+}  // namespace
+}  // namespace ogf::filter

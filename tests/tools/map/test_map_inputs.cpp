@@ -131,7 +131,7 @@ TEST(MapConfigYaml, ValuesAreAppliedToFusionAndFilter) {
   pipeline::MapperConfig c;
   const auto st = map_io::applyMapConfigYaml(
       "resolution: 0.1\nmax_range: 12\nextrinsic:\n  translation: [0, 0, 1.5]\nfilter:\n  threads: 2\n"
-      "  skip_tolerance: 0.001\n",
+      "  skip_tolerance: 0.001\n  clamp_z: 2.5\n  free_clamp_z: 1.25\n",
       "m.yaml", c);
   ASSERT_TRUE(st.ok()) << st.error().message;
   EXPECT_DOUBLE_EQ(c.filter.resolution, 0.1);
@@ -140,6 +140,8 @@ TEST(MapConfigYaml, ValuesAreAppliedToFusionAndFilter) {
   EXPECT_DOUBLE_EQ(c.fusion.extrinsic.translation_m.z(), 1.5);
   EXPECT_EQ(c.filter.threads, 2);
   EXPECT_DOUBLE_EQ(c.filter.skipTolerance, 0.001);
+  EXPECT_DOUBLE_EQ(c.filter.clampZ, 2.5);
+  EXPECT_DOUBLE_EQ(c.filter.freeClampZ, 1.25);
   EXPECT_TRUE(c.validate().ok());
 }
 

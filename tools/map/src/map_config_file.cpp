@@ -85,11 +85,13 @@ Status applyFilter(std::string_view source, const YAML::Node& map, filter::Filte
     else if (key == "occupied_threshold") st = set<double>(source, v, path, f.occupiedThreshold);
     else if (key == "free_threshold") st = set<double>(source, v, path, f.freeThreshold);
     else if (key == "skip_tolerance") st = set<double>(source, v, path, f.skipTolerance);
+    else if (key == "clamp_z") st = set<double>(source, v, path, f.clampZ);
+    else if (key == "free_clamp_z") st = set<double>(source, v, path, f.freeClampZ);
     else if (key == "threads") st = set<int>(source, v, path, f.threads);
     else
       return Error{where(source, kv.first, path) +
                    ": unknown key (kernel_sigma, kernel_amplitude, stencil_radius, stencil_manhattan_radius, "
-                   "taper_support, occupied_threshold, free_threshold, skip_tolerance, threads)"};
+                   "taper_support, occupied_threshold, free_threshold, skip_tolerance, clamp_z, free_clamp_z, threads)"};
     if (!st) return st;
   }
   return okStatus();

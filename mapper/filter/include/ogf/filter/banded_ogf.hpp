@@ -112,7 +112,8 @@ class BandedOgf {
   std::vector<float> priorSlots_;  // Σ0 for each forward slot
   float priorVariance_ = 0.0F;
   float varianceFloor_ = 0.0F;
-  double clampZ_ = 0.0;
+  double clampZ_ = 0.0;      // for occupied measurements; +inf: never
+  double freeClampZ_ = 0.0;  // for free ones
   std::vector<std::uint32_t> neighbourMask_;  // per position in a block: neighbouring blocks reached
   BandTables band_;                           // where the stencil cells and their pairs are
   BandKernel kernel_ = nullptr;               // eq. (5) in the band (compiled for common stencils)

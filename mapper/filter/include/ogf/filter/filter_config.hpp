@@ -33,8 +33,14 @@ struct FilterConfig {
   double skipTolerance = 1e-4;
   // A measurement that agrees with a confidently classified cell, y·m/√(1+s) > clampZ, is skipped without
   // evaluating λ: the OGF's OctoMap-style clamping. The probit update converges only logarithmically, so
-  // without it a static scene never falls below skipTolerance. 0 disables (the exact filter).
+  // without it a static scene never falls below skipTolerance. 0 disables all clamping (the exact filter).
   double clampZ = 3.0;
+  // The threshold for free measurements (y = −1), which are most of a scan's: −m/√(1+s) > freeClampZ skips
+  // one, i.e. once the predictive probability of "free" exceeds Φ(1.5) = 0.933 (OctoMap clamps free space
+  // at 0.88, its 0.12 occupancy bound). Occupied measurements keep clampZ, so occupied evidence keeps
+  // accumulating. Costs and gains are in the README (speed 1.7× on street scans, accuracy −0.005 on the
+  // simulated lab). 0: free measurements use clampZ too. Ignored when clampZ is 0.
+  double freeClampZ = 1.5;
   int threads = 1;  // worker threads of BandedOgf::update; the map is bit-identical for any count
 
   // Every optional field filled in, and every field checked. The error names the field.

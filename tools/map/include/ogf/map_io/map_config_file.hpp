@@ -19,6 +19,8 @@
 //     occupied_threshold: 0.65
 //     free_threshold: 0.35
 //     skip_tolerance: 1e-4
+//     clamp_z: 3.0             # skip measurements agreeing with a cell beyond this probit z (0: never)
+//     free_clamp_z: 1.5        # the same for free measurements (0: clamp_z)
 //     threads: 1
 #pragma once
 
