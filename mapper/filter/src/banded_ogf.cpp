@@ -344,10 +344,12 @@ bool BandedOgf::applyMeasurement(float* const* neighbourhood, std::size_t local,
   const double mean = static_cast<double>(self[0]);
   const double var = static_cast<double>(self[1]);
   const double tolerance = config_.skipTolerance;
-  if (static_cast<double>(y) * mean / std::sqrt(1.0 + var) > (y < 0 ? freeClampZ_ : clampZ_)) {
+  const double scale = std::sqrt(1.0 + var);
+  const double z = static_cast<double>(y) * mean / scale;
+  if (z > (y < 0 ? freeClampZ_ : clampZ_)) {
     return false;
   }
-  const ProbitUpdate u = probitUpdate(y, mean, var);
+  const ProbitUpdate u = probitUpdateAt(y, var, z, (*lambda_)(z));
   if (tolerance > 0.0 && std::abs(var * u.meanGain) < tolerance && var * var * u.covShrink < tolerance) {
     return false;
   }

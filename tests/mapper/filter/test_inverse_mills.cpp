@@ -6,6 +6,7 @@
 
 #include "ogf/filter/dense_ogf.hpp"
 #include "ogf/filter/inverse_mills.hpp"
+#include "ogf/filter/inverse_mills_table.hpp"
 #include "ogf/filter/probit_update.hpp"
 
 namespace ogf::filter {
@@ -79,6 +80,33 @@ TEST(DenseOgf, CellMeasuredOneHundredThousandTimesStaysFinite) {
     }
     EXPECT_TRUE(ogf.mean().allFinite());
     EXPECT_GT(ogf.covariance()(0, 0), 0.0);
+  }
+}
+
+}  // namespace
+}  // namespace ogf::filter
+
+namespace ogf::filter {
+namespace {
+
+// The table the banded filter uses: within 1e-8 relative of the exact ratio on its range (dense samples,
+// nodes and midpoints included), the exact ratio outside it.
+TEST(InverseMillsTable, AgreesWithTheExactRatioOnItsRange) {
+  const InverseMillsTable& table = inverseMillsTable();
+  double worst = 0.0;
+  double worstAt = 0.0;
+  for (double z = InverseMillsTable::kLow; z < InverseMillsTable::kHigh; z += 1.0 / 1024.0 + 1e-7) {
+    const double exact = inverseMillsRatio(z);
+    const double rel = std::abs(table(z) - exact) / exact;
+    if (rel > worst) {
+      worst = rel;
+      worstAt = z;
+    }
+  }
+  EXPECT_LT(worst, 1e-8) << "at z = " << worstAt;
+  EXPECT_GT(worst, 0.0);  // it is the table that was measured, not the exact function
+  for (double z : {-40.0, -8.5, 4.0, 7.5, 30.0}) {
+    EXPECT_EQ(table(z), inverseMillsRatio(z)) << z;
   }
 }
 

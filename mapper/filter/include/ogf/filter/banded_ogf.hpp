@@ -21,6 +21,7 @@
 #include "ogf/filter/block_storage.hpp"
 #include "ogf/filter/change_sink.hpp"
 #include "ogf/filter/filter_config.hpp"
+#include "ogf/filter/inverse_mills_table.hpp"
 #include "ogf/filter/kernel.hpp"
 #include "ogf/filter/measurement.hpp"
 #include "ogf/filter/result.hpp"
@@ -117,6 +118,7 @@ class BandedOgf {
   std::vector<std::uint32_t> neighbourMask_;  // per position in a block: neighbouring blocks reached
   BandTables band_;                           // where the stencil cells and their pairs are
   BandKernel kernel_ = nullptr;               // eq. (5) in the band (compiled for common stencils)
+  const InverseMillsTable* lambda_ = &inverseMillsTable();  // λ(z) of eq. (5), tabulated
   bool parallelSafe_ = false;
   Batch scratch_;
 };

@@ -19,4 +19,8 @@ struct ProbitUpdate {
 // y must be -1 or +1; variance must be positive.
 ProbitUpdate probitUpdate(int y, double mean, double variance);
 
+// The same from z = y·μ/√(1+s) and λ(z), for a caller that has them already (the same numbers when λ is
+// inverseMillsRatio(z)).
+ProbitUpdate probitUpdateAt(int y, double variance, double z, double lambda);
+
 }  // namespace ogf::filter
