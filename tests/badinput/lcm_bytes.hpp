@@ -2,7 +2,9 @@
 // make malformed messages (a count claiming more elements than the bytes hold) from valid ones.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace ogf::testing {
@@ -15,13 +17,18 @@ std::vector<std::uint8_t> encodeMessage(const Message& m) {
   return out;
 }
 
-// `bytes` with its last four bytes (the count of a message whose arrays are empty, which LCM encodes
-// last) replaced by `count`, big-endian as LCM encodes int32.
-inline std::vector<std::uint8_t> withCount(std::vector<std::uint8_t> bytes, std::int32_t count) {
-  const auto v = static_cast<std::uint32_t>(count);
-  const std::size_t at = bytes.size() - 4;
+// `bytes` with the int32 at `at` replaced by `value`, big-endian as LCM encodes int32.
+inline std::vector<std::uint8_t> withInt32At(std::vector<std::uint8_t> bytes, std::size_t at, std::int32_t value) {
+  const auto v = static_cast<std::uint32_t>(value);
   for (std::size_t i = 0; i < 4; ++i) bytes[at + i] = static_cast<std::uint8_t>(v >> (24 - 8 * i));
   return bytes;
+}
+
+// `bytes` with its last four bytes (the count of a message whose arrays are empty, which LCM encodes
+// last) replaced by `count`.
+inline std::vector<std::uint8_t> withCount(std::vector<std::uint8_t> bytes, std::int32_t count) {
+  const std::size_t at = bytes.size() - 4;
+  return withInt32At(std::move(bytes), at, count);
 }
 
 }  // namespace ogf::testing

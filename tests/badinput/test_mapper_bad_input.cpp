@@ -2,7 +2,9 @@
 // scans and odometry, the scan and POSE channels receive messages with a wrong fingerprint, truncated
 // ones, counts claiming 2^31 or 10^7 elements without the bytes, NaN and Inf coordinates and poses,
 // non-unit quaternions, random bytes and a genuine scan above the configured pending-points limit.
-// Checked: every one is counted (OGF_MAPPER_STATUS scans_rejected, poses_rejected, scans_dropped_behind),
+// The map request channel gets malformed requests too (wrong fingerprint, truncated, lying string lengths,
+// random bytes). Checked: every one is counted (OGF_MAPPER_STATUS scans_rejected, poses_rejected,
+// requests_rejected, scans_dropped_behind),
 // the daemon keeps running, its peak RSS (VmHWM) does not grow by what the claims would have allocated,
 // and the map after the bad input is exactly the map of the valid scans alone (same filter checksum as an
 // offline ScanMapper fed only those).
@@ -11,6 +13,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 #include <bot_core/pose_t.hpp>
+#include <ogf/map_request_t.hpp>
 #include <ogf/mapper_status_t.hpp>
 #include <ogf/odometry_t.hpp>
 
@@ -149,6 +152,33 @@ std::vector<Bytes> badPoses(std::mt19937& rng) {
   return out;
 }
 
+// Malformed keyframe requests: each must be refused and counted in requests_rejected.
+std::vector<Bytes> badRequests(std::mt19937& rng) {
+  ogf::map_request_t valid{};
+  valid.utime = 1;
+  valid.requester = "bad-input-test";
+  valid.last_seq = 3;
+  const Bytes good = encodeMessage(valid);
+  std::vector<Bytes> out;
+  Bytes wrong_fp = good;
+  wrong_fp[0] ^= 0x80;
+  out.push_back(wrong_fp);
+  out.push_back(Bytes(good.begin(), good.end() - 1));
+  out.push_back(Bytes(good.begin(), good.begin() + 5));
+  out.push_back(Bytes{});
+  // The requester's length (an int32 after the fingerprint and utime) lying in both directions.
+  for (const std::int32_t lie : {std::numeric_limits<std::int32_t>::min(), -1, 0, 1 << 20,
+                                 std::numeric_limits<std::int32_t>::max()})
+    out.push_back(ogf::testing::withInt32At(good, 16, lie));
+  std::uniform_int_distribution<int> size(0, 300), byte(0, 255);
+  for (int i = 0; i < 10; ++i) {
+    Bytes r(static_cast<std::size_t>(size(rng)));
+    for (auto& b : r) b = static_cast<std::uint8_t>(byte(rng));
+    out.push_back(r);
+  }
+  return out;
+}
+
 class MapperBadInput : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -191,12 +221,17 @@ TEST_F(MapperBadInput, MalformedScansAndPosesAreCountedAndRefusedAndTheMapIsThat
   std::mt19937 rng(20261121);
   const auto bad_scans = badScans(rng);
   const auto bad_poses = badPoses(rng);
+  const auto bad_requests = badRequests(rng);
   for (const auto& m : bad_scans) {
     lcm.publish("VELODYNE_SCAN", m.data(), static_cast<unsigned int>(m.size()));
     std::this_thread::sleep_for(2ms);
   }
   for (const auto& m : bad_poses) {
     lcm.publish("POSE", m.data(), static_cast<unsigned int>(m.size()));
+    std::this_thread::sleep_for(2ms);
+  }
+  for (const auto& m : bad_requests) {
+    lcm.publish("OGF_MAP_REQUEST", m.data(), static_cast<unsigned int>(m.size()));
     std::this_thread::sleep_for(2ms);
   }
   // A well-formed scan beyond the configured limit, timed between scans 4 and 5 so it is not late.
@@ -207,16 +242,19 @@ TEST_F(MapperBadInput, MalformedScansAndPosesAreCountedAndRefusedAndTheMapIsThat
   lcm.publish("VELODYNE_SCAN", &big);
   const auto n_scans = static_cast<std::int64_t>(bad_scans.size());
   const auto n_poses = static_cast<std::int64_t>(bad_poses.size());
+  const auto n_requests = static_cast<std::int64_t>(bad_requests.size());
   const auto counted = status.waitFor(
       [&](const ogf::mapper_status_t& s) {
         return s.scans_rejected - before->scans_rejected == n_scans &&
-               s.poses_rejected - before->poses_rejected == n_poses && s.scans_dropped_behind == 1;
+               s.poses_rejected - before->poses_rejected == n_poses &&
+               s.requests_rejected - before->requests_rejected == n_requests && s.scans_dropped_behind == 1;
       },
       30s);
   const auto last = status.latest();
   ASSERT_TRUE(last);
   EXPECT_TRUE(counted) << "scans_rejected " << last->scans_rejected << " (sent " << n_scans << "), poses_rejected "
-                       << last->poses_rejected << " (sent " << n_poses << "), scans_dropped_behind "
+                       << last->poses_rejected << " (sent " << n_poses << "), requests_rejected "
+                       << last->requests_rejected << " (sent " << n_requests << "), scans_dropped_behind "
                        << last->scans_dropped_behind << "\n"
                        << mapper.log();
   EXPECT_FALSE(mapper.wait(0ms).has_value()) << "the mapper exited:\n" << mapper.log();
@@ -236,9 +274,20 @@ TEST_F(MapperBadInput, MalformedScansAndPosesAreCountedAndRefusedAndTheMapIsThat
       << "every valid pose after the bad ones is accepted";
   EXPECT_EQ(static_cast<std::uint64_t>(after->filter_checksum), ogf::testing::offlineChecksum(10, kPoints))
       << "the bad input changed the map";
-  std::printf("[ figures  ] mapper bad input: %lld malformed scans and %lld malformed poses counted, 1 scan of %d "
-              "points dropped; VmHWM %lld kB before, %lld kB after; map checksum %016llx = reference\n",
-              static_cast<long long>(n_scans), static_cast<long long>(n_poses), kMaxPendingPoints + 1000,
+  EXPECT_EQ(after->requests_in, n_requests) << "only the malformed requests were sent";
+  // A well-formed request after the bad ones is still answered.
+  ogf::map_request_t request{};
+  request.requester = "bad-input-test";
+  lcm.publish("OGF_MAP_REQUEST", &request);
+  const auto answered = status.waitFor(
+      [&](const ogf::mapper_status_t& s) { return s.requests_in == n_requests + 1 && s.keyframes_sent > after->keyframes_sent; },
+      30s);
+  EXPECT_TRUE(answered) << mapper.log();
+  std::printf("[ figures  ] mapper bad input: %lld malformed scans, %lld malformed poses and %lld malformed map "
+              "requests counted, 1 scan of %d points dropped; VmHWM %lld kB before, %lld kB after; map checksum "
+              "%016llx = reference\n",
+              static_cast<long long>(n_scans), static_cast<long long>(n_poses), static_cast<long long>(n_requests),
+              kMaxPendingPoints + 1000,
               static_cast<long long>(*hwm_before), static_cast<long long>(*hwm_after),
               static_cast<unsigned long long>(after->filter_checksum));
   mapper.signal(SIGTERM);

@@ -19,12 +19,7 @@ namespace {
 
 using Bytes = std::vector<std::uint8_t>;
 
-// `bytes` with the int32 at `at` replaced by `value` (big-endian).
-Bytes withInt32At(Bytes bytes, std::size_t at, std::int32_t value) {
-  const auto v = static_cast<std::uint32_t>(value);
-  for (std::size_t i = 0; i < 4; ++i) bytes[at + i] = static_cast<std::uint8_t>(v >> (24 - 8 * i));
-  return bytes;
-}
+using ogf::testing::withInt32At;
 
 // Every lying length at string-length offset `at` is refused; the valid message decodes.
 template <class Message>

@@ -167,11 +167,20 @@ void MapperDaemon::start() {
       [this](const ogf::map_request_t& r, const lcm::ReceiveBuffer&, const std::string&) {
         spdlog::debug("keyframe requested by {} (last seq {})", r.requester, r.last_seq);
         std::lock_guard lk(mu_);
+        ++requests_;
         keyframe_requested_ = true;
         work_ = true;
         cv_.notify_one();
       },
-      transport::Subscriber<ogf::map_request_t>::ErrorHandler{});
+      [this](const std::string& ch, std::size_t size, std::string_view why) {
+        {
+          std::lock_guard lk(mu_);
+          ++malformed_requests_;
+        }
+        if (auto n = bad_request_log_.allow()) {
+          spdlog::warn("map request on {} ({} bytes) {} ({} more)", ch, size, why, *n);
+        }
+      });
   pose_sub_ = lcm_.subscribeFunction(
       options_.pose_channel,
       +[](const lcm::ReceiveBuffer* rb, const std::string&, MapperDaemon* self) { self->onPose(*rb); }, this);
@@ -410,6 +419,8 @@ void MapperDaemon::publishStatus() {
     s.scans_rejected = pc.scans_rejected + malformed_scans_;
     s.poses_in = poses_.counts().accepted + poses_.counts().rejected() + malformed_poses_;
     s.poses_rejected = poses_.counts().rejected() + malformed_poses_;
+    s.requests_in = requests_ + malformed_requests_;
+    s.requests_rejected = malformed_requests_;
     s.update_ms_mean = update_count_ > 0 ? static_cast<float>(update_ms_sum_ / update_count_) : 0.0f;
     update_ms_sum_ = 0;
     update_count_ = 0;

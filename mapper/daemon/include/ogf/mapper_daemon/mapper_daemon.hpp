@@ -104,6 +104,8 @@ class MapperDaemon {
   ogf::mapper_status_t stats_{};  // counters the worker owns, copied into each status message
   std::int64_t malformed_scans_ = 0;
   std::int64_t malformed_poses_ = 0;
+  std::int64_t requests_ = 0;            // well-formed keyframe requests
+  std::int64_t malformed_requests_ = 0;  // refused by decodeMessage
   double update_ms_sum_ = 0;
   int update_count_ = 0;
 
@@ -111,7 +113,7 @@ class MapperDaemon {
   std::unique_ptr<transport::Subscriber<ogf::map_request_t>> request_sub_;
   lcm::Subscription* pose_sub_ = nullptr;
   boost::asio::steady_timer status_timer_;
-  transport::LogRateLimiter bad_scan_log_, bad_pose_log_, jump_log_, drop_log_;
+  transport::LogRateLimiter bad_scan_log_, bad_pose_log_, bad_request_log_, jump_log_, drop_log_;
   std::thread worker_;
   bool started_ = false;
   bool stopped_ = false;
