@@ -80,9 +80,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--max-records", max_records, "Stop after this many laser records (0: all)")
       ->capture_default_str();
-  app.add_option("--linear-update", config.slam.linear_update_m, "Process a scan after this translation, m")
+  app.add_option("--linear-update", config.slam.linear_update_m,
+                 "Process a scan after this translation, m (scan-match mode: 0.2)")
       ->capture_default_str();
-  app.add_option("--angular-update", config.slam.angular_update_rad, "... or this rotation, rad")
+  app.add_option("--angular-update", config.slam.angular_update_rad,
+                 "... or this rotation, rad (scan-match mode: 0.05)")
       ->capture_default_str();
   app.add_option("--resolution", config.slam.grid_resolution_m, "Grid cell edge, m")->capture_default_str();
   app.add_option("--usable-range", config.slam.map_update.usable_range_m,
@@ -100,6 +102,23 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--proposal-step-angle", config.slam.proposal.sample_step_rad, "... and in heading, rad")
       ->capture_default_str();
+  // Options that show their default in --help.
+  const auto tuning = [&app](const char* name, auto& value, const char* help) {
+    app.add_option(name, value, help)->capture_default_str();
+  };
+  tuning("--likelihood-sigma", config.slam.matcher.likelihood_sigma_m,
+         "Sigma of the matcher's endpoint Gaussian, m (gmapping's lsigma)");
+  tuning("--unmatched-distance", config.slam.matcher.unmatched_distance_m,
+         "A beam with no occupied cell near its endpoint counts as this far off, m (scan-match mode: 0.3)");
+  tuning("--weight-unmatched-distance", config.slam.weight_unmatched_distance_m,
+         "The same in the particle weights only, m (0: --unmatched-distance)");
+  tuning("--search-window", config.slam.matcher.search_window_cells,
+         "Endpoint searched within +-n cells (gmapping's kernelSize)");
+  tuning("--heading-starts", config.slam.matcher.heading_starts,
+         "Extra scan-match climbs from the start heading +-k*--heading-start-step, k = 1..n (scan-match "
+         "mode: 2)");
+  tuning("--heading-start-step", config.slam.matcher.heading_start_step_rad,
+         "Heading offset between those starts, rad");
   app.add_option("--no-return-free-range", config.slam.map_update.no_return_free_range_m,
                  "\"No return\" readings mark free space up to this range, m (0: skipped, as gmapping does)")
       ->capture_default_str();
@@ -126,6 +145,20 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   config.mode = *mode;
+  if (config.mode == slam::CorrectionMode::kScanMatch) {
+    // Scan matching alone has its own defaults (GridFastSlamConfig::scanMatching); flags still win.
+    const slam::GridFastSlamConfig preset = slam::GridFastSlamConfig::scanMatching();
+    if (app.count("--linear-update") == 0) config.slam.linear_update_m = preset.linear_update_m;
+    if (app.count("--angular-update") == 0) config.slam.angular_update_rad = preset.angular_update_rad;
+    if (app.count("--unmatched-distance") == 0) {
+      config.slam.matcher.unmatched_distance_m = preset.matcher.unmatched_distance_m;
+    }
+    if (app.count("--heading-starts") == 0)
+      config.slam.matcher.heading_starts = preset.matcher.heading_starts;
+    if (app.count("--heading-start-step") == 0) {
+      config.slam.matcher.heading_start_step_rad = preset.matcher.heading_start_step_rad;
+    }
+  }
   config.slam.two_step_sampling = !no_two_step;
   config.slam.matcher.usable_range_m = config.slam.map_update.usable_range_m;
   if (auto s = config.validate(); !s) {

@@ -32,6 +32,11 @@ Status ScanMatcherConfig::validate() const {
   if (refinements < 0 || refinements > 20)
     return fieldError("refinements", "must be in [0, 20]", refinements);
   if (max_evaluations < 1) return fieldError("max_evaluations", "must be >= 1", max_evaluations);
+  if (heading_starts < 0 || heading_starts > 10)
+    return fieldError("heading_starts", "must be in [0, 10]", heading_starts);
+  if (!(heading_start_step_rad > 0.0) || !std::isfinite(heading_start_step_rad)) {
+    return fieldError("heading_start_step_rad", "must be > 0", heading_start_step_rad);
+  }
   if (!(min_matched_fraction >= 0.0 && min_matched_fraction <= 1.0)) {
     return fieldError("min_matched_fraction", "must be in [0, 1]", min_matched_fraction);
   }
@@ -90,6 +95,25 @@ ScanLikelihood ScanMatcher::likelihood(const TiledGrid& grid, const Pose2& x,
 }
 
 MatchResult ScanMatcher::match(const TiledGrid& grid, const Pose2& start, const PreparedScan& scan,
+                               const MotionGaussian* prior) const {
+  MatchResult best = climb(grid, start, scan, prior);
+  int evaluations = best.evaluations;
+  // Further climbs from headings ±k·heading_start_step_rad around `start`: a heading error larger than
+  // the climb's first step can leave it on a wrong local maximum. The best objective wins.
+  for (int k = 1; k <= config_.heading_starts; ++k) {
+    for (const double sign : {1.0, -1.0}) {
+      const Pose2 s{start.x, start.y,
+                    normalizeAngle(start.theta + sign * k * config_.heading_start_step_rad)};
+      const MatchResult m = climb(grid, s, scan, prior);
+      evaluations += m.evaluations;
+      if (m.objective > best.objective) best = m;
+    }
+  }
+  best.evaluations = evaluations;
+  return best;
+}
+
+MatchResult ScanMatcher::climb(const TiledGrid& grid, const Pose2& start, const PreparedScan& scan,
                                const MotionGaussian* prior) const {
   MatchResult best;
   const auto evaluate = [&](const Pose2& x, ScanLikelihood& l) {

@@ -1,5 +1,5 @@
-// The scan matcher on a synthetic room: it recovers a known pose offset, its likelihood peaks at the
-// true pose, and it reports an empty map as untrusted.
+// The scan matcher on a synthetic room: it recovers a known pose offset (a large heading error with
+// heading starts), its likelihood peaks at the true pose, and it reports an empty map as untrusted.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -33,6 +33,28 @@ TEST(ScanMatcher, RecoversAKnownOffsetInASyntheticRoom) {
   EXPECT_NEAR(m.pose.y, truth.y, 0.02);
   EXPECT_NEAR(m.pose.theta, truth.theta, 0.01);
   EXPECT_GT(m.objective, matcher.likelihood(grid, start, scan).log_likelihood);
+}
+
+TEST(ScanMatcher, HeadingStartsRecoverAHeadingErrorOneClimbDoesNot) {
+  const TiledGrid grid = mapFrom({{3.0, 3.0, 0.0}, {4.0, 4.0, 0.5}});
+  const Pose2 truth{3.6, 3.4, 0.2};
+  const ScanMatcher single(ScanMatcherConfig{});
+  const PreparedScan scan = single.prepare(scanAt(roomWalls(), truth), grid.resolution());
+  ScanMatcherConfig several;
+  several.heading_starts = 3;
+  several.heading_start_step_rad = 0.15;
+  const ScanMatcher multi(several);
+  // 0.5 rad off: one climb ends on a wrong local maximum; a start 0.45 rad back finds the true pose.
+  const Pose2 start{truth.x, truth.y, truth.theta - 0.5};
+  const MatchResult one = single.match(grid, start, scan, nullptr);
+  EXPECT_GT(std::abs(one.pose.theta - truth.theta), 0.1);
+  const MatchResult m = multi.match(grid, start, scan, nullptr);
+  EXPECT_TRUE(m.converged);
+  EXPECT_NEAR(m.pose.x, truth.x, 0.02);
+  EXPECT_NEAR(m.pose.y, truth.y, 0.02);
+  EXPECT_NEAR(m.pose.theta, truth.theta, 0.01);
+  EXPECT_GT(m.objective, one.objective);
+  EXPECT_GT(m.evaluations, one.evaluations);
 }
 
 TEST(ScanMatcher, LikelihoodIsHighestAtTheTruePose) {
@@ -87,6 +109,10 @@ TEST(ScanMatcher, ConfigValidationNamesTheField) {
   const Status s = config.validate();
   ASSERT_FALSE(s.ok());
   EXPECT_NE(s.error().message.find("beam_stride"), std::string::npos);
+  ScanMatcherConfig starts;
+  starts.heading_starts = -1;
+  ASSERT_FALSE(starts.validate().ok());
+  EXPECT_NE(starts.validate().error().message.find("heading_starts"), std::string::npos);
 }
 
 }  // namespace

@@ -42,6 +42,9 @@ struct GridFastSlamConfig {
   // Tempering of the weights before normalisation, gmapping's obsSigmaGain: w̃ ∝ exp(l / (gain·N)).
   // A laser's beams are not independent, so the product of 180 beam likelihoods is far too peaked.
   double observation_gain = 3.0;
+  // In the weights (τ, η and the fallback's p(z | x, m)) a beam with no endpoint near it counts as this
+  // far off; 0 takes the matcher's unmatched_distance_m. The hill climbing keeps the matcher's value.
+  double weight_unmatched_distance_m = 0.0;
   bool sample_proposal = true;    // draw x_t from N(μ, Σ); false keeps x* (scan-matching odometry)
   bool two_step_sampling = true;  // start each particle's match from a motion-model draw
   // Scans between processed ones are matched against the best particle's map (not added to it), so
@@ -54,7 +57,10 @@ struct GridFastSlamConfig {
   MapUpdateConfig map_update;
   ProposalConfig proposal;
 
-  // One particle keeping the scan matcher's maximum: "improved odometry".
+  // One particle keeping the scan matcher's maximum: "improved odometry", with the update distances and
+  // matcher settings measured best for it (shorter steps, heading starts, unmatched beams costlier).
+  // PoseCorrector takes only its particle count and sampling switches; ogf-slam2d its other values
+  // where no flag overrides them.
   static GridFastSlamConfig scanMatching();
 
   // The first wrong field, with its path ("matcher.beam_stride must be >= 1 (got 0)").
@@ -115,6 +121,8 @@ class GridFastSlam {
   explicit GridFastSlam(const GridFastSlamConfig& config);
   void moveParticle(Particle& p, const MotionGaussian& g, const PreparedScan& scan);
   void resampleIfDegenerate();
+  // log p(z | x, m) for the weights: the matcher's sum with unmatched beams at weight_unmatched_distance_m.
+  double weightLogLikelihood(const ScanLikelihood& l) const;
   void locateSkippedScan(std::uint64_t scan_id, const Pose2& step, const PlanarScan& scan);
 
   GridFastSlamConfig config_;

@@ -4,7 +4,8 @@
 // nearest occupied cell in a small window whose neighbour towards the sensor is free, and scores the
 // distance d to the mean endpoint in that cell as a Gaussian, log p(z_i) = −d² / (2σ²), a beam with no
 // such cell as if it were `unmatched_distance_m` off. The maximum is found by gmapping's hill climbing:
-// try ±step in x, y and θ, take the best, halve the steps when none improves.
+// try ±step in x, y and θ, take the best, halve the steps when none improves; optionally further climbs
+// from headings around the start (heading_starts), the best objective winning.
 // Used on its own it is "improved odometry"; the RBPF runs it per particle for the improved proposal.
 #pragma once
 
@@ -30,7 +31,11 @@ struct ScanMatcherConfig {
   double linear_step_m = 0.05;        // first hill-climbing step (gmapping's lstep)
   double angular_step_rad = 0.05;     // (gmapping's astep)
   int refinements = 5;                // step halvings before the climb stops (gmapping's iterations)
-  int max_evaluations = 600;          // hard bound on likelihood evaluations per match
+  int max_evaluations = 600;          // hard bound on likelihood evaluations per climb
+  // Extra climbs started at the start heading ±k·heading_start_step_rad, k = 1..heading_starts; the
+  // best objective wins (0: one climb, gmapping's behaviour).
+  int heading_starts = 0;
+  double heading_start_step_rad = 0.1;
   // A match whose best pose explains fewer than this share of the matchable beams is not trusted
   // (empty or foreign map): the caller falls back to odometry.
   double min_matched_fraction = 0.3;
@@ -82,6 +87,9 @@ class ScanMatcher {
                     const MotionGaussian* prior) const;
 
  private:
+  MatchResult climb(const TiledGrid& grid, const Pose2& start, const PreparedScan& scan,
+                    const MotionGaussian* prior) const;
+
   ScanMatcherConfig config_;
 };
 
