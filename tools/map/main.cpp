@@ -11,11 +11,14 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <ogf/filter/map_file.hpp>
+#include <ogf/mapper_daemon/mapper_options.hpp>
 #include <ogf/transport/logging.hpp>
 
 #include "ogf/map_io/cell_csv.hpp"
@@ -127,7 +130,9 @@ int main(int argc, char** argv) {
       "Exit 0 when at least one scan was mapped and every output written, 1 when nothing could be mapped or\n"
       "an output failed, 2 on bad flags or configuration."};
   app.add_option("--out", o.out, "Map file to write (ogf map format, see ogf/filter/map_file.hpp)")->required();
-  app.add_option("--config", o.config_path, "YAML settings (resolution, min_range, max_range, extrinsic, filter); flags override it")
+  app.add_option("--config", o.config_path,
+                 "YAML settings (resolution, min_range, max_range, extrinsic, filter), or ogf-mapper's own "
+                 "configuration file (its map, filter and fusion sections); flags override it")
       ->check(CLI::ExistingFile);
   auto* res_opt = app.add_option("--resolution", o.resolution, "Cell size, metres")->capture_default_str();
   auto* max_opt = app.add_option("--max-range", o.max_range, "Rays are cut here (free cells only beyond), metres")
@@ -186,7 +191,20 @@ int main(int argc, char** argv) {
 
   ogf::pipeline::MapperConfig config;
   if (!o.config_path.empty()) {
-    if (auto st = mio::applyMapConfigFile(o.config_path, config); !st) {
+    std::ifstream in(o.config_path);
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in && mio::isMapperDaemonConfig(text.str())) {
+      // The robot's /etc/ogf/mapper.yaml maps a capture offline as the daemon would map it live.
+      ogf::mapper_daemon::MapperOptions daemon;
+      if (auto st = ogf::mapper_daemon::parseMapperOptions(text.str(), o.config_path, daemon); !st) {
+        spdlog::error("--config: {}", st.error().message);
+        return kExitUsage;
+      }
+      config = daemon.map;
+      spdlog::info("--config: {} is ogf-mapper's configuration: its map, filter and fusion settings are used",
+                   o.config_path);
+    } else if (auto st = mio::applyMapConfigFile(o.config_path, config); !st) {
       spdlog::error("--config: {}", st.error().message);
       return kExitUsage;
     }

@@ -156,3 +156,19 @@ TEST(MapConfigYaml, UnknownKeysAndBadValuesAreNamedWithFileLineAndKey) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(MapConfigFile, TheDaemonsFormatIsRecognisedAndTheFlatOneIsNot) {
+  using ogf::map_io::isMapperDaemonConfig;
+  EXPECT_TRUE(isMapperDaemonConfig("map:\n  resolution: 0.2\nfilter:\n  threads: 2\n"));
+  EXPECT_TRUE(isMapperDaemonConfig("lcm_url: \"\"\nchannels: {scan: VELODYNE_SCAN}\n"));
+  EXPECT_TRUE(isMapperDaemonConfig("fusion:\n  max_pending_scans: 10\n"));
+  EXPECT_FALSE(isMapperDaemonConfig("resolution: 0.1\nextrinsic: {translation: [0, 0, 1]}\nfilter:\n  threads: 2\n"));
+  EXPECT_FALSE(isMapperDaemonConfig("filter:\n  clamp_z: 2\n"));  // ambiguous: ogf-map's own
+  EXPECT_FALSE(isMapperDaemonConfig(""));
+  EXPECT_FALSE(isMapperDaemonConfig("[unclosed"));
+  EXPECT_FALSE(isMapperDaemonConfig("- a\n- b\n"));
+}
+
+}  // namespace

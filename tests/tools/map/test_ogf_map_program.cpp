@@ -277,6 +277,36 @@ TEST(OgfMapProgram, PcdRaysStartAtTheViewpointAndTheBtExportReadsBack) {
   EXPECT_TRUE(tree.isNodeOccupied(wall));
 }
 
+// The robot's own ogf-mapper configuration (nested `map:` section, daemon-only keys) is read as the daemon
+// reads it: its resolution and filter settings make the map; a typo in it is still an error naming the key.
+TEST(OgfMapProgram, TheMapperDaemonsConfigurationFileIsAccepted) {
+  ogf::testing::ScratchDir dir;
+  std::ostringstream pts;
+  int n = 0;
+  for (int iy = -10; iy <= 10; ++iy, ++n) pts << "5.1 " << 0.05 * iy << " 0.5\n";
+  writeFile(dir / "wall.pcd", "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH " +
+                                  std::to_string(n) + "\nHEIGHT 1\nVIEWPOINT 0 0 0.5 1 0 0 0\nPOINTS " +
+                                  std::to_string(n) + "\nDATA ascii\n" + pts.str());
+  writeFile(dir / "mapper.yaml",
+            "lcm_url: \"\"\nstate_dir: /var/lib/ogf\nmap:\n  resolution: 0.5\n  max_range: 20\n"
+            "filter:\n  threads: 1\n  free_clamp_z: 2.5\nfusion:\n  max_pending_scans: 10\n");
+  const auto run = runProgram({kMap, "--config", (dir / "mapper.yaml").string(), "--pcd",
+                               (dir / "wall.pcd").string(), "--out", (dir / "m").string()},
+                              dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto map = ogf::filter::loadMapFile(dir / "m");
+  ASSERT_TRUE(map.ok()) << map.error().message;
+  EXPECT_EQ(map->config().resolution, 0.5);
+  EXPECT_EQ(map->config().freeClampZ, 2.5);
+
+  writeFile(dir / "typo.yaml", "map:\n  resolutoin: 0.5\n");
+  const auto bad = runProgram({kMap, "--config", (dir / "typo.yaml").string(), "--pcd",
+                               (dir / "wall.pcd").string(), "--out", (dir / "m2").string()},
+                              dir.path());
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("resolutoin"), std::string::npos) << bad.output;
+}
+
 TEST(OgfMapProgram, NoInputIsAUsageError) {
   ogf::testing::ScratchDir dir;
   const auto run = runProgram({kMap, "--out", (dir / "m").string()}, dir.path());

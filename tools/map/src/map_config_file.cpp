@@ -99,6 +99,26 @@ Status applyFilter(std::string_view source, const YAML::Node& map, filter::Filte
 
 }  // namespace
 
+bool isMapperDaemonConfig(std::string_view yaml) {
+  static constexpr std::string_view kDaemonOnly[] = {"map", "fusion", "channels", "lcm_url", "time_base",
+                                                     "state_dir", "snapshot_interval_s", "keyframe_interval_s",
+                                                     "status_interval_s", "pose_correction"};
+  YAML::Node root;
+  try {
+    root = YAML::Load(std::string(yaml));
+  } catch (const YAML::Exception&) {
+    return false;
+  }
+  if (!root.IsMap()) return false;
+  for (const auto& kv : root) {
+    if (!kv.first.IsScalar()) continue;
+    for (const std::string_view key : kDaemonOnly) {
+      if (kv.first.Scalar() == key) return true;
+    }
+  }
+  return false;
+}
+
 Status applyMapConfigYaml(std::string_view yaml, std::string_view source, pipeline::MapperConfig& config) {
   YAML::Node root;
   try {

@@ -32,6 +32,10 @@
 
 namespace ogf::map_io {
 
+// Whether the YAML text is ogf-mapper's configuration (it has a top-level key only the daemon's file has:
+// map, fusion, channels, lcm_url, state_dir, ...) rather than this flat format. Text that is not YAML is not.
+bool isMapperDaemonConfig(std::string_view yaml);
+
 // Applies the YAML text onto `config`; `source` names it in errors ("map.yaml:3: filter.threads: ...").
 Status applyMapConfigYaml(std::string_view yaml, std::string_view source, pipeline::MapperConfig& config);
 Status applyMapConfigFile(const std::filesystem::path& path, pipeline::MapperConfig& config);
