@@ -86,8 +86,7 @@ BandedOgf::BandedOgf(const FilterConfig& resolved)
   }
   priorVariance_ = static_cast<float>(prior_.variance());
   varianceFloor_ = priorVariance_ * 1e-9F;
-  clampZ_ = resolved.clampZ > 0.0 ? resolved.clampZ : std::numeric_limits<double>::infinity();
-  freeClampZ_ = resolved.clampZ > 0.0 && resolved.freeClampZ > 0.0 ? std::min(clampZ_, resolved.freeClampZ) : clampZ_;
+  setClamps();
   // Same-colour blocks are one block apart: their measurements touch disjoint cells iff 2·extent ≤ B.
   parallelSafe_ = 2 * stencil_.extent() <= kBlockSide;
   // Which neighbouring blocks a measurement at each local position reaches.
@@ -357,6 +356,28 @@ bool BandedOgf::applyMeasurement(float* const* neighbourhood, std::size_t local,
   kernel_(neighbourhood, local, {static_cast<float>(u.meanGain), static_cast<float>(u.covShrink), varianceFloor_},
           band_);
   return true;
+}
+
+Status BandedOgf::adoptPolicy(const FilterConfig& config) {
+  FilterConfig next = config_;
+  next.occupiedThreshold = config.occupiedThreshold;
+  next.freeThreshold = config.freeThreshold;
+  next.skipTolerance = config.skipTolerance;
+  next.clampZ = config.clampZ;
+  next.freeClampZ = config.freeClampZ;
+  next.threads = config.threads;
+  auto checked = next.resolved();
+  if (!checked) {
+    return checked.error();
+  }
+  config_ = *checked;
+  setClamps();
+  return okStatus();
+}
+
+void BandedOgf::setClamps() {
+  clampZ_ = config_.clampZ > 0.0 ? config_.clampZ : std::numeric_limits<double>::infinity();
+  freeClampZ_ = config_.clampZ > 0.0 && config_.freeClampZ > 0.0 ? std::min(clampZ_, config_.freeClampZ) : clampZ_;
 }
 
 CellEstimate BandedOgf::estimate(const CellKey& cell) const {

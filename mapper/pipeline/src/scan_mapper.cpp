@@ -104,6 +104,9 @@ Status ScanMapper::restoreFilter(std::span<const std::uint8_t> map_bytes, const 
   if (differs(*got.kernelAmplitude, *want.kernelAmplitude))
     return mismatch("kernel amplitude", *got.kernelAmplitude, *want.kernelAmplitude);
   if (differs(*got.stencilRadius, *want.stencilRadius)) return mismatch("stencil radius", *got.stencilRadius, *want.stencilRadius);
+  // The thresholds, clamps and skip tolerance are the configuration's, not those saved with the map (an
+  // older file, or a changed configuration).
+  if (auto st = loaded->adoptPolicy(want); !st) return Error{source + ": " + st.error().message};
   filter_ = std::move(*loaded);
   return okStatus();
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ogf/delta/delta_stream.hpp"
+#include "ogf/filter/map_file.hpp"
 #include "ogf/filter/occupancy.hpp"
 #include "ogf/pipeline/scan_mapper.hpp"
 
@@ -76,6 +77,38 @@ TEST(ScanMapper, ReplayingTheMeasurementSetsRebuildsTheSameMapBitForBit) {
   }
   for (const auto& set : journal) replay->apply(set);
   EXPECT_EQ(live->filter().checksum(), replay->filter().checksum());
+}
+
+// A saved map brings its cells, not its policy: restored into a mapper configured with other clamps and
+// thresholds, it filters as configured now (an older file, or a configuration changed since the save).
+TEST(ScanMapper, RestoredMapTakesTheConfiguredClampsAndThresholds) {
+  pipeline::MapperConfig saved_with = config();
+  saved_with.filter.freeClampZ = 0.0;
+  saved_with.filter.occupiedThreshold = 0.7;
+  auto saver = pipeline::ScanMapper::create(saved_with);
+  ASSERT_TRUE(saver.ok());
+  const WallScan scan(4.1);
+  saver->measureStatic(scan.points(0), Eigen::Isometry3d::Identity());
+  saver->apply(saver->measurements());
+  const std::vector<std::uint8_t> bytes = filter::encodeMap(saver->filter());
+
+  pipeline::MapperConfig now = config();
+  now.filter.freeClampZ = 1.25;
+  auto restored = pipeline::ScanMapper::create(now);
+  ASSERT_TRUE(restored.ok());
+  ASSERT_TRUE(restored->restoreFilter(bytes, "saved").ok());
+  EXPECT_EQ(restored->filter().config().freeClampZ, 1.25);
+  EXPECT_EQ(restored->filter().config().occupiedThreshold, 0.65);
+  EXPECT_EQ(restored->filter().checksum(), saver->filter().checksum()) << "the cells are the saved ones";
+
+  // A configuration the saved map cannot take is refused and the mapper keeps its own filter.
+  pipeline::MapperConfig other = config();
+  other.setResolution(0.25);
+  auto refused = pipeline::ScanMapper::create(other);
+  ASSERT_TRUE(refused.ok());
+  const auto st = refused->restoreFilter(bytes, "saved");
+  ASSERT_FALSE(st.ok());
+  EXPECT_NE(st.error().message.find("resolution"), std::string::npos) << st.error().message;
 }
 
 TEST(ScanMapper, DeltaCandidatesKeepEveryCellsVisibleStateUpToDate) {

@@ -70,6 +70,10 @@ class BandedOgf {
   const PriorCovariance& prior() const { return prior_; }
   // Number of worker threads for update(); does not change results.
   void setThreads(int threads) { config_.threads = threads < 1 ? 1 : threads; }
+  // Takes the policy of `config` (thresholds r_o/r_f, skip tolerance, clamps, threads) and keeps the map's
+  // structure (dimensions, resolution, kernel, stencil, taper): a map restored from a file then filters as
+  // configured now, not as it was when saved. Error (nothing changed) when `config` is invalid.
+  Status adoptPolicy(const FilterConfig& config);
 
   // Raw block access for the map file: sorted keys, a block's floats (layout of Block), and restoring a
   // block from such floats (error on a wrong size, a key outside the 2-D slice or a duplicate).
@@ -113,6 +117,7 @@ class BandedOgf {
   std::vector<float> priorSlots_;  // Σ0 for each forward slot
   float priorVariance_ = 0.0F;
   float varianceFloor_ = 0.0F;
+  void setClamps();  // clampZ_ and freeClampZ_ from config_
   double clampZ_ = 0.0;      // for occupied measurements; +inf: never
   double freeClampZ_ = 0.0;  // for free ones
   std::vector<std::uint32_t> neighbourMask_;  // per position in a block: neighbouring blocks reached
