@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <ogf/slam/grid_fastslam.hpp>
 #include <ogf/slam/pose_corrector.hpp>
 #include <vector>
@@ -146,6 +147,37 @@ TEST(GridFastSlam, ScansBetweenProcessedOnesAreMatchedAgainstTheBestMap) {
     worst = std::max(worst, std::hypot(p.x - d.truth[s.scan_id].x, p.y - d.truth[s.scan_id].y));
   }
   EXPECT_LT(worst, 0.1);
+}
+
+TEST(GridFastSlam, WeightUnmatchedDistanceChangesTheWeightsNotTheMatch) {
+  const Drive d = driveAroundTheRoom();
+  const auto drive = [&d](double weight_unmatched_m) {
+    GridFastSlamConfig c;
+    c.particles = 4;
+    c.linear_update_m = 0.3;
+    c.weight_unmatched_distance_m = weight_unmatched_m;
+    auto slam = GridFastSlam::create(c);
+    EXPECT_TRUE(slam.ok());
+    for (std::size_t i = 0; i < 20; ++i)
+      slam->addScan(i, d.odometry[i], scanAt(roomWalls(), d.truth[i], 180));
+    return slam->particles();
+  };
+  // 0 takes the matcher's distance: the same run as naming that distance.
+  const std::vector<Particle> none = drive(0.0),
+                              same = drive(GridFastSlamConfig{}.matcher.unmatched_distance_m);
+  const std::vector<Particle> costly = drive(0.4);
+  double lowest_none = 0.0, highest_costly = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < none.size(); ++i) {
+    EXPECT_EQ(none[i].log_weight_total, same[i].log_weight_total) << i;
+    lowest_none = std::min(lowest_none, none[i].log_weight_total);
+    highest_costly = std::max(highest_costly, costly[i].log_weight_total);
+  }
+  // Unmatched beams (grazing ones, walls seen for the first time) cost more: every weight drops.
+  EXPECT_LT(highest_costly, lowest_none);
+  GridFastSlamConfig bad;
+  bad.weight_unmatched_distance_m = -1.0;
+  ASSERT_FALSE(bad.validate().ok());
+  EXPECT_NE(bad.validate().error().message.find("weight_unmatched_distance_m"), std::string::npos);
 }
 
 TEST(GridFastSlam, ConfigValidationNamesTheNestedField) {
