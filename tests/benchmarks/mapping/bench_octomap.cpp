@@ -146,7 +146,7 @@ struct OgfResult {
 };
 
 OgfResult runOgf(const std::vector<RayScan>& scans, double resolution, double max_range, double min_range,
-                 double clamp_z, double free_clamp_z) {
+                 double clamp_z, double free_clamp_z, bool deltas) {
   ogf::pipeline::MapperConfig config;
   config.setResolution(resolution);
   config.fusion.measurement.max_range_m = max_range;
@@ -163,6 +163,7 @@ OgfResult runOgf(const std::vector<RayScan>& scans, double resolution, double ma
   std::size_t measurements = 0, applied = 0;
   std::vector<float> x, y, z;
   std::vector<std::int32_t> t;
+  std::vector<ogf::delta::PublishedCell> changes;
   for (const RayScan& s : scans) {
     // The rays relative to the origin, placed back with a pure translation (outside the timing, as
     // OctoMap's point cloud is built outside it).
@@ -182,7 +183,9 @@ OgfResult runOgf(const std::vector<RayScan>& scans, double resolution, double ma
     const double t0 = cpuMs();
     mapper->measureStatic(points, pose);
     const double t1 = cpuMs();
-    applied += mapper->apply(mapper->measurements()).applied;
+    // With --deltas, as ogf-mapper does: the cells whose class or quantised probability changed, collected.
+    changes.clear();
+    applied += mapper->apply(mapper->measurements(), deltas ? &changes : nullptr).applied;
     const double m_ms = t1 - t0, a_ms = cpuMs() - t1;
     measurements += mapper->measurements().size();
     r.measure.ms.push_back(m_ms);
@@ -241,6 +244,7 @@ int main(int argc, char** argv) {
   double max_range = 30.0, min_range = 0.4;
   double clamp_z = ogf::filter::FilterConfig{}.clampZ;
   double free_clamp_z = ogf::filter::FilterConfig{}.freeClampZ;
+  bool deltas = false;
   app.add_option("--scans", count, "Scans to map (synthetic street scans 1 m apart, or the first of --pcap)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
@@ -254,6 +258,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--free-clamp-z", free_clamp_z, "The OGF's freeClampZ for free measurements; 0: --clamp-z")
       ->capture_default_str();
+  app.add_flag("--deltas", deltas, "Also collect the changed cells per scan, as ogf-mapper does for OGF_MAP_DELTA");
   CLI11_PARSE(app, argc, argv);
 
   const auto scans = pcap.empty() ? syntheticStreetScans(count, min_range) : captureScans(pcap, odometry, min_range, count);
@@ -269,7 +274,7 @@ int main(int argc, char** argv) {
   std::printf("%-6s %-8s %9s %9s %9s %8s %10s %11s %s\n", "res m", "mapper", "mean ms", "p50 ms", "p99 ms",
               "x 10 Hz", "memory MB", "cells", "notes");
   for (const double res : parseList(resolutions)) {
-    const OgfResult ogf = runOgf(scans, res, max_range, min_range, clamp_z, free_clamp_z);
+    const OgfResult ogf = runOgf(scans, res, max_range, min_range, clamp_z, free_clamp_z, deltas);
     const OctomapResult oct = runOctomap(scans, res, max_range);
     const auto row = [&](const char* name, const Timing& t, std::size_t memory, std::size_t cells, const std::string& notes) {
       std::printf("%-6.2f %-8s %9.1f %9.1f %9.1f %8.2f %10.1f %11zu %s\n", res, name, t.mean(), t.percentile(0.5),
