@@ -228,8 +228,10 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   // 4. With a sink: the cells the updates can change (the stencils of the measurements), and their mean and
   //    variance before, to find what changed. Blocks in key order, cells in position order.
   const std::size_t stride = storage_.floatsPerCell();
-  std::vector<std::uint32_t> touchedOrder;
-  std::vector<float> before;
+  std::vector<std::uint32_t>& touchedOrder = batchWork.touchedOrder;
+  std::vector<float>& before = batchWork.before;
+  touchedOrder.clear();
+  before.clear();
   if (sink != nullptr) {
     const std::size_t cells = band_.cells;
     for (std::size_t r = 0; r < sorted.size(); ++r) {
@@ -309,10 +311,10 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
         const double m0 = static_cast<double>(was[0]);
         const double s0 = static_cast<double>(was[1]);
         CellChange c;
-        c.quantisedProbability = quantiseProbability(predictiveProbability(m1, s1));
-        c.occupancyClass = occupancyClass(m1, config_.occupiedThreshold, config_.freeThreshold);
-        if (c.quantisedProbability == quantiseProbability(predictiveProbability(m0, s0)) &&
-            c.occupancyClass == occupancyClass(m0, config_.occupiedThreshold, config_.freeThreshold)) {
+        c.quantisedProbability = published_.quantisedProbability(m1, s1);
+        c.occupancyClass = published_.occupancyClass(m1);
+        if (c.quantisedProbability == published_.quantisedProbability(m0, s0) &&
+            c.occupancyClass == published_.occupancyClass(m0)) {
           return;
         }
         c.key = storage_.cellKey(block.key, l);
@@ -376,6 +378,7 @@ Status BandedOgf::adoptPolicy(const FilterConfig& config) {
 }
 
 void BandedOgf::setClamps() {
+  published_ = PublishedStateRule(config_.occupiedThreshold, config_.freeThreshold);
   clampZ_ = config_.clampZ > 0.0 ? config_.clampZ : std::numeric_limits<double>::infinity();
   freeClampZ_ = config_.clampZ > 0.0 && config_.freeClampZ > 0.0 ? std::min(clampZ_, config_.freeClampZ) : clampZ_;
 }

@@ -24,6 +24,7 @@
 #include "ogf/filter/inverse_mills_table.hpp"
 #include "ogf/filter/kernel.hpp"
 #include "ogf/filter/measurement.hpp"
+#include "ogf/filter/published_state.hpp"
 #include "ogf/filter/result.hpp"
 #include "ogf/filter/stencil.hpp"
 
@@ -105,6 +106,8 @@ class BandedOgf {
     BlockKeyTable touchedIndex;
     std::vector<TouchedBlock> touched;
     std::vector<std::uint32_t> groupTouched;
+    std::vector<std::uint32_t> touchedOrder;
+    std::vector<float> before;  // mean and variance of each touched cell before the batch
   };
   void applyGroup(const Group& group, std::span<const std::uint16_t> codes, float* const* neighbourhood,
                   UpdateStats& stats);
@@ -117,7 +120,8 @@ class BandedOgf {
   std::vector<float> priorSlots_;  // Σ0 for each forward slot
   float priorVariance_ = 0.0F;
   float varianceFloor_ = 0.0F;
-  void setClamps();  // clampZ_ and freeClampZ_ from config_
+  void setClamps();  // clampZ_, freeClampZ_ and published_ from config_
+  PublishedStateRule published_{0.65, 0.35};  // class and quantised probability for the ChangeSink
   double clampZ_ = 0.0;      // for occupied measurements; +inf: never
   double freeClampZ_ = 0.0;  // for free ones
   std::vector<std::uint32_t> neighbourMask_;  // per position in a block: neighbouring blocks reached
