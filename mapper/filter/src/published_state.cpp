@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "ogf/filter/cubic_hermite.hpp"
 #include "ogf/filter/inverse_mills.hpp"
 #include "ogf/filter/occupancy.hpp"
 
@@ -78,16 +79,7 @@ std::uint16_t PublishedStateRule::quantisedProbability(double mean, double varia
   if (!(z >= kLow && z < kHigh)) {
     return quantiseProbability(predictiveProbability(mean, variance));
   }
-  const double u = (z - kLow) * kNodesPerUnit;
-  const auto k = static_cast<std::size_t>(u);
-  const double t = u - static_cast<double>(k);
-  const double t2 = t * t;
-  const double t3 = t2 * t;
-  const double h01 = 3.0 * t2 - 2.0 * t3;
-  const double h00 = 1.0 - h01;
-  const double h10 = t3 - 2.0 * t2 + t;
-  const double h11 = t3 - t2;
-  const double p = h00 * value_[k] + h01 * value_[k + 1] + h10 * slope_[k] + h11 * slope_[k + 1];
+  const double p = cubicHermite(value_, slope_, (z - kLow) * kNodesPerUnit);
   const double scaled = p * 10000.0;
   if (!(scaled >= 0.0 && scaled <= 10000.0)) {
     return quantiseProbability(predictiveProbability(mean, variance));

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "ogf/filter/cubic_hermite.hpp"
 #include "ogf/filter/inverse_mills.hpp"
 
 namespace ogf::filter {
@@ -21,17 +22,7 @@ class InverseMillsTable {
     if (!(z >= kLow && z < kHigh)) {
       return inverseMillsRatio(z);
     }
-    const double u = (z - kLow) * kNodesPerUnit;
-    const auto k = static_cast<std::size_t>(u);
-    const double t = u - static_cast<double>(k);
-    // Hermite basis on [0, 1]: values v0, v1 with weights h00, h01; slopes d0, d1 with h10, h11.
-    const double t2 = t * t;
-    const double t3 = t2 * t;
-    const double h01 = 3.0 * t2 - 2.0 * t3;
-    const double h00 = 1.0 - h01;
-    const double h10 = t3 - 2.0 * t2 + t;
-    const double h11 = t3 - t2;
-    return h00 * value_[k] + h01 * value_[k + 1] + h10 * slope_[k] + h11 * slope_[k + 1];
+    return cubicHermite(value_.data(), slope_.data(), (z - kLow) * kNodesPerUnit);
   }
 
   static constexpr double kLow = -8.0;
