@@ -86,7 +86,7 @@ BandedOgf::BandedOgf(const FilterConfig& resolved)
   }
   priorVariance_ = static_cast<float>(prior_.variance());
   varianceFloor_ = priorVariance_ * 1e-9F;
-  setClamps();
+  derivePolicyState();
   // Same-colour blocks are one block apart: their measurements touch disjoint cells iff 2·extent ≤ B.
   parallelSafe_ = 2 * stencil_.extent() <= kBlockSide;
   // Which neighbouring blocks a measurement at each local position reaches.
@@ -368,16 +368,16 @@ Status BandedOgf::adoptPolicy(const FilterConfig& config) {
   next.clampZ = config.clampZ;
   next.freeClampZ = config.freeClampZ;
   next.threads = config.threads;
-  auto checked = next.resolved();
-  if (!checked) {
-    return checked.error();
+  // Only the policy changed: the structure (and its prior's certificate) is the map's own.
+  if (auto st = next.validatePolicy(); !st) {
+    return st;
   }
-  config_ = *checked;
-  setClamps();
+  config_ = next;
+  derivePolicyState();
   return okStatus();
 }
 
-void BandedOgf::setClamps() {
+void BandedOgf::derivePolicyState() {
   published_ = PublishedStateRule(config_.occupiedThreshold, config_.freeThreshold);
   clampZ_ = config_.clampZ > 0.0 ? config_.clampZ : std::numeric_limits<double>::infinity();
   freeClampZ_ = config_.clampZ > 0.0 && config_.freeClampZ > 0.0 ? std::min(clampZ_, config_.freeClampZ) : clampZ_;

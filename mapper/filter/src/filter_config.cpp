@@ -105,23 +105,29 @@ Result<FilterConfig> FilterConfig::resolved() const {
                       "leaves the banded prior not positive definite (its lattice spectrum reaches 0); use a "
                       "shorter support");
   }
-  if (!(c.freeThreshold > 0.0 && c.freeThreshold <= c.occupiedThreshold && c.occupiedThreshold < 1.0)) {
-    return fieldError("occupiedThreshold", c.occupiedThreshold,
-                      "must satisfy 0 < freeThreshold <= occupiedThreshold < 1");
-  }
-  if (!std::isfinite(c.skipTolerance) || c.skipTolerance < 0.0) {
-    return fieldError("skipTolerance", c.skipTolerance, "must be >= 0");
-  }
-  if (!std::isfinite(c.clampZ) || c.clampZ < 0.0) {
-    return fieldError("clampZ", c.clampZ, "must be >= 0 (0: never clamp)");
-  }
-  if (!std::isfinite(c.freeClampZ) || c.freeClampZ < 0.0) {
-    return fieldError("freeClampZ", c.freeClampZ, "must be >= 0 (0: free measurements use clampZ)");
-  }
-  if (c.threads < 1 || c.threads > 256) {
-    return fieldError("threads", c.threads, "must lie in [1, 256]");
+  if (auto policy = c.validatePolicy(); !policy) {
+    return policy.error();
   }
   return c;
+}
+
+Status FilterConfig::validatePolicy() const {
+  if (!(freeThreshold > 0.0 && freeThreshold <= occupiedThreshold && occupiedThreshold < 1.0)) {
+    return fieldError("occupiedThreshold", occupiedThreshold, "must satisfy 0 < freeThreshold <= occupiedThreshold < 1");
+  }
+  if (!std::isfinite(skipTolerance) || skipTolerance < 0.0) {
+    return fieldError("skipTolerance", skipTolerance, "must be >= 0");
+  }
+  if (!std::isfinite(clampZ) || clampZ < 0.0) {
+    return fieldError("clampZ", clampZ, "must be >= 0 (0: never clamp)");
+  }
+  if (!std::isfinite(freeClampZ) || freeClampZ < 0.0) {
+    return fieldError("freeClampZ", freeClampZ, "must be >= 0 (0: free measurements use clampZ)");
+  }
+  if (threads < 1 || threads > 256) {
+    return fieldError("threads", threads, "must lie in [1, 256]");
+  }
+  return okStatus();
 }
 
 }  // namespace ogf::filter

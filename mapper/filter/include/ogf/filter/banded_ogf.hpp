@@ -120,7 +120,7 @@ class BandedOgf {
   std::vector<float> priorSlots_;  // Σ0 for each forward slot
   float priorVariance_ = 0.0F;
   float varianceFloor_ = 0.0F;
-  void setClamps();  // clampZ_, freeClampZ_ and published_ from config_
+  void derivePolicyState();  // clampZ_, freeClampZ_ and published_ from config_
   PublishedStateRule published_{0.65, 0.35};  // class and quantised probability for the ChangeSink
   double clampZ_ = 0.0;      // for occupied measurements; +inf: never
   double freeClampZ_ = 0.0;  // for free ones

@@ -45,6 +45,9 @@ struct FilterConfig {
 
   // Every optional field filled in, and every field checked. The error names the field.
   Result<FilterConfig> resolved() const;
+  // The checks of the policy fields alone (thresholds, skip tolerance, clamps, threads), which resolved()
+  // also makes; cheap, unlike the prior's certificate.
+  Status validatePolicy() const;
 
   // Valid only on a resolved configuration.
   GaussianKernel kernel() const { return {*kernelSigma, *kernelAmplitude}; }
