@@ -192,9 +192,13 @@ int main(int argc, char** argv) {
   ogf::pipeline::MapperConfig config;
   if (!o.config_path.empty()) {
     std::ifstream in(o.config_path);
+    if (!in) {
+      spdlog::error("--config: {}: cannot open config file", o.config_path);
+      return kExitUsage;
+    }
     std::ostringstream text;
     text << in.rdbuf();
-    if (in && mio::isMapperDaemonConfig(text.str())) {
+    if (mio::isMapperDaemonConfig(text.str())) {
       // The robot's /etc/ogf/mapper.yaml maps a capture offline as the daemon would map it live.
       ogf::mapper_daemon::MapperOptions daemon;
       if (auto st = ogf::mapper_daemon::parseMapperOptions(text.str(), o.config_path, daemon); !st) {
@@ -204,7 +208,7 @@ int main(int argc, char** argv) {
       config = daemon.map;
       spdlog::info("--config: {} is ogf-mapper's configuration: its map, filter and fusion settings are used",
                    o.config_path);
-    } else if (auto st = mio::applyMapConfigFile(o.config_path, config); !st) {
+    } else if (auto st = mio::applyMapConfigYaml(text.str(), o.config_path, config); !st) {
       spdlog::error("--config: {}", st.error().message);
       return kExitUsage;
     }

@@ -3,8 +3,6 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
-#include <fstream>
-#include <sstream>
 #include <string>
 
 namespace ogf::map_io {
@@ -148,14 +146,6 @@ Status applyMapConfigYaml(std::string_view yaml, std::string_view source, pipeli
     if (!st) return st;
   }
   return okStatus();
-}
-
-Status applyMapConfigFile(const std::filesystem::path& path, pipeline::MapperConfig& config) {
-  std::ifstream in(path);
-  if (!in) return Error{fmt::format("{}: cannot open config file", path.string())};
-  std::ostringstream text;
-  text << in.rdbuf();
-  return applyMapConfigYaml(text.str(), path.string(), config);
 }
 
 }  // namespace ogf::map_io

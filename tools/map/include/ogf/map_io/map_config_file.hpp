@@ -27,7 +27,6 @@
 #include <ogf/common/result.hpp>
 #include <ogf/pipeline/mapper_config.hpp>
 
-#include <filesystem>
 #include <string_view>
 
 namespace ogf::map_io {
@@ -38,6 +37,5 @@ bool isMapperDaemonConfig(std::string_view yaml);
 
 // Applies the YAML text onto `config`; `source` names it in errors ("map.yaml:3: filter.threads: ...").
 Status applyMapConfigYaml(std::string_view yaml, std::string_view source, pipeline::MapperConfig& config);
-Status applyMapConfigFile(const std::filesystem::path& path, pipeline::MapperConfig& config);
 
 }  // namespace ogf::map_io
