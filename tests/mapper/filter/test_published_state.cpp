@@ -20,6 +20,17 @@ void expectSame(const PublishedStateRule& rule, double ro, double rf, double mea
       << "mean " << mean << ", variance " << variance;
 }
 
+// The largest m with Φ(m) < p found by bisection on the exact Φ.
+double belowInverseCdf(double p) {
+  double lo = -10.0;
+  double hi = 10.0;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (normalCdf(mid) < p ? lo : hi) = mid;
+  }
+  return lo;
+}
+
 TEST(PublishedStateRule, EqualsTheExactClassAndQuantisedProbability) {
   for (const auto& [ro, rf] : {std::pair{0.65, 0.35}, std::pair{0.9, 0.1}, std::pair{0.5, 0.5}}) {
     const PublishedStateRule rule(ro, rf);
@@ -31,12 +42,7 @@ TEST(PublishedStateRule, EqualsTheExactClassAndQuantisedProbability) {
     }
     // At the class thresholds: m = Φ⁻¹(r) found by bisection, and its neighbouring doubles.
     for (const double r : {ro, rf}) {
-      double lo = -10.0;
-      double hi = 10.0;
-      for (int i = 0; i < 200; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        (normalCdf(mid) < r ? lo : hi) = mid;
-      }
+      const double lo = belowInverseCdf(r);
       double m = lo;
       for (int k = 0; k < 40; ++k, m = std::nextafter(m, 100.0)) {
         expectSame(rule, ro, rf, m, 0.5);
@@ -50,13 +56,7 @@ TEST(PublishedStateRule, EqualsTheExactClassAndQuantisedProbability) {
   // At rounding boundaries: Φ(z) = (k + 0.5) / 10000 for a spread of k, with variance 0 so z = m.
   const PublishedStateRule rule(0.65, 0.35);
   for (int k = 0; k < 10000; k += 37) {
-    const double target = (k + 0.5) / 10000.0;
-    double lo = -10.0;
-    double hi = 10.0;
-    for (int i = 0; i < 200; ++i) {
-      const double mid = 0.5 * (lo + hi);
-      (normalCdf(mid) < target ? lo : hi) = mid;
-    }
+    const double lo = belowInverseCdf((k + 0.5) / 10000.0);
     for (const double d : {0.0, 1e-15, -1e-15, 1e-12, -1e-12, 1e-9, -1e-9}) {
       expectSame(rule, 0.65, 0.35, lo + d, 0.0);
     }
