@@ -1,6 +1,8 @@
 // Pose CSV and LCM log writers (and the CSV reader the tests and ogf-eval use).
 #include "ogf/sim/pose_files.hpp"
 
+#include "ogf/tools/pose_csv.hpp"
+
 #include <fmt/format.h>
 #include <lcm/lcm-cpp.hpp>
 #include <ogf/odometry_t.hpp>
@@ -14,13 +16,12 @@ namespace ogf::sim {
 Status writePoseCsv(const std::string& path, const std::vector<StampedPose>& poses) {
   std::ofstream out(path);
   if (!out) return Error{path + ": cannot create"};
-  out << kPoseCsvHeader << '\n';
+  out << tools::kPoseCsvHeader << '\n';
   for (const auto& p : poses) {
     const auto& q = p.pose.orientation;
-    // "+ 0.0" turns -0.0 into 0.0, so a level pose reads 0 rather than -0.
-    out << fmt::format("{},{:.6f},{:.6f},{:.6f},{:.9f},{:.9f},{:.9f},{:.9f}\n", p.utime, p.pose.position.x() + 0.0,
-                       p.pose.position.y() + 0.0, p.pose.position.z() + 0.0, q.w() + 0.0, q.x() + 0.0,
-                       q.y() + 0.0, q.z() + 0.0);
+    out << tools::formatPoseCsvRow(p.utime, {p.pose.position.x(), p.pose.position.y(), p.pose.position.z(), q.w(),
+                                             q.x(), q.y(), q.z()})
+        << '\n';
   }
   out.flush();
   if (!out) return Error{path + ": write failed"};
@@ -28,26 +29,18 @@ Status writePoseCsv(const std::string& path, const std::vector<StampedPose>& pos
 }
 
 Result<std::vector<StampedPose>> readPoseCsv(const std::string& path) {
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in) return Error{path + ": cannot open"};
-  std::string line;
-  if (!std::getline(in, line) || line != kPoseCsvHeader) {
-    return Error{path + ":1: expected the header '" + std::string(kPoseCsvHeader) + "'"};
-  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  const tools::PoseCsv csv = tools::parsePoseCsv(text.str(), path);
+  if (!csv.problems.empty()) return Error{csv.problems.front()};
   std::vector<StampedPose> poses;
-  int n = 1;
-  while (std::getline(in, line)) {
-    ++n;
-    if (line.empty()) continue;
-    std::istringstream ls(line);
+  for (const tools::PoseCsvRow& row : csv.rows) {
     StampedPose p;
-    double v[7] = {};
-    char comma = 0;
-    bool ok = static_cast<bool>(ls >> p.utime);
-    for (double& x : v) ok = ok && (ls >> comma >> x) && comma == ',';
-    if (!ok) return Error{path + ":" + std::to_string(n) + ": expected 8 comma-separated numbers"};
-    p.pose.position = {v[0], v[1], v[2]};
-    p.pose.orientation = Eigen::Quaterniond(v[3], v[4], v[5], v[6]);
+    p.utime = row.utime;
+    p.pose.position = {row.values[0], row.values[1], row.values[2]};
+    p.pose.orientation = Eigen::Quaterniond(row.values[3], row.values[4], row.values[5], row.values[6]);
     poses.push_back(p);
   }
   return poses;
