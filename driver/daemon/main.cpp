@@ -118,12 +118,7 @@ int main(int argc, char** argv) {
   if (source == "pcap-live") config.source = SourceKind::PcapLive;
   if (source == "pcap-file") config.source = SourceKind::PcapFile;
 
-  const auto log_level = ogf::transport::parseLogLevel(config.log_level);
-  if (!log_level) {
-    std::fprintf(stderr, "ogf-driver: log_level: '%s' is not a level\n", config.log_level.c_str());
-    return 2;
-  }
-  ogf::transport::setupLogging("ogf-driver", *log_level);
+  if (!ogf::transport::setupLoggingAt("ogf-driver", "log_level", config.log_level)) return 2;
   auto stream_config = ogf::driver::validate(config);
   if (!stream_config) {
     spdlog::error("configuration: {}", stream_config.error().message);

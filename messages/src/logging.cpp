@@ -1,5 +1,7 @@
 #include "ogf/transport/logging.hpp"
 
+#include <cstdio>
+
 #include <spdlog/pattern_formatter.h>
 #include <spdlog/sinks/stdout_sinks.h>
 
@@ -58,6 +60,18 @@ std::optional<spdlog::level::level_enum> parseLogLevel(std::string_view name) {
   if (name == "critical") return spdlog::level::critical;
   if (name == "off") return spdlog::level::off;
   return std::nullopt;
+}
+
+bool setupLoggingAt(std::string_view program, std::string_view option, std::string_view level) {
+  const auto parsed = parseLogLevel(level);
+  if (!parsed) {
+    std::fprintf(stderr, "%.*s: %.*s: unknown level '%.*s' (trace, debug, info, warn, error, critical, off)\n",
+                 static_cast<int>(program.size()), program.data(), static_cast<int>(option.size()), option.data(),
+                 static_cast<int>(level.size()), level.data());
+    return false;
+  }
+  setupLogging(program, *parsed);
+  return true;
 }
 
 std::optional<std::uint64_t> LogRateLimiter::allow(std::chrono::steady_clock::time_point now) {

@@ -164,4 +164,14 @@ TEST(Logging, ParsesLevelNames) {
   EXPECT_FALSE(parseLogLevel("loud").has_value());
 }
 
+TEST(Logging, AnUnknownLevelIsRefusedNamingProgramAndOption) {
+  ::testing::internal::CaptureStderr();
+  EXPECT_FALSE(setupLoggingAt("ogf-test", "--log-level", "loud"));
+  const std::string said = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(said.find("ogf-test: --log-level: unknown level 'loud'"), std::string::npos) << said;
+  EXPECT_TRUE(setupLoggingAt("ogf-test", "--log-level", "warn"));
+  EXPECT_EQ(spdlog::default_logger()->name(), "ogf-test");
+  EXPECT_EQ(spdlog::default_logger()->level(), spdlog::level::warn);
+}
+
 }  // namespace

@@ -190,12 +190,7 @@ int main(int argc, char** argv) {
     return cli_rc == 0 ? kExitOk : kExitUsage;
   }
 
-  const auto level = ogf::transport::parseLogLevel(log_level);
-  if (!level) {
-    std::fprintf(stderr, "ogf-eval: --log-level: unknown level '%s'\n", log_level.c_str());
-    return kExitUsage;
-  }
-  ogf::transport::setupLogging("ogf-eval", *level);
+  if (!ogf::transport::setupLoggingAt("ogf-eval", "--log-level", log_level)) return kExitUsage;
 
   std::vector<std::pair<std::string, std::string>> trajectories;
   if (!odometry_path.empty()) trajectories.emplace_back("odometry (raw)", odometry_path);

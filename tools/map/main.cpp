@@ -174,12 +174,7 @@ int main(int argc, char** argv) {
   lcm_opt->excludes(pcap_opt);
   CLI11_PARSE(app, argc, argv);
 
-  const auto level = ogf::transport::parseLogLevel(o.log_level);
-  if (!level) {
-    std::fprintf(stderr, "ogf-map: --log-level: unknown level '%s'\n", o.log_level.c_str());
-    return kExitUsage;
-  }
-  ogf::transport::setupLogging("ogf-map", *level);
+  if (!ogf::transport::setupLoggingAt("ogf-map", "--log-level", o.log_level)) return kExitUsage;
   if (o.pcap.empty() && o.lcm_log.empty() && o.pcd.empty()) {
     spdlog::error("no input: give --pcap, --lcm-log or --pcd");
     return kExitUsage;

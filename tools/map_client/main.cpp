@@ -52,12 +52,7 @@ int main(int argc, char** argv) {
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
-  const auto level = ogf::transport::parseLogLevel(log_level);
-  if (!level) {
-    std::fprintf(stderr, "--log-level: unknown level '%s'\n", log_level.c_str());
-    return 2;
-  }
-  ogf::transport::setupLogging("ogf-map-client", *level);
+  if (!ogf::transport::setupLoggingAt("ogf-map-client", "--log-level", log_level)) return 2;
   const std::string resolved = ogf::transport::withReceiveBuffer(ogf::transport::resolveLcmUrl(url));
   lcm::LCM lcm(resolved);
   if (!lcm.good()) {

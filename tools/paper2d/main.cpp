@@ -70,12 +70,7 @@ int main(int argc, char** argv) {
   app.add_option("--log-level", logLevel, "trace, debug, info, warn, error")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
-  const auto level = ogf::transport::parseLogLevel(logLevel);
-  if (!level) {
-    std::fprintf(stderr, "--log-level: unknown level '%s'\n", logLevel.c_str());
-    return 1;
-  }
-  ogf::transport::setupLogging("ogf-paper2d", *level);
+  if (!ogf::transport::setupLoggingAt("ogf-paper2d", "--log-level", logLevel)) return 1;
 
   ogf::paper2d::GroundTruth truth = ogf::paper2d::builtInGroundTruth();
   std::string error;

@@ -103,12 +103,7 @@ int main(int argc, char** argv) {
     return cli_rc == 0 ? kExitOk : kExitUsage;
   }
 
-  const auto level = ogf::transport::parseLogLevel(log_level);
-  if (!level) {
-    std::fprintf(stderr, "ogf-replay: --log-level: unknown level '%s'\n", log_level.c_str());
-    return kExitUsage;
-  }
-  ogf::transport::setupLogging("ogf-replay", *level);
+  if (!ogf::transport::setupLoggingAt("ogf-replay", "--log-level", log_level)) return kExitUsage;
 
   boost::system::error_code ec;
   const auto address = boost::asio::ip::make_address_v4(dest, ec);

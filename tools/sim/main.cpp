@@ -95,12 +95,7 @@ int main(int argc, char** argv) {
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
-  const auto level = ogf::transport::parseLogLevel(log_level);
-  ogf::transport::setupLogging("ogf-sim", level.value_or(spdlog::level::info));
-  if (!level) {
-    spdlog::error("--log-level: unknown level '{}'", log_level);
-    return EXIT_FAILURE;
-  }
+  if (!ogf::transport::setupLoggingAt("ogf-sim", "--log-level", log_level)) return EXIT_FAILURE;
 
   auto scene = ogf::sim::resolveScene(world);
   if (!scene) {

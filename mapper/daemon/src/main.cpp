@@ -53,12 +53,7 @@ int main(int argc, char** argv) {
     std::cout << ogf::mapper_daemon::exampleMapperConfig();
     return 0;
   }
-  const auto level = ogf::transport::parseLogLevel(log_level);
-  if (!level) {
-    std::fprintf(stderr, "--log-level: unknown level '%s'\n", log_level.c_str());
-    return 2;
-  }
-  ogf::transport::setupLogging("ogf-mapper", *level);
+  if (!ogf::transport::setupLoggingAt("ogf-mapper", "--log-level", log_level)) return 2;
 
   MapperOptions options;
   if (!config_path.empty()) {

@@ -17,6 +17,11 @@ void setupLogging(std::string_view program, spdlog::level::level_enum level = sp
 // "trace", "debug", "info", "warn", "error", "critical", "off"; nullopt for anything else.
 std::optional<spdlog::level::level_enum> parseLogLevel(std::string_view name);
 
+// A program's start: parseLogLevel(level), then setupLogging(program, it). For an unknown name it sets up
+// nothing and returns false after saying so on stderr, naming the option it came from ("ogf-map:
+// --log-level: unknown level 'loud' (trace, debug, info, warn, error, critical, off)"); the caller exits.
+bool setupLoggingAt(std::string_view program, std::string_view option, std::string_view level);
+
 // Lets one kind of message through at most once per `period`, and says how many were held back, so bad
 // input at packet rate never floods the journal:
 //   if (auto n = limiter.allow(now)) spdlog::warn("... ({} more since last report)", *n);
