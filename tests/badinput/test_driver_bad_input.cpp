@@ -23,7 +23,7 @@
 #include <thread>
 
 #include "capture_decoding.hpp"
-#include "latest_message.hpp"
+#include "support/latest_message.hpp"
 #include "ogf/velodyne/wire_format.hpp"
 #include "support/child_process.hpp"
 #include "support/multicast.hpp"

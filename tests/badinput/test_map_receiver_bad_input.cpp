@@ -9,7 +9,7 @@
 #include <ogf/map_delta_t.hpp>
 
 #include "ogf/delta/map_receiver.hpp"
-#include "process_memory.hpp"
+#include "support/process_memory.hpp"
 
 namespace {
 

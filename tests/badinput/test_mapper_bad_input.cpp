@@ -26,10 +26,10 @@
 #include <random>
 #include <thread>
 
-#include "latest_message.hpp"
+#include "support/latest_message.hpp"
 #include "lcm_bytes.hpp"
 #include "offline_checksum.hpp"
-#include "process_memory.hpp"
+#include "support/process_memory.hpp"
 #include "scan_feeder.hpp"
 #include "support/child_process.hpp"
 #include "support/multicast.hpp"

@@ -29,9 +29,9 @@
 #include <random>
 #include <thread>
 
-#include "badinput/latest_message.hpp"
+#include "support/latest_message.hpp"
 #include "integration/scan_feeder.hpp"
-#include "message_counter.hpp"
+#include "support/message_counter.hpp"
 #include "offline_reference.hpp"
 #include "ogf/persistence/journal.hpp"
 #include "ogf/persistence/state_directory.hpp"

@@ -27,11 +27,11 @@
 #include <fstream>
 #include <thread>
 
-#include "badinput/latest_message.hpp"
+#include "support/latest_message.hpp"
 #include "integration/scan_feeder.hpp"
-#include "message_counter.hpp"
+#include "support/message_counter.hpp"
 #include "offline_reference.hpp"
-#include "process_memory.hpp"
+#include "support/process_memory.hpp"
 #include "programs.hpp"
 #include "support/child_process.hpp"
 #include "support/multicast.hpp"

@@ -1,4 +1,4 @@
-#include "process_memory.hpp"
+#include "support/process_memory.hpp"
 
 #include <algorithm>
 #include <fstream>
@@ -6,19 +6,31 @@
 
 namespace ogf::testing {
 
-std::optional<std::int64_t> residentBytes(pid_t pid) {
+namespace {
+
+// A "<field> <n> kB" line of /proc/<pid>/status, in KiB.
+std::optional<std::int64_t> statusKiB(pid_t pid, const std::string& field) {
   std::ifstream in("/proc/" + std::to_string(pid) + "/status");
   std::string key;
   while (in >> key) {
-    if (key == "VmRSS:") {
+    if (key == field) {
       std::int64_t kib = 0;
-      in >> kib;
-      return kib * 1024;
+      if (in >> kib) return kib;
+      return std::nullopt;
     }
     in.ignore(4096, '\n');
   }
-  return std::nullopt;  // gone, or a zombie (no VmRSS line)
+  return std::nullopt;  // gone, or a zombie (no memory lines)
 }
+
+}  // namespace
+
+std::optional<std::int64_t> residentBytes(pid_t pid) {
+  const auto kib = statusKiB(pid, "VmRSS:");
+  return kib ? std::optional<std::int64_t>(*kib * 1024) : std::nullopt;
+}
+
+std::optional<std::int64_t> peakResidentKiB(pid_t pid) { return statusKiB(pid, "VmHWM:"); }
 
 RssSampler::RssSampler(pid_t pid, std::chrono::milliseconds period) : pid_(pid) {
   thread_ = std::thread([this, period] {

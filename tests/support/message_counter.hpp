@@ -1,6 +1,6 @@
 // Test helper: counts the messages on one LCM channel, received on its own thread with a deep queue, and
 // hands each to a hook (to keep or sum what the test needs of it). For a daemon's latest status, see
-// badinput/latest_message.hpp.
+// latest_message.hpp.
 #pragma once
 
 #include <lcm/lcm-cpp.hpp>

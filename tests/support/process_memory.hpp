@@ -1,5 +1,7 @@
-// Test helper: samples a process's resident set (VmRSS in /proc/<pid>/status) on its own thread while a
-// load runs, so a test can bound the daemon's memory over the whole run, not just at its end.
+// Test helper: a process's memory from /proc/<pid>/status: its resident set now (VmRSS), its peak (VmHWM,
+// to show that bad input makes a daemon allocate nothing for what it claims), and a sampler of the
+// resident set on its own thread while a load runs, so a test can bound the daemon's memory over the
+// whole run, not just at its end.
 #pragma once
 
 #include <sys/types.h>
@@ -15,6 +17,8 @@ namespace ogf::testing {
 
 // VmRSS of `pid` in bytes; nullopt once the process is gone.
 std::optional<std::int64_t> residentBytes(pid_t pid);
+// VmHWM of `pid` in KiB; nullopt when the process or the line is not there.
+std::optional<std::int64_t> peakResidentKiB(pid_t pid);
 
 class RssSampler {
  public:
