@@ -58,6 +58,49 @@ void forEachBit(const std::array<std::uint64_t, 8>& bits, Visit&& visit) {
   }
 }
 
+// A block's cells as a 512-bit set (8 words, one per z layer; bit x + 8y in a layer), shifted by the cell
+// offset o (|o| < 8 on each axis): calls part(neighbour, layer, bits) for every non-empty part of the
+// result, `neighbour` the block of the 3×3×3 neighbourhood it falls in ((dx+1) + 3(dy+1) + 9(dz+1)) and
+// `layer` its z layer there.
+template <class Part>
+void forEachShiftedPart(const std::array<std::uint64_t, 8>& cells, const CellKey& o, Part&& part) {
+  // Bits of each 8-bit row with x in [from, 8), replicated over the 8 rows of a layer.
+  const auto rowsFrom = [](int from) { return (0xFFULL << from & 0xFFULL) * 0x0101010101010101ULL; };
+  for (int z = 0; z < 8; ++z) {
+    const std::uint64_t w = cells[static_cast<std::size_t>(z)];
+    if (w == 0) {
+      continue;
+    }
+    // Along x: the part that stays in the block (dx = 0) and the part that crosses into the next one.
+    std::array<std::pair<int, std::uint64_t>, 2> xs{};
+    if (o.x >= 0) {
+      xs = {{{0, (w << o.x) & rowsFrom(o.x)}, {1, o.x == 0 ? 0 : (w >> (8 - o.x)) & ~rowsFrom(o.x)}}};
+    } else {
+      xs = {{{0, (w >> -o.x) & ~rowsFrom(8 + o.x)}, {-1, (w << (8 + o.x)) & rowsFrom(8 + o.x)}}};
+    }
+    const int zz = z + o.z;
+    const int dz = zz < 0 ? -1 : (zz >= 8 ? 1 : 0);
+    const auto layer = static_cast<std::size_t>(zz - 8 * dz);
+    for (const auto& [dx, bx] : xs) {
+      if (bx == 0) {
+        continue;
+      }
+      // Along y: whole rows of 8 bits.
+      std::array<std::pair<int, std::uint64_t>, 2> ys{};
+      if (o.y >= 0) {
+        ys = {{{0, bx << (8 * o.y)}, {1, o.y == 0 ? 0 : bx >> (64 - 8 * o.y)}}};
+      } else {
+        ys = {{{0, bx >> (-8 * o.y)}, {-1, bx << (64 + 8 * o.y)}}};
+      }
+      for (const auto& [dy, bits] : ys) {
+        if (bits != 0) {
+          part(static_cast<unsigned>((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1)), layer, bits);
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 
 // The measurements of a batch in one block.
@@ -233,14 +276,20 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   touchedOrder.clear();
   before.clear();
   if (sink != nullptr) {
-    const std::size_t cells = band_.cells;
     for (std::size_t r = 0; r < sorted.size(); ++r) {
+      // The group's measured positions, dilated by the stencil: one shift per offset and layer instead of
+      // one bit per stencil cell and measurement.
+      std::array<std::uint64_t, 8> measured{};
       for (std::size_t i = sorted[r].begin; i < sorted[r].end; ++i) {
-        const std::uint16_t* address = band_.address.data() + (batchWork.sorted[i] >> 1) * cells;
-        for (std::size_t c = 0; c < cells; ++c) {
-          TouchedBlock& t = batchWork.touched[batchWork.groupTouched[r * 27 + (address[c] >> 9)]];
-          t.cells[(address[c] & 511U) >> 6] |= std::uint64_t{1} << (address[c] & 63U);
-        }
+        const std::size_t l = batchWork.sorted[i] >> 1;
+        measured[l >> 6] |= std::uint64_t{1} << (l & 63U);
+      }
+      for (const CellKey& o : stencil_.offsets()) {
+        forEachShiftedPart(measured, o, [&](unsigned neighbour, std::size_t layer, std::uint64_t bits) {
+          if (((sorted[r].neighbours >> neighbour) & 1U) != 0) {
+            batchWork.touched[batchWork.groupTouched[r * 27 + neighbour]].cells[layer] |= bits;
+          }
+        });
       }
     }
     touchedOrder.resize(batchWork.touched.size());

@@ -14,17 +14,17 @@
 namespace ogf::filter {
 namespace {
 
-// A scan-like batch: one measurement per cell in a 40 × 40 × 12 region around `centre`, y from a random
-// wall pattern.
-std::vector<Measurement> batchAround(const CellKey& centre, unsigned seed, std::size_t count) {
+// A scan-like batch: one measurement per cell in a 40 × 40 × depth region around `centre` (depth 1: the
+// z = 0 plane), y from a random wall pattern.
+std::vector<Measurement> batchAround(const CellKey& centre, unsigned seed, std::size_t count, int depth = 12) {
   std::mt19937 rng(seed);
   std::set<CellKey> seen;
   std::vector<Measurement> batch;
   while (batch.size() < count) {
     const CellKey k = centre + CellKey{static_cast<int>(rng() % 40U) - 20, static_cast<int>(rng() % 40U) - 20,
-                                       static_cast<int>(rng() % 12U) - 6};
+                                       static_cast<int>(rng() % static_cast<unsigned>(depth)) - depth / 2};
     if (seen.insert(k).second) {
-      batch.push_back({k, static_cast<std::int8_t>((k.x % 7 == 0 || k.z == -6) ? 1 : -1)});
+      batch.push_back({k, static_cast<std::int8_t>((k.x % 7 == 0 || k.z == -depth / 2) ? 1 : -1)});
     }
   }
   return batch;
@@ -73,12 +73,13 @@ class RecordingSink : public ChangeSink {
   std::vector<CellChange> changes;
 };
 
-TEST(BandedDeterminism, ChangeSinkReportsExactlyTheCellsWhoseClassOrQuantisedProbabilityChanged) {
-  FilterConfig config;
-  config.threads = 2;
+// Maps `first`, then `second` with a sink, and checks the sink's report against a comparison of the whole
+// map before and after.
+void expectSinkReportsExactlyTheChanges(const FilterConfig& config, const std::vector<Measurement>& first,
+                                        const std::vector<Measurement>& second) {
   auto ogf = BandedOgf::create(config);
   ASSERT_TRUE(ogf.ok());
-  ogf->update(batchAround(CellKey{}, 1, 3000));
+  ogf->update(first);
   std::map<CellKey, std::pair<std::uint16_t, std::int8_t>> before;
   auto snapshot = [&](std::map<CellKey, std::pair<std::uint16_t, std::int8_t>>& into) {
     ogf->forEachCell([&](const CellKey& k, float m, float s) {
@@ -88,7 +89,7 @@ TEST(BandedDeterminism, ChangeSinkReportsExactlyTheCellsWhoseClassOrQuantisedPro
   };
   snapshot(before);
   RecordingSink sink;
-  ogf->update(batchAround(CellKey{3, 0, 0}, 2, 3000), &sink);
+  ogf->update(second, &sink);
   std::map<CellKey, std::pair<std::uint16_t, std::int8_t>> after;
   snapshot(after);
   std::set<CellKey> expected;
@@ -107,6 +108,19 @@ TEST(BandedDeterminism, ChangeSinkReportsExactlyTheCellsWhoseClassOrQuantisedPro
   }
   EXPECT_FALSE(expected.empty());
   EXPECT_EQ(reported, expected);
+}
+
+TEST(BandedDeterminism, ChangeSinkReportsExactlyTheCellsWhoseClassOrQuantisedProbabilityChanged) {
+  FilterConfig config;
+  config.threads = 2;
+  expectSinkReportsExactlyTheChanges(config, batchAround(CellKey{}, 1, 3000), batchAround(CellKey{3, 0, 0}, 2, 3000));
+}
+
+TEST(BandedDeterminism, ChangeSinkReportsExactlyTheChangesOfA2DMap) {
+  FilterConfig config;
+  config.dimensions = 2;
+  expectSinkReportsExactlyTheChanges(config, batchAround(CellKey{}, 1, 600, 1),
+                                     batchAround(CellKey{3, -9, 0}, 2, 600, 1));
 }
 
 TEST(BandedDeterminism, RejectsBadMeasurementsAndCountsThem) {
