@@ -22,7 +22,7 @@ struct PoseEvent {
 struct PoseEvents {
   std::vector<PoseEvent> events;  // sorted by utime (stable)
   std::int64_t skipped = 0;       // malformed lines, or log events on other channels are not counted
-  std::vector<std::string> problems;  // the first few skipped lines, each naming file and line
+  std::vector<std::string> problems;  // the first 50 skipped lines, each naming file, line and field
 };
 
 // CSV or LCM log, told apart by the file's first bytes (an LCM log starts with the sync word 0xEDA1DA01).
@@ -30,7 +30,8 @@ struct PoseEvents {
 // is an error naming it.
 Result<PoseEvents> loadPoseEvents(const std::filesystem::path& path, const std::string& lcm_channel);
 
-// Parses CSV text into odometry_t events; `source` names it in problems ("odometry.csv:12: ...").
+// Parses pose CSV text (ogf/tools/pose_csv.hpp) into odometry_t events; `source` names it in problems
+// ("odometry.csv:12: ...").
 PoseEvents parsePoseCsv(const std::string& text, const std::string& source);
 
 }  // namespace ogf::replay
