@@ -2,6 +2,8 @@
 #include "ogf/tools/csv_reader.hpp"
 
 #include <fstream>
+#include <iterator>
+#include <sstream>
 
 namespace ogf::tools {
 namespace {
@@ -17,17 +19,14 @@ std::string trim(const std::string& s) {
 
 }  // namespace
 
-bool readCsv(const std::filesystem::path& path, std::vector<CsvRow>& rows, std::string& error) {
-  std::ifstream file(path);
-  if (!file) {
-    error = path.string() + ": cannot open";
-    return false;
-  }
-  std::string line;
+std::vector<CsvRow> parseCsv(std::string_view text) {
+  std::vector<CsvRow> rows;
   int number = 0;
-  while (std::getline(file, line)) {
+  while (!text.empty()) {
+    const std::size_t nl = text.find('\n');
+    const std::string t = trim(std::string(text.substr(0, nl)));
+    text = nl == std::string_view::npos ? std::string_view{} : text.substr(nl + 1);
     ++number;
-    const std::string t = trim(line);
     if (t.empty() || t.front() == '#') {
       continue;
     }
@@ -44,6 +43,19 @@ bool readCsv(const std::filesystem::path& path, std::vector<CsvRow>& rows, std::
     }
     rows.push_back(std::move(row));
   }
+  return rows;
+}
+
+bool readCsv(const std::filesystem::path& path, std::vector<CsvRow>& rows, std::string& error) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) {
+    error = path.string() + ": cannot open";
+    return false;
+  }
+  std::ostringstream text;
+  text << file.rdbuf();
+  std::vector<CsvRow> parsed = parseCsv(text.str());
+  rows.insert(rows.end(), std::make_move_iterator(parsed.begin()), std::make_move_iterator(parsed.end()));
   return true;
 }
 

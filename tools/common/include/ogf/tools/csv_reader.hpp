@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace ogf::tools {
@@ -14,5 +15,7 @@ struct CsvRow {
 };
 
 bool readCsv(const std::filesystem::path& path, std::vector<CsvRow>& rows, std::string& error);
+// The same from text already in memory.
+std::vector<CsvRow> parseCsv(std::string_view text);
 
 }  // namespace ogf::tools
