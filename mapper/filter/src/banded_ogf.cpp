@@ -122,7 +122,8 @@ Result<BandedOgf> BandedOgf::create(const FilterConfig& config) {
 
 BandedOgf::BandedOgf(const FilterConfig& resolved)
     : config_(resolved), prior_(resolved.prior()), stencil_(resolved.dimensions, resolved.stencilShape()),
-      storage_(resolved.dimensions, stencil_.forwardOffsets().size()), band_(stencil_, resolved.dimensions),
+      storage_(resolved.dimensions, stencil_.forwardOffsets().size()),
+      published_(resolved.occupiedThreshold, resolved.freeThreshold), band_(stencil_, resolved.dimensions),
       kernel_(bandKernelFor(band_)) {
   for (const CellKey& o : stencil_.forwardOffsets()) {
     priorSlots_.push_back(static_cast<float>(prior_(o)));

@@ -121,7 +121,7 @@ class BandedOgf {
   float priorVariance_ = 0.0F;
   float varianceFloor_ = 0.0F;
   void derivePolicyState();  // clampZ_, freeClampZ_ and published_ from config_
-  PublishedStateRule published_{0.65, 0.35};  // class and quantised probability for the ChangeSink
+  PublishedStateRule published_;  // class and quantised probability for the ChangeSink
   double clampZ_ = 0.0;      // for occupied measurements; +inf: never
   double freeClampZ_ = 0.0;  // for free ones
   std::vector<std::uint32_t> neighbourMask_;  // per position in a block: neighbouring blocks reached
