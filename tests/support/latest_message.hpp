@@ -4,30 +4,23 @@
 
 #include <lcm/lcm-cpp.hpp>
 
-#include <atomic>
 #include <chrono>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
 
+#include "support/lcm_thread.hpp"
+
 namespace ogf::testing {
 
 template <class Message>
 class LatestMessage {
  public:
-  LatestMessage(const std::string& url, const std::string& channel) : lcm_(url) {
-    lcm_.subscribe(channel, &LatestMessage::onMessage, this);
-    thread_ = std::thread([this] {
-      while (!stop_) lcm_.handleTimeout(50);
-    });
+  LatestMessage(const std::string& url, const std::string& channel) : receiver_(url) {
+    receiver_.lcm().subscribe(channel, &LatestMessage::onMessage, this);
+    receiver_.start(std::chrono::milliseconds(50));
   }
-  ~LatestMessage() {
-    stop_ = true;
-    thread_.join();
-  }
-  LatestMessage(const LatestMessage&) = delete;
-  LatestMessage& operator=(const LatestMessage&) = delete;
 
   std::optional<Message> latest() const {
     std::lock_guard lk(mu_);
@@ -49,11 +42,9 @@ class LatestMessage {
     std::lock_guard lk(mu_);
     latest_ = *m;
   }
-  lcm::LCM lcm_;
   mutable std::mutex mu_;
   std::optional<Message> latest_;
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
+  LcmThread receiver_;  // last: stops before the members above go
 };
 
 }  // namespace ogf::testing

@@ -6,10 +6,11 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include <atomic>
+#include <chrono>
 #include <functional>
-#include <mutex>
 #include <string>
-#include <thread>
+
+#include "support/lcm_thread.hpp"
 
 namespace ogf::testing {
 
@@ -20,18 +21,12 @@ class MessageCounter {
 
   // `hook` runs on the counter's thread for every message.
   MessageCounter(const std::string& url, const std::string& channel, Hook hook = {})
-      : lcm_(url), hook_(std::move(hook)) {
-    if (auto* sub = lcm_.subscribe(channel, &MessageCounter::onMessage, this)) sub->setQueueCapacity(100000);
-    thread_ = std::thread([this] {
-      while (!stop_) lcm_.handleTimeout(20);
-    });
+      : hook_(std::move(hook)), receiver_(url) {
+    if (auto* sub = receiver_.lcm().subscribe(channel, &MessageCounter::onMessage, this)) {
+      sub->setQueueCapacity(100000);
+    }
+    receiver_.start(std::chrono::milliseconds(20));
   }
-  ~MessageCounter() {
-    stop_ = true;
-    thread_.join();
-  }
-  MessageCounter(const MessageCounter&) = delete;
-  MessageCounter& operator=(const MessageCounter&) = delete;
 
   std::int64_t count() const { return count_; }
 
@@ -41,11 +36,9 @@ class MessageCounter {
     ++count_;
   }
 
-  lcm::LCM lcm_;
   Hook hook_;
   std::atomic<std::int64_t> count_{0};
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
+  LcmThread receiver_;  // last: stops before the members above go
 };
 
 }  // namespace ogf::testing
