@@ -131,6 +131,14 @@ BandedOgf::BandedOgf(const FilterConfig& resolved)
   priorVariance_ = static_cast<float>(prior_.variance());
   varianceFloor_ = priorVariance_ * 1e-9F;
   derivePolicyState();
+  // The leading cells: offsets one layer or more ahead along the slowest axis of the block layout (z in
+  // 3-D, y in 2-D), the ones a block's sorted measurements reach first.
+  for (std::size_t s = 0; s < stencil_.offsets().size(); ++s) {
+    const CellKey& o = stencil_.offsets()[s];
+    if ((resolved.dimensions == 3 ? o.z : o.y) >= 1) {
+      leadingCells_.push_back(static_cast<std::uint16_t>(s));
+    }
+  }
   // Same-colour blocks are one block apart: their measurements touch disjoint cells iff 2·extent ≤ B.
   parallelSafe_ = 2 * stencil_.extent() <= kBlockSide;
   // Which neighbouring blocks a measurement at each local position reaches.
@@ -380,6 +388,9 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
 void BandedOgf::applyGroup(const Group& group, std::span<const std::uint16_t> codes, float* const* neighbourhood,
                            UpdateStats& stats) {
   for (std::size_t i = group.begin; i < group.end; ++i) {
+    if (i + kPrefetchAhead < group.end) {
+      prefetchLeadingCells(neighbourhood, static_cast<std::size_t>(codes[i + kPrefetchAhead] >> 1));
+    }
     const auto local = static_cast<std::size_t>(codes[i] >> 1);
     const int y = (codes[i] & 1U) != 0 ? 1 : -1;
     if (applyMeasurement(neighbourhood, local, y)) {
@@ -387,6 +398,18 @@ void BandedOgf::applyGroup(const Group& group, std::span<const std::uint16_t> co
     } else {
       ++stats.skipped;
     }
+  }
+}
+
+void BandedOgf::prefetchLeadingCells(float* const* neighbourhood, std::size_t local) const {
+  const std::size_t recordBytes = band_.stride * sizeof(float);
+  for (const std::uint16_t s : leadingCells_) {
+    const std::uint16_t a = band_.address[local * band_.cells + s];
+    const float* first = neighbourhood[a >> 9] + static_cast<std::size_t>(a & 511U) * band_.stride;
+    const char* record = reinterpret_cast<const char*>(first);
+    // A record may straddle two cache lines: its first and its last float.
+    __builtin_prefetch(record, 1, 3);
+    __builtin_prefetch(record + recordBytes - sizeof(float), 1, 3);
   }
 }
 

@@ -112,6 +112,12 @@ class BandedOgf {
   void applyGroup(const Group& group, std::span<const std::uint16_t> codes, float* const* neighbourhood,
                   UpdateStats& stats);
   bool applyMeasurement(float* const* neighbourhood, std::size_t local, int y);
+  // Asks the CPU for the records of the leading stencil cells of the measurement kPrefetchAhead places
+  // ahead: in a block's position order, those are the cells no earlier measurement of the group has
+  // touched, and a colour pass over a scan-sized map (several MB) finds them out of cache. Measured: the
+  // update alone ~20 % faster (README, "Performance").
+  void prefetchLeadingCells(float* const* neighbourhood, std::size_t local) const;
+  static constexpr std::size_t kPrefetchAhead = 6;
 
   FilterConfig config_;
   PriorCovariance prior_;
@@ -129,6 +135,7 @@ class BandedOgf {
   BandKernel kernel_ = nullptr;               // eq. (5) in the band (compiled for common stencils)
   const InverseMillsTable* lambda_ = &inverseMillsTable();  // λ(z) of eq. (5), tabulated
   bool parallelSafe_ = false;
+  std::vector<std::uint16_t> leadingCells_;  // stencil cells prefetchLeadingCells() asks for
   Batch scratch_;
 };
 
