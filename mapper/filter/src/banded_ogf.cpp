@@ -131,14 +131,6 @@ BandedOgf::BandedOgf(const FilterConfig& resolved)
   priorVariance_ = static_cast<float>(prior_.variance());
   varianceFloor_ = priorVariance_ * 1e-9F;
   derivePolicyState();
-  // The leading cells: offsets one layer or more ahead along the slowest axis of the block layout (z in
-  // 3-D, y in 2-D), the ones a block's sorted measurements reach first.
-  for (std::size_t s = 0; s < stencil_.offsets().size(); ++s) {
-    const CellKey& o = stencil_.offsets()[s];
-    if ((resolved.dimensions == 3 ? o.z : o.y) >= 1) {
-      leadingCells_.push_back(static_cast<std::uint16_t>(s));
-    }
-  }
   // Same-colour blocks are one block apart: their measurements touch disjoint cells iff 2·extent ≤ B.
   parallelSafe_ = 2 * stencil_.extent() <= kBlockSide;
   // Which neighbouring blocks a measurement at each local position reaches.
@@ -330,7 +322,8 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
       std::vector<UpdateStats> partial(std::min(workers, count));
       auto work = [&](std::size_t w) {
         for (std::size_t g = next.fetch_add(1); g < g1; g = next.fetch_add(1)) {
-          applyGroup(sorted[g], batchWork.sorted, &batchWork.neighbourhoods[g * 27], partial[w]);
+          applyGroup(sorted[g], batchWork.sorted, &batchWork.neighbourhoods[g * 27], nullptr, nullptr,
+                     partial[w]);
         }
       };
       {
@@ -346,7 +339,10 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
       }
     } else {
       for (std::size_t g = g0; g < g1; ++g) {
-        applyGroup(sorted[g], batchWork.sorted, &batchWork.neighbourhoods[g * 27], stats);
+        const bool last = g + 1 == sorted.size();
+        applyGroup(sorted[g], batchWork.sorted, &batchWork.neighbourhoods[g * 27],
+                   last ? nullptr : &sorted[g + 1], last ? nullptr : &batchWork.neighbourhoods[(g + 1) * 27],
+                   stats);
       }
     }
     g0 = g1;
@@ -386,10 +382,15 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
 }
 
 void BandedOgf::applyGroup(const Group& group, std::span<const std::uint16_t> codes, float* const* neighbourhood,
-                           UpdateStats& stats) {
+                           const Group* next, float* const* nextNeighbourhood, UpdateStats& stats) {
   for (std::size_t i = group.begin; i < group.end; ++i) {
-    if (i + kPrefetchAhead < group.end) {
-      prefetchLeadingCells(neighbourhood, static_cast<std::size_t>(codes[i + kPrefetchAhead] >> 1));
+    // The measurement kPrefetchAhead places ahead: in this group, or early in the next one.
+    const std::size_t ahead = i + kPrefetchAhead;
+    if (ahead < group.end) {
+      prefetchStencil(neighbourhood, static_cast<std::size_t>(codes[ahead] >> 1));
+    } else if (next != nullptr && next->begin + (ahead - group.end) < next->end) {
+      const std::size_t early = next->begin + (ahead - group.end);
+      prefetchStencil(nextNeighbourhood, static_cast<std::size_t>(codes[early] >> 1));
     }
     const auto local = static_cast<std::size_t>(codes[i] >> 1);
     const int y = (codes[i] & 1U) != 0 ? 1 : -1;
@@ -401,15 +402,15 @@ void BandedOgf::applyGroup(const Group& group, std::span<const std::uint16_t> co
   }
 }
 
-void BandedOgf::prefetchLeadingCells(float* const* neighbourhood, std::size_t local) const {
-  const std::size_t recordBytes = band_.stride * sizeof(float);
-  for (const std::uint16_t s : leadingCells_) {
-    const std::uint16_t a = band_.address[local * band_.cells + s];
-    const float* first = neighbourhood[a >> 9] + static_cast<std::size_t>(a & 511U) * band_.stride;
-    const char* record = reinterpret_cast<const char*>(first);
+void BandedOgf::prefetchStencil(float* const* neighbourhood, std::size_t local) const {
+  const std::size_t lastFloat = band_.stride - 1;
+  const std::uint16_t* address = band_.address.data() + local * band_.cells;
+  for (std::size_t s = 0; s < band_.cells; ++s) {
+    const float* record =
+        neighbourhood[address[s] >> 9] + static_cast<std::size_t>(address[s] & 511U) * band_.stride;
     // A record may straddle two cache lines: its first and its last float.
     __builtin_prefetch(record, 1, 3);
-    __builtin_prefetch(record + recordBytes - sizeof(float), 1, 3);
+    __builtin_prefetch(record + lastFloat, 1, 3);
   }
 }
 
