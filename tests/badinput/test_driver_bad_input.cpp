@@ -26,6 +26,7 @@
 #include "support/latest_message.hpp"
 #include "ogf/velodyne/wire_format.hpp"
 #include "support/child_process.hpp"
+#include "support/lcm_thread.hpp"
 #include "support/multicast.hpp"
 #include "support/shared_data.hpp"
 
@@ -75,15 +76,9 @@ struct Expected {
 // The scans ogf-driver publishes, in order.
 class ScanLog {
  public:
-  explicit ScanLog(const std::string& url) : lcm_(url) {
-    lcm_.subscribe("BAD_SCAN", &ScanLog::onScan, this)->setQueueCapacity(10000);
-    thread_ = std::thread([this] {
-      while (!stop_) lcm_.handleTimeout(50);
-    });
-  }
-  ~ScanLog() {
-    stop_ = true;
-    thread_.join();
+  explicit ScanLog(const std::string& url) : bus_(url) {
+    bus_.lcm().subscribe("BAD_SCAN", &ScanLog::onScan, this)->setQueueCapacity(10000);
+    bus_.start(std::chrono::milliseconds(50));
   }
   std::vector<ogf::lidar_scan_t> scans() const {
     std::lock_guard lk(mu_);
@@ -95,11 +90,9 @@ class ScanLog {
     std::lock_guard lk(mu_);
     scans_.push_back(*s);
   }
-  lcm::LCM lcm_;
   mutable std::mutex mu_;
   std::vector<ogf::lidar_scan_t> scans_;
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
+  ogf::testing::LcmThread bus_;  // last: its thread stops before the state above is gone
 };
 
 Bytes randomBytes(std::mt19937& rng, std::size_t n) {

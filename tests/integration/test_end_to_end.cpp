@@ -34,6 +34,7 @@
 #include <thread>
 
 #include "support/child_process.hpp"
+#include "support/lcm_thread.hpp"
 #include "support/multicast.hpp"
 
 namespace {
@@ -60,20 +61,14 @@ double worldSeconds() {
 // Everything the test listens to on the bus, on its own thread.
 class BusProbe {
  public:
-  explicit BusProbe(const std::string& url) : lcm_(url) {
-    lcm_.subscribe("VELODYNE_STATUS", &BusProbe::onDriver, this)->setQueueCapacity(10000);
-    lcm_.subscribe("OGF_MAPPER_STATUS", &BusProbe::onMapper, this)->setQueueCapacity(10000);
-    lcm_.subscribe("VELODYNE_SCAN", &BusProbe::onScan, this)->setQueueCapacity(10000);
-    lcm_.subscribe("OGF_MAP_DELTA", &BusProbe::onDelta, this)->setQueueCapacity(10000);
-    thread_ = std::thread([this] {
-      while (!stop_) lcm_.handleTimeout(50);
-    });
+  explicit BusProbe(const std::string& url) : bus_(url) {
+    bus_.lcm().subscribe("VELODYNE_STATUS", &BusProbe::onDriver, this)->setQueueCapacity(10000);
+    bus_.lcm().subscribe("OGF_MAPPER_STATUS", &BusProbe::onMapper, this)->setQueueCapacity(10000);
+    bus_.lcm().subscribe("VELODYNE_SCAN", &BusProbe::onScan, this)->setQueueCapacity(10000);
+    bus_.lcm().subscribe("OGF_MAP_DELTA", &BusProbe::onDelta, this)->setQueueCapacity(10000);
+    bus_.start(std::chrono::milliseconds(50));
   }
-  ~BusProbe() {
-    stop_ = true;
-    thread_.join();
-  }
-  bool good() { return lcm_.good(); }
+  bool good() { return bus_.lcm().good(); }
   std::optional<ogf::driver_status_t> driver() const {
     std::lock_guard lk(mu_);
     return driver_;
@@ -122,14 +117,12 @@ class BusProbe {
     delta_arrival_.emplace(d->utime, rb->recv_utime);
   }
 
-  lcm::LCM lcm_;
   mutable std::mutex mu_;
   std::optional<ogf::driver_status_t> driver_;
   std::optional<ogf::mapper_status_t> mapper_;
   std::map<std::int64_t, std::int64_t> scan_end_;       // scan utime -> host_utime_end
   std::map<std::int64_t, std::int64_t> delta_arrival_;  // delta utime (= its scan's utime) -> recv_utime
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
+  ogf::testing::LcmThread bus_;  // last: its thread stops before the state above is gone
 };
 
 std::string lastLine(const std::string& text) {

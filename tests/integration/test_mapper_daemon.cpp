@@ -25,6 +25,7 @@
 #include <thread>
 
 #include "support/child_process.hpp"
+#include "support/lcm_thread.hpp"
 #include "ogf/fusion/pose_buffer.hpp"
 #include "ogf/pipeline/scan_mapper.hpp"
 #include "scan_feeder.hpp"
@@ -41,15 +42,9 @@ const std::string kBin = OGF_BIN_DIR;
 // The latest OGF_MAPPER_STATUS, received on its own thread.
 class StatusListener {
  public:
-  explicit StatusListener(const std::string& url) : lcm_(url) {
-    lcm_.subscribe("OGF_MAPPER_STATUS", &StatusListener::onStatus, this);
-    thread_ = std::thread([this] {
-      while (!stop_) lcm_.handleTimeout(50);
-    });
-  }
-  ~StatusListener() {
-    stop_ = true;
-    thread_.join();
+  explicit StatusListener(const std::string& url) : bus_(url) {
+    bus_.lcm().subscribe("OGF_MAPPER_STATUS", &StatusListener::onStatus, this);
+    bus_.start(std::chrono::milliseconds(50));
   }
   void reset() {
     std::lock_guard lk(mu_);
@@ -75,11 +70,9 @@ class StatusListener {
     std::lock_guard lk(mu_);
     latest_ = *s;
   }
-  lcm::LCM lcm_;
   mutable std::mutex mu_;
   std::optional<ogf::mapper_status_t> latest_;
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
+  ogf::testing::LcmThread bus_;  // last: its thread stops before the state above is gone
 };
 
 class MapperDaemonTest : public ::testing::Test {
@@ -248,15 +241,9 @@ TEST_F(MapperDaemonTest, KillNineAtRandomInstantsResumesExactlyTheAcknowledgedMa
 // The corrected poses on POSE_CORRECTED, received on their own thread.
 class CorrectedPoseListener {
  public:
-  explicit CorrectedPoseListener(const std::string& url) : lcm_(url) {
-    lcm_.subscribe("POSE_CORRECTED", &CorrectedPoseListener::onPose, this);
-    thread_ = std::thread([this] {
-      while (!stop_) lcm_.handleTimeout(50);
-    });
-  }
-  ~CorrectedPoseListener() {
-    stop_ = true;
-    thread_.join();
+  explicit CorrectedPoseListener(const std::string& url) : bus_(url) {
+    bus_.lcm().subscribe("POSE_CORRECTED", &CorrectedPoseListener::onPose, this);
+    bus_.start(std::chrono::milliseconds(50));
   }
   std::vector<ogf::odometry_t> poses() const {
     std::lock_guard lk(mu_);
@@ -268,11 +255,9 @@ class CorrectedPoseListener {
     std::lock_guard lk(mu_);
     poses_.push_back(*p);
   }
-  lcm::LCM lcm_;
   mutable std::mutex mu_;
   std::vector<ogf::odometry_t> poses_;
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
+  ogf::testing::LcmThread bus_;  // last: its thread stops before the state above is gone
 };
 
 TEST_F(MapperDaemonTest, ScanMatchingCorrectsDriftingOdometryAndPublishesTheCorrectedPoses) {
