@@ -114,10 +114,10 @@ class BandedOgf {
   void applyGroup(const Group& group, std::span<const std::uint16_t> codes, float* const* neighbourhood,
                   const Group* next, float* const* nextNeighbourhood, UpdateStats& stats);
   bool applyMeasurement(float* const* neighbourhood, std::size_t local, int y);
-  // Asks the CPU for the records of the stencil cells of the measurement kPrefetchAhead places ahead in
-  // the group: a colour pass over a scan-sized map (several MB) finds many of them out of cache, above
-  // all the cells one z layer ahead, which no earlier measurement of the block has touched. Measured:
-  // the update alone ~25 % faster (README, "Performance").
+  // Asks the CPU for the records of the stencil cells of a measurement applyGroup reaches kPrefetchAhead
+  // places later: a colour pass over a scan-sized map (several MB) finds many of them out of cache, above
+  // all the cells one z layer ahead, which no earlier measurement of the block has touched. Measured: the
+  // update alone in 0.66-0.78 of the time (README, "Performance").
   void prefetchStencil(float* const* neighbourhood, std::size_t local) const;
   static constexpr std::size_t kPrefetchAhead = 4;
 
