@@ -20,7 +20,6 @@
 #include <ogf/mapper_status_t.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <csignal>
 #include <cstdlib>

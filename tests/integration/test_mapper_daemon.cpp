@@ -11,7 +11,6 @@
 #include <ogf/mapper_status_t.hpp>
 #include <ogf/odometry_t.hpp>
 
-#include <atomic>
 #include <csignal>
 #include <cstdlib>
 #include <cmath>

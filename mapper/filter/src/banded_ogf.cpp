@@ -388,9 +388,10 @@ void BandedOgf::applyGroup(const Group& group, std::span<const std::uint16_t> co
     const std::size_t ahead = i + kPrefetchAhead;
     if (ahead < group.end) {
       prefetchStencil(neighbourhood, static_cast<std::size_t>(codes[ahead] >> 1));
-    } else if (next != nullptr && next->begin + (ahead - group.end) < next->end) {
-      const std::size_t early = next->begin + (ahead - group.end);
-      prefetchStencil(nextNeighbourhood, static_cast<std::size_t>(codes[early] >> 1));
+    } else if (next != nullptr) {
+      if (const std::size_t early = next->begin + (ahead - group.end); early < next->end) {
+        prefetchStencil(nextNeighbourhood, static_cast<std::size_t>(codes[early] >> 1));
+      }
     }
     const auto local = static_cast<std::size_t>(codes[i] >> 1);
     const int y = (codes[i] & 1U) != 0 ? 1 : -1;
