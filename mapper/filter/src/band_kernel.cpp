@@ -15,9 +15,9 @@ BandTables::BandTables(const Stencil& stencil, int dimensions) {
   cells = offsets.size();
   stride = 2 + stencil.forwardOffsets().size();
   self = stencil.selfIndex();
-  // Addresses per position in a block: the neighbouring block (5 bits) and the position in it (9 bits).
   const std::size_t positions = dimensions == 3 ? 512 : 64;
-  address.resize(positions * cells);
+  recordBlock.resize(positions * cells);
+  recordFloat.resize(positions * cells);
   for (std::size_t l = 0; l < positions; ++l) {
     for (std::size_t c = 0; c < cells; ++c) {
       const int gx = static_cast<int>(l & 7U) + offsets[c].x;
@@ -25,7 +25,8 @@ BandTables::BandTables(const Stencil& stencil, int dimensions) {
       const int gz = static_cast<int>(l >> 6) + offsets[c].z;
       const int d = ((gx >> 3) + 1) + 3 * ((gy >> 3) + 1) + 9 * ((gz >> 3) + 1);
       const int local = (gx & 7) + 8 * ((gy & 7) + 8 * (gz & 7));
-      address[l * cells + c] = static_cast<std::uint16_t>((d << 9) | local);
+      recordBlock[l * cells + c] = static_cast<std::uint8_t>(d);
+      recordFloat[l * cells + c] = static_cast<std::uint32_t>(static_cast<std::size_t>(local) * stride);
     }
   }
   // Σ_si: kept by the measured cell for a forward offset, by cell s for a backward one; Σ_ii is the variance.
@@ -44,6 +45,22 @@ BandTables::BandTables(const Stencil& stencil, int dimensions) {
   }
   for (std::size_t c = 0; c < cells; ++c) {
     pairStart[c + 1] += pairStart[c];
+  }
+  for (const CellKey& o : offsets) {
+    const CellKey next{o.x + 1, o.y, o.z};
+    rowEnd.push_back(std::find(offsets.begin(), offsets.end(), next) == offsets.end() ? 1 : 0);
+  }
+}
+
+void genericBandLocate(float* const* blocks, std::size_t local, const BandTables& tables, float** records) {
+  const std::size_t lastFloat = tables.stride - 1;
+  for (std::size_t s = 0; s < tables.cells; ++s) {
+    float* record = tables.record(blocks, local, s);
+    records[s] = record;
+    __builtin_prefetch(record, 1, 3);
+    if (tables.rowEnd[s] != 0) {
+      __builtin_prefetch(record + lastFloat, 1, 3);
+    }
   }
 }
 
@@ -71,18 +88,11 @@ template <bool Fused>
 }
 
 template <bool Fused>
-[[gnu::always_inline]] inline void genericBandBody(float* const* blocks, std::size_t local, const BandUpdate& update,
+[[gnu::always_inline]] inline void genericBandBody(float* const* cell, const BandUpdate& update,
                                                    const BandTables& t) {
-  thread_local std::vector<float*> cellScratch;
   thread_local std::vector<float> columnScratch;
-  cellScratch.resize(t.cells);
   columnScratch.resize(t.cells);
-  float** cell = cellScratch.data();
   float* column = columnScratch.data();
-  const std::uint16_t* address = t.address.data() + local * t.cells;
-  for (std::size_t s = 0; s < t.cells; ++s) {
-    cell[s] = blocks[address[s] >> 9] + static_cast<std::size_t>(address[s] & 511U) * t.stride;
-  }
   for (std::size_t s = 0; s < t.cells; ++s) {
     column[s] = cell[t.columnCell[s]][t.columnFloat[s]];
   }
@@ -97,15 +107,15 @@ template <bool Fused>
 
 }  // namespace
 
-void genericBandKernel(float* const* blocks, std::size_t local, const BandUpdate& update, const BandTables& t) {
-  genericBandBody<false>(blocks, local, update, t);
+void genericBandKernel(float* const* records, const BandUpdate& update, const BandTables& t) {
+  genericBandBody<false>(records, update, t);
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
 namespace {
-__attribute__((target("avx2,fma"))) void genericBandKernelFma(float* const* blocks, std::size_t local,
-                                                                const BandUpdate& update, const BandTables& t) {
-  genericBandBody<true>(blocks, local, update, t);
+__attribute__((target("avx2,fma"))) void genericBandKernelFma(float* const* records, const BandUpdate& update,
+                                                                const BandTables& t) {
+  genericBandBody<true>(records, update, t);
 }
 }  // namespace
 #endif
@@ -145,6 +155,7 @@ struct CompiledTables {
   std::array<std::uint16_t, Cells> columnCell{}, columnFloat{};
   std::array<std::uint32_t, Cells + 1> pairStart{};
   std::array<std::uint16_t, Pairs> pairOther{}, pairFloat{};
+  std::array<bool, Cells> rowEnd{};
   std::size_t self = 0;
   Sizes sizes{};
 };
@@ -220,6 +231,9 @@ constexpr CompiledTables<Cells, Forward, Pairs> buildTables(Shape shape) {
   }
   t.pairStart[Cells] = static_cast<std::uint32_t>(p);
   t.sizes.pairs = p;
+  for (std::size_t s = 0; s < Cells && s < c; ++s) {
+    t.rowEnd[s] = cellOf(t.x[s] + 1, t.y[s], t.z[s]) < 0;
+  }
   return t;
 }
 
@@ -247,16 +261,10 @@ template <Shape S, bool Fused, std::size_t s>
 }
 
 template <Shape S, bool Fused>
-[[gnu::always_inline]] inline void compiledBandBody(float* const* blocks, std::size_t local, const BandUpdate& update,
-                                                    const BandTables& tables) {
+[[gnu::always_inline]] inline void compiledBandBody(float* const* cell, const BandUpdate& update) {
   using C = Compiled<S>;
   constexpr std::size_t kCells = C::kSizes.cells;
   constexpr auto& t = C::kTables;
-  const std::uint16_t* address = tables.address.data() + local * kCells;
-  float* cell[kCells];
-  for (std::size_t s = 0; s < kCells; ++s) {
-    cell[s] = blocks[address[s] >> 9] + static_cast<std::size_t>(address[s] & 511U) * C::kStride;
-  }
   float column[kCells];
   [&]<std::size_t... s>(std::index_sequence<s...>) __attribute__((always_inline)) {
     ((column[s] = cell[t.columnCell[s]][t.columnFloat[s]]), ...);
@@ -269,17 +277,38 @@ template <Shape S, bool Fused>
 // The x86-64 baseline (SSE2; multiply, then subtract), and the same code for CPUs with AVX2 and FMA, where
 // each stored entry is one fused multiply-add: one rounding instead of two, and fewer instructions.
 template <Shape S>
-void compiledBandKernel(float* const* blocks, std::size_t local, const BandUpdate& update, const BandTables& tables) {
-  compiledBandBody<S, false>(blocks, local, update, tables);
+void compiledBandKernel(float* const* records, const BandUpdate& update, const BandTables& /*tables*/) {
+  compiledBandBody<S, false>(records, update);
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
 template <Shape S>
-__attribute__((target("avx2,fma"))) void compiledBandKernelFma(float* const* blocks, std::size_t local,
-                                                                const BandUpdate& update, const BandTables& tables) {
-  compiledBandBody<S, true>(blocks, local, update, tables);
+__attribute__((target("avx2,fma"))) void compiledBandKernelFma(float* const* records, const BandUpdate& update,
+                                                                const BandTables& /*tables*/) {
+  compiledBandBody<S, true>(records, update);
 }
 #endif
+
+// genericBandLocate unrolled, with the record size a constant.
+template <Shape S>
+void compiledBandLocate(float* const* blocks, std::size_t local, const BandTables& tables, float** records) {
+  using C = Compiled<S>;
+  constexpr std::size_t kCells = C::kSizes.cells;
+  const std::uint8_t* block = tables.recordBlock.data() + local * kCells;
+  const std::uint32_t* first = tables.recordFloat.data() + local * kCells;
+  [&]<std::size_t... s>(std::index_sequence<s...>) __attribute__((always_inline)) {
+    (
+        [&] {
+          float* record = blocks[block[s]] + first[s];
+          records[s] = record;
+          __builtin_prefetch(record, 1, 3);
+          if constexpr (C::kTables.rowEnd[s]) {
+            __builtin_prefetch(record + C::kStride - 1, 1, 3);
+          }
+        }(),
+        ...);
+  }(std::make_index_sequence<kCells>{});
+}
 
 template <Shape S>
 bool matches(const BandTables& r) {
@@ -291,6 +320,13 @@ bool matches(const BandTables& r) {
          std::equal(r.pairStart.begin(), r.pairStart.end(), t.pairStart.begin()) &&
          std::equal(r.pairOther.begin(), r.pairOther.end(), t.pairOther.begin()) &&
          std::equal(r.pairFloat.begin(), r.pairFloat.end(), t.pairFloat.begin());
+}
+
+template <Shape S>
+void tryCompiledLocate(const BandTables& tables, BandLocate& chosen) {
+  if (chosen == &genericBandLocate && matches<S>(tables)) {
+    chosen = &compiledBandLocate<S>;
+  }
 }
 
 template <Shape S>
@@ -325,6 +361,16 @@ BandKernel genericBandKernelFor(bool fma) {
 #endif
   static_cast<void>(fma);
   return &genericBandKernel;
+}
+
+BandLocate bandLocateFor(const BandTables& tables) {
+  BandLocate chosen = &genericBandLocate;
+  tryCompiledLocate<Shape{2, 2}>(tables, chosen);
+  tryCompiledLocate<Shape{1, 0}>(tables, chosen);
+  tryCompiledLocate<Shape{2, 0}>(tables, chosen);
+  tryCompiledLocate<Shape{3, 0}>(tables, chosen);
+  tryCompiledLocate<Shape{4, 0}>(tables, chosen);
+  return chosen;
 }
 
 BandKernel bandKernelFor(const BandTables& tables, bool fma) {

@@ -21,8 +21,6 @@ namespace ogf::filter {
 
 namespace {
 
-constexpr std::size_t kSelfBlock = 13;  // (1, 1, 1) in the 3×3×3 neighbourhood of blocks
-
 std::uint32_t colourOf(const CellKey& blockKey) {
   return static_cast<std::uint32_t>((blockKey.x & 1) | ((blockKey.y & 1) << 1) | ((blockKey.z & 1) << 2));
 }
@@ -124,7 +122,7 @@ BandedOgf::BandedOgf(const FilterConfig& resolved)
     : config_(resolved), prior_(resolved.prior()), stencil_(resolved.dimensions, resolved.stencilShape()),
       storage_(resolved.dimensions, stencil_.forwardOffsets().size()),
       published_(resolved.occupiedThreshold, resolved.freeThreshold), band_(stencil_, resolved.dimensions),
-      kernel_(bandKernelFor(band_)) {
+      locate_(bandLocateFor(band_)), kernel_(bandKernelFor(band_)) {
   for (const CellKey& o : stencil_.forwardOffsets()) {
     priorSlots_.push_back(static_cast<float>(prior_(o)));
   }
@@ -310,6 +308,7 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   }
 
   // 5. Colour by colour; blocks of one colour in parallel.
+  const std::size_t ringSize = (kPrefetchAhead + 1) * band_.cells;
   for (std::size_t g0 = 0; g0 < sorted.size();) {
     std::size_t g1 = g0;
     while (g1 < sorted.size() && sorted[g1].colour == sorted[g0].colour) {
@@ -321,9 +320,10 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
       std::atomic<std::size_t> next{g0};
       std::vector<UpdateStats> partial(std::min(workers, count));
       auto work = [&](std::size_t w) {
+        std::vector<float*> ring(ringSize);
         for (std::size_t g = next.fetch_add(1); g < g1; g = next.fetch_add(1)) {
-          applyGroup(sorted[g], batchWork.sorted, &batchWork.neighbourhoods[g * 27], nullptr, nullptr,
-                     partial[w]);
+          applyRun(std::span<const Group>(sorted).subspan(g, 1), batchWork.sorted, &batchWork.neighbourhoods[g * 27],
+                   ring, partial[w]);
         }
       };
       {
@@ -338,12 +338,9 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
         stats.skipped += p.skipped;
       }
     } else {
-      for (std::size_t g = g0; g < g1; ++g) {
-        const bool last = g + 1 == sorted.size();
-        applyGroup(sorted[g], batchWork.sorted, &batchWork.neighbourhoods[g * 27],
-                   last ? nullptr : &sorted[g + 1], last ? nullptr : &batchWork.neighbourhoods[(g + 1) * 27],
-                   stats);
-      }
+      ring_.resize(ringSize);
+      applyRun(std::span<const Group>(sorted).subspan(g0, count), batchWork.sorted,
+               &batchWork.neighbourhoods[g0 * 27], ring_, stats);
     }
     g0 = g1;
   }
@@ -381,21 +378,29 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   return stats;
 }
 
-void BandedOgf::applyGroup(const Group& group, std::span<const std::uint16_t> codes, float* const* neighbourhood,
-                           const Group* next, float* const* nextNeighbourhood, UpdateStats& stats) {
-  for (std::size_t i = group.begin; i < group.end; ++i) {
-    // The measurement kPrefetchAhead places ahead: in this group, or early in the next one.
-    const std::size_t ahead = i + kPrefetchAhead;
-    if (ahead < group.end) {
-      prefetchStencil(neighbourhood, static_cast<std::size_t>(codes[ahead] >> 1));
-    } else if (next != nullptr) {
-      if (const std::size_t early = next->begin + (ahead - group.end); early < next->end) {
-        prefetchStencil(nextNeighbourhood, static_cast<std::size_t>(codes[early] >> 1));
-      }
+void BandedOgf::applyRun(std::span<const Group> groups, std::span<const std::uint16_t> codes,
+                          float* const* neighbourhoods, std::span<float*> ring, UpdateStats& stats) {
+  // The groups' measurements are consecutive in `codes`; measurement i's records are in ring slot i mod
+  // (kPrefetchAhead + 1), found kPrefetchAhead measurements earlier (the slot of the one just applied).
+  const std::size_t cells = band_.cells;
+  const std::size_t first = groups.front().begin;
+  const std::size_t last = groups.back().end;
+  const auto slot = [&](std::size_t i) { return ring.data() + (i % (kPrefetchAhead + 1)) * cells; };
+  std::size_t aheadGroup = 0;
+  const auto locateAhead = [&](std::size_t i) {
+    while (i >= groups[aheadGroup].end) {
+      ++aheadGroup;
     }
-    const auto local = static_cast<std::size_t>(codes[i] >> 1);
-    const int y = (codes[i] & 1U) != 0 ? 1 : -1;
-    if (applyMeasurement(neighbourhood, local, y)) {
+    locate_(neighbourhoods + aheadGroup * 27, static_cast<std::size_t>(codes[i] >> 1), band_, slot(i));
+  };
+  for (std::size_t i = first; i < std::min(first + kPrefetchAhead, last); ++i) {
+    locateAhead(i);
+  }
+  for (std::size_t i = first; i < last; ++i) {
+    if (i + kPrefetchAhead < last) {
+      locateAhead(i + kPrefetchAhead);
+    }
+    if (applyMeasurement(slot(i), (codes[i] & 1U) != 0 ? 1 : -1)) {
       ++stats.applied;
     } else {
       ++stats.skipped;
@@ -403,20 +408,8 @@ void BandedOgf::applyGroup(const Group& group, std::span<const std::uint16_t> co
   }
 }
 
-void BandedOgf::prefetchStencil(float* const* neighbourhood, std::size_t local) const {
-  const std::size_t lastFloat = band_.stride - 1;
-  const std::uint16_t* address = band_.address.data() + local * band_.cells;
-  for (std::size_t s = 0; s < band_.cells; ++s) {
-    const float* record =
-        neighbourhood[address[s] >> 9] + static_cast<std::size_t>(address[s] & 511U) * band_.stride;
-    // A record may straddle two cache lines: its first and its last float.
-    __builtin_prefetch(record, 1, 3);
-    __builtin_prefetch(record + lastFloat, 1, 3);
-  }
-}
-
-bool BandedOgf::applyMeasurement(float* const* neighbourhood, std::size_t local, int y) {
-  const float* self = neighbourhood[kSelfBlock] + local * band_.stride;
+bool BandedOgf::applyMeasurement(float* const* records, int y) {
+  const float* self = records[band_.self];
   const double mean = static_cast<double>(self[0]);
   const double var = static_cast<double>(self[1]);
   const double tolerance = config_.skipTolerance;
@@ -430,8 +423,7 @@ bool BandedOgf::applyMeasurement(float* const* neighbourhood, std::size_t local,
     return false;
   }
   // Eq. (5) inside the band: m += Σ[:, i]·gain, Σ_jk −= shrink·Σ_ji·Σ_ki for every stored pair, in float.
-  kernel_(neighbourhood, local, {static_cast<float>(u.meanGain), static_cast<float>(u.covShrink), varianceFloor_},
-          band_);
+  kernel_(records, {static_cast<float>(u.meanGain), static_cast<float>(u.covShrink), varianceFloor_}, band_);
   return true;
 }
 

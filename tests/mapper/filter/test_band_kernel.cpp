@@ -1,5 +1,6 @@
 // The compiled band kernels against the generic one: chosen for the stencils they were compiled for, never
-// for another, and the same floats bit for bit on random records at every position of a block.
+// for another, and the same floats bit for bit on random records at every position of a block; the record
+// locators likewise, and a record found across a block face where the offset points.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "ogf/core/cell_key.hpp"
 #include "ogf/filter/band_kernel.hpp"
 #include "ogf/filter/stencil.hpp"
 
@@ -34,6 +36,15 @@ std::vector<float*> pointers(std::vector<std::vector<float>>& blocks) {
   return out;
 }
 
+// The records of the stencil cells of position `local`, as the filter passes them to a kernel.
+std::vector<float*> records(const std::vector<float*>& blocks, std::size_t local, const BandTables& tables) {
+  std::vector<float*> out;
+  for (std::size_t s = 0; s < tables.cells; ++s) {
+    out.push_back(tables.record(blocks.data(), local, s));
+  }
+  return out;
+}
+
 TEST(BandKernel, CompiledKernelsEqualTheGenericOneBitForBit) {
   const StencilShape shapes[] = {{std::sqrt(2.0), 2}, {1.0, 0}, {std::sqrt(2.0), 0}, {std::sqrt(3.0), 0}, {2.0, 0}};
   for (const StencilShape& shape : shapes) {
@@ -53,8 +64,8 @@ TEST(BandKernel, CompiledKernelsEqualTheGenericOneBitForBit) {
       std::uniform_real_distribution<float> shrink(0.0F, 0.3F);
       for (std::size_t local = 0; local < 512; ++local) {
         const BandUpdate u{gain(rng), shrink(rng), 1e-9F};
-        compiled(pa.data(), local, u, tables);
-        generic(pb.data(), local, u, tables);
+        compiled(records(pa, local, tables).data(), u, tables);
+        generic(records(pb, local, tables).data(), u, tables);
       }
       for (std::size_t d = 0; d < 27; ++d) {
         EXPECT_EQ(std::memcmp(a[d].data(), b[d].data(), a[d].size() * sizeof(float)), 0)
@@ -62,6 +73,54 @@ TEST(BandKernel, CompiledKernelsEqualTheGenericOneBitForBit) {
       }
     }
   }
+}
+
+TEST(BandKernel, CompiledLocatorsFindTheRecordsTheGenericOneFinds) {
+  const StencilShape shapes[] = {{std::sqrt(2.0), 2}, {1.0, 0}, {std::sqrt(2.0), 0}, {std::sqrt(3.0), 0}, {2.0, 0}};
+  for (const StencilShape& shape : shapes) {
+    const BandTables tables(Stencil(3, shape), 3);
+    const BandLocate compiled = bandLocateFor(tables);
+    EXPECT_NE(compiled, &genericBandLocate) << "R " << shape.radius << ", L " << shape.manhattanRadius;
+    auto blocks = randomBlocks(tables, 5);
+    const std::vector<float*> p = pointers(blocks);
+    std::vector<float*> a(tables.cells);
+    std::vector<float*> b(tables.cells);
+    for (std::size_t local = 0; local < 512; ++local) {
+      compiled(p.data(), local, tables, a.data());
+      genericBandLocate(p.data(), local, tables, b.data());
+      ASSERT_EQ(a, b) << "position " << local << ", R " << shape.radius << ", L " << shape.manhattanRadius;
+      ASSERT_EQ(a, records(p, local, tables));
+    }
+  }
+  // A stencil nothing was compiled for.
+  EXPECT_EQ(bandLocateFor(BandTables(Stencil(3, {std::sqrt(5.0), 0}), 3)), &genericBandLocate);
+}
+
+TEST(BandKernel, RecordsOfAPositionAreWhereTheOffsetsPoint) {
+  // Position (7, 0, 7) of the centre block: the cell one step along +x is (0, 0, 7) of the block at dx = +1,
+  // one step along −y is (7, 7, 7) of the block at dy = −1.
+  const Stencil stencil(3, {1.0, 0});
+  const BandTables tables(stencil, 3);
+  std::vector<std::vector<float>> blocks(27, std::vector<float>(512 * tables.stride));
+  const std::vector<float*> p = pointers(blocks);
+  const std::size_t local = 7 + 64 * 7;
+  int checked = 0;
+  for (std::size_t s = 0; s < tables.cells; ++s) {
+    const CellKey o = stencil.offsets()[s];
+    float* expected = nullptr;
+    if (o == CellKey{1, 0, 0}) {
+      expected = p[14] + (0 + 64 * 7) * tables.stride;
+    } else if (o == CellKey{0, -1, 0}) {
+      expected = p[10] + (7 + 8 * 7 + 64 * 7) * tables.stride;
+    } else if (o == CellKey{0, 0, 0}) {
+      expected = p[13] + local * tables.stride;
+    } else {
+      continue;
+    }
+    EXPECT_EQ(tables.record(p.data(), local, s), expected) << o.x << "," << o.y << "," << o.z;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 3);
 }
 
 TEST(BandKernel, OtherStencilsUseTheGenericKernel) {

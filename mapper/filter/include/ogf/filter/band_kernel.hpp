@@ -31,8 +31,10 @@ struct BandTables {
   std::size_t cells = 0;   // stencil cells S
   std::size_t stride = 0;  // floats per cell record: 2 + forward slots
   std::size_t self = 0;    // index of offset 0
-  // Per local position l and stencil cell s, [l·S + s]: neighbouring block (5 bits, 13 = own) << 9 | position.
-  std::vector<std::uint16_t> address;
+  // Per local position l and stencil cell s, [l·S + s]: the neighbouring block (13 = own) and the first float
+  // of the record in it.
+  std::vector<std::uint8_t> recordBlock;
+  std::vector<std::uint32_t> recordFloat;
   // Per stencil cell s: where Σ_si is stored: (record of cell `columnCell[s]`, float `columnFloat[s]`).
   std::vector<std::uint16_t> columnCell;
   std::vector<std::uint16_t> columnFloat;
@@ -41,6 +43,14 @@ struct BandTables {
   std::vector<std::uint32_t> pairStart;
   std::vector<std::uint16_t> pairOther;
   std::vector<std::uint16_t> pairFloat;
+
+  // Per stencil cell s: 1 when no stencil cell follows it along x (the last record of its x row).
+  std::vector<std::uint8_t> rowEnd;
+
+  // The record of stencil cell s of the measurement at `local`, `blocks` as for BandKernel.
+  float* record(float* const* blocks, std::size_t local, std::size_t s) const {
+    return blocks[recordBlock[local * cells + s]] + recordFloat[local * cells + s];
+  }
 };
 
 // The scalars of one update (probit_update.hpp), in float as the records are.
@@ -50,13 +60,26 @@ struct BandUpdate {
   float varianceFloor = 0.0F;  // variances never drop below this
 };
 
-// Applies one update at position `local` of the centre block. `blocks[d]` is the data of block d of the
-// 3×3×3 neighbourhood (d = (dx+1) + 3(dy+1) + 9(dz+1)); every block the stencil reaches must be present.
-using BandKernel = void (*)(float* const* blocks, std::size_t local, const BandUpdate& update,
-                            const BandTables& tables);
+// Applies one update given the records of its stencil cells: `records[s]` is the record of stencil cell s
+// (BandTables::record: the blocks of the 3×3×3 neighbourhood, d = (dx+1) + 3(dy+1) + 9(dz+1), every one the
+// stencil reaches present). The caller finds them once for its prefetch and the update.
+using BandKernel = void (*)(float* const* records, const BandUpdate& update, const BandTables& tables);
+
+// Finds the records of the stencil cells of the measurement at `local` (`blocks` as above) into `records`
+// and asks the CPU for their cache lines: the first float of every record, and the last float of the last
+// record of each x row (records of one row are consecutive in a block), so every line of the row is asked
+// for once. Called a few measurements ahead of the kernel, which then takes `records`.
+using BandLocate = void (*)(float* const* blocks, std::size_t local, const BandTables& tables, float** records);
+
+// The generic one, for any stencil.
+void genericBandLocate(float* const* blocks, std::size_t local, const BandTables& tables, float** records);
+
+// One unrolled for the stencil when a compiled kernel exists for it (same choice as bandKernelFor), else
+// the generic one.
+BandLocate bandLocateFor(const BandTables& tables);
 
 // The generic kernel in the baseline arithmetic.
-void genericBandKernel(float* const* blocks, std::size_t local, const BandUpdate& update, const BandTables& tables);
+void genericBandKernel(float* const* records, const BandUpdate& update, const BandTables& tables);
 
 // Whether this CPU (and OS) can run AVX2 + FMA code.
 bool cpuHasFma();

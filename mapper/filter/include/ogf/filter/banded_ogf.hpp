@@ -109,16 +109,16 @@ class BandedOgf {
     std::vector<std::uint32_t> touchedOrder;
     std::vector<float> before;  // mean and variance of each touched cell before the batch
   };
-  // The group's measurements in order; `next` (may be null) is the group applied after it on this thread,
-  // whose first measurements are prefetched while this one ends.
-  void applyGroup(const Group& group, std::span<const std::uint16_t> codes, float* const* neighbourhood,
-                  const Group* next, float* const* nextNeighbourhood, UpdateStats& stats);
-  bool applyMeasurement(float* const* neighbourhood, std::size_t local, int y);
-  // Asks the CPU for the records of the stencil cells of a measurement applyGroup reaches kPrefetchAhead
-  // places later: a colour pass over a scan-sized map (several MB) finds many of them out of cache, above
-  // all the cells one z layer ahead, which no earlier measurement of the block has touched. Measured: the
-  // update alone in 0.66-0.78 of the time (README, "Performance").
-  void prefetchStencil(float* const* neighbourhood, std::size_t local) const;
+  // The measurements of consecutive groups (`groups`, their neighbourhoods from `neighbourhoods`, 27 per
+  // group), in order, on one thread. The stencil records of the measurement kPrefetchAhead places ahead
+  // are found then (locate_, into `ring`: kPrefetchAhead + 1 slots of band_.cells pointers) and asked of
+  // the CPU: a colour pass over a scan-sized map (several MB) finds many of them out of cache, above all
+  // the cells one z layer ahead, which no earlier measurement of the block has touched. The kernel takes
+  // the same pointers, so the records are found once. Measured: the update alone in 0.56-0.64 of the time
+  // of the search-in-the-kernel code without prefetch (README, "Sixth session").
+  void applyRun(std::span<const Group> groups, std::span<const std::uint16_t> codes,
+                float* const* neighbourhoods, std::span<float*> ring, UpdateStats& stats);
+  bool applyMeasurement(float* const* records, int y);
   static constexpr std::size_t kPrefetchAhead = 4;
 
   FilterConfig config_;
@@ -134,10 +134,12 @@ class BandedOgf {
   double freeClampZ_ = 0.0;  // for free ones
   std::vector<std::uint32_t> neighbourMask_;  // per position in a block: neighbouring blocks reached
   BandTables band_;                           // where the stencil cells and their pairs are
+  BandLocate locate_ = nullptr;               // the records of a measurement's stencil cells, prefetched
   BandKernel kernel_ = nullptr;               // eq. (5) in the band (compiled for common stencils)
   const InverseMillsTable* lambda_ = &inverseMillsTable();  // λ(z) of eq. (5), tabulated
   bool parallelSafe_ = false;
   Batch scratch_;
+  std::vector<float*> ring_;  // applyRun's records on the calling thread
 };
 
 }  // namespace ogf::filter
