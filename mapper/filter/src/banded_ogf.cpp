@@ -308,7 +308,7 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   }
 
   // 5. Colour by colour; blocks of one colour in parallel.
-  const std::size_t ringSize = (kPrefetchAhead + 1) * band_.cells;
+  const std::size_t ringSize = kRingSlots * band_.cells;
   for (std::size_t g0 = 0; g0 < sorted.size();) {
     std::size_t g1 = g0;
     while (g1 < sorted.size() && sorted[g1].colour == sorted[g0].colour) {
@@ -381,11 +381,11 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
 void BandedOgf::applyRun(std::span<const Group> groups, std::span<const std::uint16_t> codes,
                           float* const* neighbourhoods, std::span<float*> ring, UpdateStats& stats) {
   // The groups' measurements are consecutive in `codes`; measurement i's records are in ring slot i mod
-  // (kPrefetchAhead + 1), found kPrefetchAhead measurements earlier (the slot of the one just applied).
+  // kRingSlots, found kPrefetchAhead measurements earlier.
   const std::size_t cells = band_.cells;
   const std::size_t first = groups.front().begin;
   const std::size_t last = groups.back().end;
-  const auto slot = [&](std::size_t i) { return ring.data() + (i % (kPrefetchAhead + 1)) * cells; };
+  const auto slot = [&](std::size_t i) { return ring.data() + (i & (kRingSlots - 1)) * cells; };
   std::size_t aheadGroup = 0;
   const auto locateAhead = [&](std::size_t i) {
     while (i >= groups[aheadGroup].end) {
