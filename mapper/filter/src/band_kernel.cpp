@@ -265,12 +265,15 @@ template <Shape S, bool Fused>
   using C = Compiled<S>;
   constexpr std::size_t kCells = C::kSizes.cells;
   constexpr auto& t = C::kTables;
+  // A copy the compiler can keep in registers: the records are floats too, so through the reference every
+  // store would oblige it to load gain, shrink and floor again.
+  const BandUpdate u = update;
   float column[kCells];
   [&]<std::size_t... s>(std::index_sequence<s...>) __attribute__((always_inline)) {
     ((column[s] = cell[t.columnCell[s]][t.columnFloat[s]]), ...);
   }(std::make_index_sequence<kCells>{});
   [&]<std::size_t... s>(std::index_sequence<s...>) __attribute__((always_inline)) {
-    (applyCell<S, Fused, s>(cell[s], column, update), ...);
+    (applyCell<S, Fused, s>(cell[s], column, u), ...);
   }(std::make_index_sequence<kCells>{});
 }
 

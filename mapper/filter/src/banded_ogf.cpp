@@ -418,7 +418,7 @@ bool BandedOgf::applyMeasurement(float* const* records, int y) {
   if (z > (y < 0 ? freeClampZ_ : clampZ_)) {
     return false;
   }
-  const ProbitUpdate u = probitUpdateAt(y, var, z, (*lambda_)(z));
+  const ProbitUpdate u = probitUpdateScaled(y, var, scale, z, (*lambda_)(z));
   if (tolerance > 0.0 && std::abs(var * u.meanGain) < tolerance && var * var * u.covShrink < tolerance) {
     return false;
   }

@@ -7,6 +7,8 @@
 // this function.
 #pragma once
 
+#include <algorithm>
+
 namespace ogf::filter {
 
 struct ProbitUpdate {
@@ -22,5 +24,18 @@ ProbitUpdate probitUpdate(int y, double mean, double variance);
 // The same from z = y·μ/√(1+s) and λ(z), for a caller that has them already (the same numbers when λ is
 // inverseMillsRatio(z)).
 ProbitUpdate probitUpdateAt(int y, double variance, double z, double lambda);
+
+// The same again given scale = √(1+s) as well: inline, for the banded filter's inner loop, which has
+// computed the square root for z.
+inline ProbitUpdate probitUpdateScaled(int y, double variance, double scale, double z, double lambda) {
+  ProbitUpdate u;
+  u.z = z;
+  u.lambda = lambda;
+  u.meanGain = static_cast<double>(y) * lambda / scale;
+  // λ(z+λ) lies in (0, 1) mathematically; clamp against rounding so the variance can never grow or vanish.
+  const double shape = std::clamp(lambda * (z + lambda), 0.0, 1.0);
+  u.covShrink = shape / (1.0 + variance);
+  return u;
+}
 
 }  // namespace ogf::filter
