@@ -114,7 +114,7 @@ void genericBandKernel(float* const* records, const BandUpdate& update, const Ba
 #if defined(__x86_64__) && defined(__GNUC__)
 namespace {
 __attribute__((target("avx2,fma"))) void genericBandKernelFma(float* const* records, const BandUpdate& update,
-                                                                const BandTables& t) {
+                                                              const BandTables& t) {
   genericBandBody<true>(records, update, t);
 }
 }  // namespace
@@ -286,8 +286,9 @@ void compiledBandKernel(float* const* records, const BandUpdate& update, const B
 
 #if defined(__x86_64__) && defined(__GNUC__)
 template <Shape S>
-__attribute__((target("avx2,fma"))) void compiledBandKernelFma(float* const* records, const BandUpdate& update,
-                                                                const BandTables& /*tables*/) {
+__attribute__((target("avx2,fma"))) void compiledBandKernelFma(float* const* records,
+                                                               const BandUpdate& update,
+                                                               const BandTables& /*tables*/) {
   compiledBandBody<S, true>(records, update);
 }
 #endif

@@ -322,8 +322,8 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
       auto work = [&](std::size_t w) {
         std::vector<float*> ring(ringSize);
         for (std::size_t g = next.fetch_add(1); g < g1; g = next.fetch_add(1)) {
-          applyRun(std::span<const Group>(sorted).subspan(g, 1), batchWork.sorted, &batchWork.neighbourhoods[g * 27],
-                   ring, partial[w]);
+          applyRun(std::span<const Group>(sorted).subspan(g, 1), batchWork.sorted,
+                   &batchWork.neighbourhoods[g * 27], ring, partial[w]);
         }
       };
       {
@@ -379,7 +379,7 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
 }
 
 void BandedOgf::applyRun(std::span<const Group> groups, std::span<const std::uint16_t> codes,
-                          float* const* neighbourhoods, std::span<float*> ring, UpdateStats& stats) {
+                         float* const* neighbourhoods, std::span<float*> ring, UpdateStats& stats) {
   // The groups' measurements are consecutive in `codes`; measurement i's records are in ring slot i mod
   // kRingSlots, found kPrefetchAhead measurements earlier.
   const std::size_t cells = band_.cells;

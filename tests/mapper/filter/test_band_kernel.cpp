@@ -28,6 +28,11 @@ std::vector<std::vector<float>> randomBlocks(const BandTables& tables, unsigned 
   return blocks;
 }
 
+// The 3-D stencils a kernel and a locator are compiled for.
+std::vector<StencilShape> compiledShapes() {
+  return {{std::sqrt(2.0), 2}, {1.0, 0}, {std::sqrt(2.0), 0}, {std::sqrt(3.0), 0}, {2.0, 0}};
+}
+
 std::vector<float*> pointers(std::vector<std::vector<float>>& blocks) {
   std::vector<float*> out;
   for (auto& b : blocks) {
@@ -46,8 +51,7 @@ std::vector<float*> records(const std::vector<float*>& blocks, std::size_t local
 }
 
 TEST(BandKernel, CompiledKernelsEqualTheGenericOneBitForBit) {
-  const StencilShape shapes[] = {{std::sqrt(2.0), 2}, {1.0, 0}, {std::sqrt(2.0), 0}, {std::sqrt(3.0), 0}, {2.0, 0}};
-  for (const StencilShape& shape : shapes) {
+  for (const StencilShape& shape : compiledShapes()) {
     const Stencil stencil(3, shape);
     const BandTables tables(stencil, 3);
     // The baseline arithmetic, and the fused one where this CPU has FMA.
@@ -76,8 +80,7 @@ TEST(BandKernel, CompiledKernelsEqualTheGenericOneBitForBit) {
 }
 
 TEST(BandKernel, CompiledLocatorsFindTheRecordsTheGenericOneFinds) {
-  const StencilShape shapes[] = {{std::sqrt(2.0), 2}, {1.0, 0}, {std::sqrt(2.0), 0}, {std::sqrt(3.0), 0}, {2.0, 0}};
-  for (const StencilShape& shape : shapes) {
+  for (const StencilShape& shape : compiledShapes()) {
     const BandTables tables(Stencil(3, shape), 3);
     const BandLocate compiled = bandLocateFor(tables);
     EXPECT_NE(compiled, &genericBandLocate) << "R " << shape.radius << ", L " << shape.manhattanRadius;

@@ -1,6 +1,6 @@
 // The inner loop of the banded OGF: eq. (5) applied to the stored entries of one measurement's stencil
-// (ogf.md §2 and §4). Given the cell's scalar update (probit_update.hpp), it finds the records of the
-// stencil cells in the 3×3×3 neighbourhood of blocks, reads the column Σ[:, i] and applies
+// (ogf.md §2 and §4). Given the cell's scalar update (probit_update.hpp) and the records of the stencil
+// cells in the 3×3×3 neighbourhood of blocks (found by a BandLocate), it reads the column Σ[:, i] and applies
 //   m_s  += gain·Σ_si,   Σ_ss −= shrink·Σ_si²,   Σ_st −= shrink·Σ_si·Σ_ti  for every stored pair (s, t).
 //
 // Two implementations with the same arithmetic in the same order, so they give the same floats bit for bit:
@@ -68,8 +68,10 @@ using BandKernel = void (*)(float* const* records, const BandUpdate& update, con
 // Finds the records of the stencil cells of the measurement at `local` (`blocks` as above) into `records`
 // and asks the CPU for their cache lines: the first float of every record, and the last float of the last
 // record of each x row (records of one row are consecutive in a block), so every line of the row is asked
-// for once. Called a few measurements ahead of the kernel, which then takes `records`.
-using BandLocate = void (*)(float* const* blocks, std::size_t local, const BandTables& tables, float** records);
+// for once (a row cut by a block face may leave the tail of one record to the hardware). Called a few
+// measurements ahead of the kernel, which then takes `records`.
+using BandLocate = void (*)(float* const* blocks, std::size_t local, const BandTables& tables,
+                            float** records);
 
 // The generic one, for any stencil.
 void genericBandLocate(float* const* blocks, std::size_t local, const BandTables& tables, float** records);

@@ -115,7 +115,7 @@ class BandedOgf {
   // are found then (locate_, into `ring`: kRingSlots slots of band_.cells pointers) and asked of
   // the CPU: a colour pass over a scan-sized map (several MB) finds many of them out of cache, above all
   // the cells one z layer ahead, which no earlier measurement of the block has touched. The kernel takes
-  // the same pointers, so the records are found once. Measured: the update alone in 0.56-0.64 of the time
+  // the same pointers, so the records are found once. Measured: the update alone in 0.44-0.54 of the time
   // of the search-in-the-kernel code without prefetch (README, "Sixth session").
   void applyRun(std::span<const Group> groups, std::span<const std::uint16_t> codes,
                 float* const* neighbourhoods, std::span<float*> ring, UpdateStats& stats);
