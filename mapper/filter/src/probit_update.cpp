@@ -10,7 +10,7 @@ namespace ogf::filter {
 ProbitUpdate probitUpdate(int y, double mean, double variance) {
   const double scale = std::sqrt(1.0 + variance);
   const double z = static_cast<double>(y) * mean / scale;
-  return probitUpdateAt(y, variance, z, inverseMillsRatio(z));
+  return probitUpdateScaled(y, variance, scale, z, inverseMillsRatio(z));
 }
 
 ProbitUpdate probitUpdateAt(int y, double variance, double z, double lambda) {
