@@ -5,13 +5,12 @@
 
 namespace ogf::filter {
 
-Block::Block(std::size_t cells, std::size_t forwardSlots, float* data)
-    : cells_(cells), size_(cells * (2 + forwardSlots)), data_(data) {}
+Block::Block(std::size_t cells, std::size_t forwardSlots)
+    : cells_(cells), size_(cells * (2 + forwardSlots)), data_(std::make_unique_for_overwrite<float[]>(size_)) {}
 
 BlockStorage::BlockStorage(int dimensions, std::size_t forwardSlots)
     : dimensions_(dimensions), forwardSlots_(forwardSlots),
-      cellsPerBlock_(dimensions == 3 ? kBlockSide * kBlockSide * kBlockSide : kBlockSide * kBlockSide),
-      arena_(cellsPerBlock_ * (2 + forwardSlots)) {}
+      cellsPerBlock_(dimensions == 3 ? kBlockSide * kBlockSide * kBlockSide : kBlockSide * kBlockSide) {}
 
 Block* BlockStorage::find(const CellKey& blockKey) {
   const auto it = blocks_.find(blockKey);
@@ -27,7 +26,7 @@ Block& BlockStorage::obtain(const CellKey& blockKey, bool& fresh) {
   auto& slot = blocks_[blockKey];
   fresh = slot == nullptr;
   if (fresh) {
-    slot = std::make_unique<Block>(cellsPerBlock_, forwardSlots_, arena_.allocate());
+    slot = std::make_unique<Block>(cellsPerBlock_, forwardSlots_);
   }
   return *slot;
 }
@@ -43,10 +42,11 @@ std::vector<CellKey> BlockStorage::sortedKeys() const {
 }
 
 std::size_t BlockStorage::memoryBytes() const {
-  // The values in the arena; per block the Block object and an unordered_map node (key, pointer, next
-  // pointer, cached hash); one bucket pointer per bucket.
-  const std::size_t perBlock = sizeof(Block) + sizeof(CellKey) + 3 * sizeof(void*) + sizeof(std::size_t);
-  return arena_.bytesInUse() + blocks_.size() * perBlock + blocks_.bucket_count() * sizeof(void*);
+  // Per block: the float arrays, the Block object, and an unordered_map node (key, pointer, next
+  // pointer, cached hash); plus one bucket pointer per bucket.
+  const std::size_t perBlock = cellsPerBlock_ * floatsPerCell() * sizeof(float) + sizeof(Block) +
+                               sizeof(CellKey) + 3 * sizeof(void*) + sizeof(std::size_t);
+  return blocks_.size() * perBlock + blocks_.bucket_count() * sizeof(void*);
 }
 
 CellKey BlockStorage::cellKey(const CellKey& blockKey, std::size_t local) const {

@@ -12,7 +12,6 @@
 #include <unordered_map>
 #include <vector>
 
-#include "ogf/filter/block_arena.hpp"
 #include "ogf/filter/filter_config.hpp"
 
 namespace ogf::filter {
@@ -29,20 +28,19 @@ inline std::size_t localIndexOf(const CellKey& cell) {
 
 class Block {
  public:
-  // `data`: room for the values (BlockArena), left uninitialised: the owner writes every one (the prior, or a
-  // restored block).
-  Block(std::size_t cells, std::size_t forwardSlots, float* data);
+  // The values are left uninitialised: the owner writes every one (the prior, or a restored block).
+  Block(std::size_t cells, std::size_t forwardSlots);
   std::size_t cells() const { return cells_; }
   // Layout: cell-major; cell l at l·(2 + F): [mean, variance, slot 0, ..., slot F-1].
-  float* data() { return data_; }
-  const float* data() const { return data_; }
-  std::span<float> values() { return {data_, size_}; }
-  std::span<const float> values() const { return {data_, size_}; }
+  float* data() { return data_.get(); }
+  const float* data() const { return data_.get(); }
+  std::span<float> values() { return {data_.get(), size_}; }
+  std::span<const float> values() const { return {data_.get(), size_}; }
 
  private:
   std::size_t cells_;
   std::size_t size_;
-  float* data_;  // owned by the storage's arena
+  std::unique_ptr<float[]> data_;
 };
 
 class BlockStorage {
@@ -58,7 +56,7 @@ class BlockStorage {
   std::size_t size() const { return blocks_.size(); }
   // Keys of all blocks, sorted: the deterministic order of iteration, checksums and files.
   std::vector<CellKey> sortedKeys() const;
-  // Bytes in use: the arena's slabs, block headers and the hash table.
+  // Bytes in use: block arrays, block headers and the hash table.
   std::size_t memoryBytes() const;
   // Key of the cell at `local` in block `blockKey`.
   CellKey cellKey(const CellKey& blockKey, std::size_t local) const;
@@ -67,7 +65,6 @@ class BlockStorage {
   int dimensions_;
   std::size_t forwardSlots_;
   std::size_t cellsPerBlock_;
-  BlockArena arena_;
   std::unordered_map<CellKey, std::unique_ptr<Block>, CellKeyHash> blocks_;
 };
 
