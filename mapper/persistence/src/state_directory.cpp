@@ -161,6 +161,7 @@ Status StateDirectory::snapshot(std::int64_t seq, std::span<const std::uint8_t> 
   std::error_code ec;
   std::filesystem::rename(journalPath().string() + ".new", journalPath(), ec);
   if (ec) return Error{journalPath().string() + ": cannot replace the journal: " + ec.message()};
+  w->renamedTo(journalPath());  // so a later write error names the file that is there
   writer_.emplace(std::move(*w));
   return okStatus();
 }

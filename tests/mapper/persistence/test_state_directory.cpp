@@ -119,6 +119,19 @@ TEST_F(StateDirectoryTest, DamagedSnapshotIsRefusedNamingTheFile) {
   EXPECT_FALSE(StateDirectory::open(dir_)->recover(1).ok());
 }
 
+TEST_F(StateDirectoryTest, AfterASnapshotJournalErrorsNameTheJournalThatIsThere) {
+  auto sd = StateDirectory::open(dir_);
+  ASSERT_TRUE(sd->recover(7).ok());
+  ASSERT_TRUE(sd->journal(1, 0, set(1)).ok());
+  // The snapshot starts the journal anew; seq 1 again is then refused, naming the journal.
+  ASSERT_TRUE(sd->snapshot(1, std::vector<std::uint8_t>{1, 2, 3}).ok());
+  const auto st = sd->journal(1, 0, set(1));
+  ASSERT_FALSE(st.ok());
+  const std::string& message = st.error().message;
+  EXPECT_NE(message.find((dir_ / "journal.ogfj").string() + ":"), std::string::npos) << message;
+  EXPECT_EQ(message.find(".new"), std::string::npos) << message;
+}
+
 TEST_F(StateDirectoryTest, UnusablePathIsAnErrorNamingIt) {
   std::ofstream(dir_.string() + "-file") << "x";  // a file where the directory should be
   auto sd = StateDirectory::open(fs::path(dir_.string() + "-file") / "state");

@@ -67,6 +67,8 @@ class JournalWriter {
   std::int64_t lastSeq() const { return last_seq_; }
   std::uint64_t bytesWritten() const { return size_; }
   const std::filesystem::path& path() const { return path_; }
+  // The open file was renamed to `path` (the writer keeps its descriptor): messages name it from now on.
+  void renamedTo(std::filesystem::path path) { path_ = std::move(path); }
 
  private:
   JournalWriter(std::filesystem::path path, int fd, std::uint64_t size, std::int64_t last_seq)
