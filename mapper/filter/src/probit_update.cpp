@@ -13,8 +13,4 @@ ProbitUpdate probitUpdate(int y, double mean, double variance) {
   return probitUpdateScaled(y, variance, scale, z, inverseMillsRatio(z));
 }
 
-ProbitUpdate probitUpdateAt(int y, double variance, double z, double lambda) {
-  return probitUpdateScaled(y, variance, std::sqrt(1.0 + variance), z, lambda);
-}
-
 }  // namespace ogf::filter

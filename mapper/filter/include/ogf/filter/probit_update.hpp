@@ -21,12 +21,8 @@ struct ProbitUpdate {
 // y must be -1 or +1; variance must be positive.
 ProbitUpdate probitUpdate(int y, double mean, double variance);
 
-// The same from z = y·μ/√(1+s) and λ(z), for a caller that has them already (the same numbers when λ is
-// inverseMillsRatio(z)).
-ProbitUpdate probitUpdateAt(int y, double variance, double z, double lambda);
-
-// The same again given scale = √(1+s) as well: inline, for the banded filter's inner loop, which has
-// computed the square root for z.
+// The same from scale = √(1+s), z = y·μ/scale and λ(z), for a caller that has them already (the same
+// numbers when λ is inverseMillsRatio(z)): inline, for the banded filter's inner loop.
 inline ProbitUpdate probitUpdateScaled(int y, double variance, double scale, double z, double lambda) {
   ProbitUpdate u;
   u.z = z;
