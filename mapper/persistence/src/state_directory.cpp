@@ -156,12 +156,14 @@ Status StateDirectory::journal(std::int64_t seq, std::int64_t utime, std::span<c
 Status StateDirectory::snapshot(std::int64_t seq, std::span<const std::uint8_t> map_bytes) {
   const auto bytes = encodeSnapshot(map_id_, seq, map_bytes);
   if (auto st = writeFileAtomically(snapshotPath(), bytes); !st) return st;
-  auto w = JournalWriter::create(journalPath().string() + ".new", map_id_, seq);
+  const std::filesystem::path journal = journalPath();
+  const std::filesystem::path fresh = journal.string() + ".new";
+  auto w = JournalWriter::create(fresh, map_id_, seq);
   if (!w) return w.error();
   std::error_code ec;
-  std::filesystem::rename(journalPath().string() + ".new", journalPath(), ec);
-  if (ec) return Error{journalPath().string() + ": cannot replace the journal: " + ec.message()};
-  w->renamedTo(journalPath());  // so a later write error names the file that is there
+  std::filesystem::rename(fresh, journal, ec);
+  if (ec) return Error{journal.string() + ": cannot replace the journal: " + ec.message()};
+  w->renamedTo(journal);  // so a later write error names the file that is there
   writer_.emplace(std::move(*w));
   return okStatus();
 }
