@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "ogf/filter/filter_config.hpp"
@@ -28,6 +29,9 @@ BandTables::BandTables(const Stencil& stencil, int dimensions) {
       recordBlock[l * cells + c] = static_cast<std::uint8_t>(d);
       recordFloat[l * cells + c] = static_cast<std::uint32_t>(static_cast<std::size_t>(local) * stride);
     }
+  }
+  if (positions * stride <= std::numeric_limits<std::uint16_t>::max()) {
+    recordFloat16.assign(recordFloat.begin(), recordFloat.end());
   }
   // Σ_si: kept by the measured cell for a forward offset, by cell s for a backward one; Σ_ii is the variance.
   for (std::size_t s = 0; s < cells; ++s) {
@@ -107,13 +111,13 @@ template <bool Fused>
 
 }  // namespace
 
-void genericBandKernel(float* const* records, const BandUpdate& update, const BandTables& t) {
+void genericBandKernel(float* const* records, BandUpdate update, const BandTables& t) {
   genericBandBody<false>(records, update, t);
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
 namespace {
-__attribute__((target("avx2,fma"))) void genericBandKernelFma(float* const* records, const BandUpdate& update,
+__attribute__((target("avx2,fma"))) void genericBandKernelFma(float* const* records, BandUpdate update,
                                                               const BandTables& t) {
   genericBandBody<true>(records, update, t);
 }
@@ -280,14 +284,14 @@ template <Shape S, bool Fused>
 // The x86-64 baseline (SSE2; multiply, then subtract), and the same code for CPUs with AVX2 and FMA, where
 // each stored entry is one fused multiply-add: one rounding instead of two, and fewer instructions.
 template <Shape S>
-void compiledBandKernel(float* const* records, const BandUpdate& update, const BandTables& /*tables*/) {
+void compiledBandKernel(float* const* records, BandUpdate update, const BandTables& /*tables*/) {
   compiledBandBody<S, false>(records, update);
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
 template <Shape S>
 __attribute__((target("avx2,fma"))) void compiledBandKernelFma(float* const* records,
-                                                               const BandUpdate& update,
+                                                               BandUpdate update,
                                                                const BandTables& /*tables*/) {
   compiledBandBody<S, true>(records, update);
 }
@@ -299,7 +303,7 @@ void compiledBandLocate(float* const* blocks, std::size_t local, const BandTable
   using C = Compiled<S>;
   constexpr std::size_t kCells = C::kSizes.cells;
   const std::uint8_t* block = tables.recordBlock.data() + local * kCells;
-  const std::uint32_t* first = tables.recordFloat.data() + local * kCells;
+  const std::uint16_t* first = tables.recordFloat16.data() + local * kCells;
   [&]<std::size_t... s>(std::index_sequence<s...>) __attribute__((always_inline)) {
     (
         [&] {
@@ -328,7 +332,7 @@ bool matches(const BandTables& r) {
 
 template <Shape S>
 void tryCompiledLocate(const BandTables& tables, BandLocate& chosen) {
-  if (chosen == &genericBandLocate && matches<S>(tables)) {
+  if (chosen == &genericBandLocate && !tables.recordFloat16.empty() && matches<S>(tables)) {
     chosen = &compiledBandLocate<S>;
   }
 }

@@ -186,8 +186,9 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   //    block, y). Consecutive measurements mostly share a block: the last one is checked first.
   Batch& batchWork = scratch_;
   batchWork.blocks.clear();
-  batchWork.groupOf.clear();
-  batchWork.codes.clear();
+  batchWork.groupOf.resize(batch.size());
+  batchWork.codes.resize(batch.size());
+  std::size_t accepted = 0;
   std::vector<Group> groups;
   CellKey lastBlock{};
   std::uint32_t lastGroup = BlockKeyTable::kAbsent;
@@ -209,9 +210,12 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
     Group& g = groups[lastGroup];
     g.neighbours |= neighbourMask_[local];
     ++g.end;  // the count for now
-    batchWork.groupOf.push_back(lastGroup);
-    batchWork.codes.push_back(static_cast<std::uint16_t>((local << 1) | (m.y > 0 ? 1U : 0U)));
+    batchWork.groupOf[accepted] = lastGroup;
+    batchWork.codes[accepted] = static_cast<std::uint16_t>((local << 1) | (m.y > 0 ? 1U : 0U));
+    ++accepted;
   }
+  batchWork.groupOf.resize(accepted);
+  batchWork.codes.resize(accepted);
 
   // 2. The deterministic order: colour, block key, position in the block (then y). Groups are sorted, the
   //    measurements placed by counting, then each group's few codes sorted.
@@ -413,12 +417,12 @@ bool BandedOgf::applyMeasurement(float* const* records, int y) {
   const double mean = static_cast<double>(self[0]);
   const double var = static_cast<double>(self[1]);
   const double tolerance = config_.skipTolerance;
-  const double scale = std::sqrt(1.0 + var);
-  const double z = static_cast<double>(y) * mean / scale;
+  const double inverseScale = 1.0 / std::sqrt(1.0 + var);
+  const double z = static_cast<double>(y) * mean * inverseScale;
   if (z > (y < 0 ? freeClampZ_ : clampZ_)) {
     return false;
   }
-  const ProbitUpdate u = probitUpdateScaled(y, var, scale, z, (*lambda_)(z));
+  const ProbitUpdate u = probitUpdateScaled(y, inverseScale, z, (*lambda_)(z));
   if (tolerance > 0.0 && std::abs(var * u.meanGain) < tolerance && var * var * u.covShrink < tolerance) {
     return false;
   }

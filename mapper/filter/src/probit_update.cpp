@@ -8,9 +8,9 @@
 namespace ogf::filter {
 
 ProbitUpdate probitUpdate(int y, double mean, double variance) {
-  const double scale = std::sqrt(1.0 + variance);
-  const double z = static_cast<double>(y) * mean / scale;
-  return probitUpdateScaled(y, variance, scale, z, inverseMillsRatio(z));
+  const double inverseScale = 1.0 / std::sqrt(1.0 + variance);
+  const double z = static_cast<double>(y) * mean * inverseScale;
+  return probitUpdateScaled(y, inverseScale, z, inverseMillsRatio(z));
 }
 
 }  // namespace ogf::filter

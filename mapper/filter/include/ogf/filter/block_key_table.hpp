@@ -25,17 +25,17 @@ class BlockKeyTable {
   }
   std::size_t size() const { return used_.size(); }
 
-  // The value of `key`, inserting `value` when the key is new (then `inserted` is set).
-  std::uint32_t findOrInsert(const CellKey& key, std::uint32_t value, bool& inserted) {
-    if ((used_.size() + 1) * 2 > slots_.size()) {
+  // The value of `key`, inserting `value` when the key is new (then `inserted` is set). Inlined: it runs
+  // once per measurement of a batch in random order.
+  [[gnu::always_inline]] std::uint32_t findOrInsert(const CellKey& key, std::uint32_t value, bool& inserted) {
+    if ((used_.size() + 1) * 2 > slots_.size()) [[unlikely]] {
       grow();
     }
     const std::size_t mask = slots_.size() - 1;
     for (std::size_t s = CellKeyHash{}(key) & mask;; s = (s + 1) & mask) {
       Slot& slot = slots_[s];
-      if (slot.value == kAbsent) {
-        slot = {key, value};
-        used_.push_back(static_cast<std::uint32_t>(s));
+      if (slot.value == kAbsent) [[unlikely]] {
+        insertAt(s, key, value);
         inserted = true;
         return value;
       }
@@ -52,7 +52,12 @@ class BlockKeyTable {
     std::uint32_t value = kAbsent;
   };
 
-  void grow() {
+  [[gnu::noinline]] void insertAt(std::size_t s, const CellKey& key, std::uint32_t value) {
+    slots_[s] = {key, value};
+    used_.push_back(static_cast<std::uint32_t>(s));
+  }
+
+  [[gnu::noinline]] void grow() {
     std::vector<Slot> old;
     old.reserve(used_.size());
     for (std::uint32_t s : used_) {

@@ -1,16 +1,19 @@
-// Cubic Hermite interpolation on a table of values and slopes at equally spaced nodes: the tabulated
-// functions of the hot path (λ in inverse_mills_table.hpp, Φ in published_state.hpp) share it.
+// Cubic Hermite interpolation on a table of values and slopes at equally spaced nodes: Φ in
+// published_state.hpp (λ in inverse_mills_table.hpp keeps the same cubics in powers of t).
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
 namespace ogf::filter {
 
 // The interpolant at u nodes from the first (u ≥ 0, below the last node): value[k] are the function's
 // values, slope[k] its derivatives times the node spacing.
 inline double cubicHermite(const double* value, const double* slope, double u) {
-  const auto k = static_cast<std::size_t>(u);
-  const double t = u - static_cast<double>(k);
+  // Through a signed integer: the one instruction each way (u ≥ 0, so the same k).
+  const auto whole = static_cast<std::int64_t>(u);
+  const auto k = static_cast<std::size_t>(whole);
+  const double t = u - static_cast<double>(whole);
   // Basis on [0, 1]: values v0, v1 with weights h00, h01; slopes d0, d1 with h10, h11.
   const double t2 = t * t;
   const double t3 = t2 * t;

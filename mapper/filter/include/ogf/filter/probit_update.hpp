@@ -21,16 +21,17 @@ struct ProbitUpdate {
 // y must be -1 or +1; variance must be positive.
 ProbitUpdate probitUpdate(int y, double mean, double variance);
 
-// The same from scale = √(1+s), z = y·μ/scale and λ(z), for a caller that has them already (the same
-// numbers when λ is inverseMillsRatio(z)): inline, for the banded filter's inner loop.
-inline ProbitUpdate probitUpdateScaled(int y, double variance, double scale, double z, double lambda) {
+// The same from r = 1/√(1+s), z = y·μ·r and λ(z), for a caller that has them already (the same numbers
+// when λ is inverseMillsRatio(z)): inline, for the banded filter's inner loop. Multiplying by r instead
+// of dividing by √(1+s) and (1+s) keeps two divisions off the path from one update to the next.
+inline ProbitUpdate probitUpdateScaled(int y, double inverseScale, double z, double lambda) {
   ProbitUpdate u;
   u.z = z;
   u.lambda = lambda;
-  u.meanGain = static_cast<double>(y) * lambda / scale;
+  u.meanGain = static_cast<double>(y) * lambda * inverseScale;
   // λ(z+λ) lies in (0, 1) mathematically; clamp against rounding so the variance can never grow or vanish.
   const double shape = std::clamp(lambda * (z + lambda), 0.0, 1.0);
-  u.covShrink = shape / (1.0 + variance);
+  u.covShrink = shape * (inverseScale * inverseScale);
   return u;
 }
 
