@@ -92,8 +92,8 @@ template <bool Fused>
   const float scaled = u.shrink * column;
 #if defined(__x86_64__) && defined(__GNUC__)
   // The mean and the variance are adjacent: one 8-byte load and one store for both, as two lanes that each
-  // do the arithmetic of the portable code below. The kernel issues about one store per stored entry, and
-  // the CPU retires one store per cycle.
+  // do the arithmetic of the portable code below (the mean's lane is held against −∞, which leaves it as it
+  // is). The kernel issues about one store per stored entry, and the CPU retires one store per cycle.
   __m128 moments = _mm_loadl_pi(_mm_setzero_ps(), reinterpret_cast<const __m64*>(record));
   const __m128 columns = _mm_set1_ps(column);
   if constexpr (Fused) {
@@ -103,7 +103,8 @@ template <bool Fused>
   } else {
     moments = _mm_sub_ps(moments, _mm_mul_ps(_mm_setr_ps(-u.gain, scaled, 0.0F, 0.0F), columns));
   }
-  moments = _mm_max_ps(moments, _mm_setr_ps(-std::numeric_limits<float>::infinity(), u.varianceFloor, 0.0F, 0.0F));
+  moments =
+      _mm_max_ps(moments, _mm_setr_ps(-std::numeric_limits<float>::infinity(), u.varianceFloor, 0.0F, 0.0F));
   _mm_storel_pi(reinterpret_cast<__m64*>(record), moments);
 #else
   record[0] = minusProduct<Fused>(record[0], -u.gain, column);

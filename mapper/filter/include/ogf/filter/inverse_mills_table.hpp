@@ -2,9 +2,10 @@
 // λ and its derivative λ'(z) = −λ(z)·(z + λ(z)) on nodes 1/128 apart over [−8, 4], the z of nearly every
 // applied update (clamping skips agreeing measurements beyond z = 3). Each interval's cubic is kept in powers
 // of the position t ∈ [0, 1) inside it and evaluated in two independent halves (Estrin's scheme): fewer
-// dependent steps than the Hermite basis, on the path from one update to the next. About 5 ns instead of the ~30 ns of
-// an erfc and an exp; relative error below 1e-8 on the range (measured 1.6e-9 at its top end, tested),
-// below the float precision (6e-8) the map stores. Outside the range it is the exact inverseMillsRatio.
+// dependent steps than the Hermite basis, on the path from one update to the next. About 5 ns instead of the
+// ~30 ns of an erfc and an exp; relative error below 1e-8 on the range (measured 1.6e-9 at its top end,
+// tested), below the float precision (6e-8) the map stores. Outside the range it is the exact
+// inverseMillsRatio.
 #pragma once
 
 #include <cstddef>
