@@ -7,7 +7,7 @@
 #include <limits>
 #include <utility>
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #include <immintrin.h>
 #endif
 
@@ -90,10 +90,12 @@ template <bool Fused>
 template <bool Fused>
 [[gnu::always_inline]] inline float updateMeanAndVariance(float* record, float column, const BandUpdate& u) {
   const float scaled = u.shrink * column;
-#if defined(__x86_64__) && defined(__GNUC__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
   // The mean and the variance are adjacent: one 8-byte load and one store for both, as two lanes that each
   // do the arithmetic of the portable code below (the mean's lane is held against −∞, which leaves it as it
   // is). The kernel issues about one store per stored entry, and the CPU retires one store per cycle.
+  // (Clang wants the FMA target on the function that calls the builtin, not on the kernel it is inlined
+  // into; its builds, the fuzzers', take the portable code.)
   __m128 moments = _mm_loadl_pi(_mm_setzero_ps(), reinterpret_cast<const __m64*>(record));
   const __m128 columns = _mm_set1_ps(column);
   if constexpr (Fused) {
