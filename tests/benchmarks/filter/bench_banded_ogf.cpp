@@ -135,6 +135,7 @@ void twoThreads(benchmark::internal::Benchmark* b) { stencilsOnThreads(b, 2); }
 BENCHMARK(BM_FirstMeasurement)->Apply(oneThread);
 BENCHMARK(BM_FirstMeasurement)->Apply(twoThreads);
 BENCHMARK(BM_AllocatedMeasurement)->Apply(oneThread);
+BENCHMARK(BM_AllocatedMeasurement)->Apply(twoThreads);
 BENCHMARK(BM_RepeatedMeasurement)
     ->ArgNames({"R2", "y", "threads", "passes"})
     ->Args({0, -1, 1, 10})
