@@ -12,8 +12,9 @@ PACKAGES=(
   libpcap-dev libeigen3-dev libboost-dev libspdlog-dev libyaml-cpp-dev libcli11-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev liboctomap-dev
-  # fuzzing (clang's libFuzzer runtime) and tooling used by the tests
-  clang libclang-rt-14-dev iproute2 unzip python3
+  # fuzzing (clang's libFuzzer runtime) and tooling used by the tests (wireshark-common: editcap writes
+  # the pcapng copy of a real capture that the capture reader's pcapng test reads)
+  clang libclang-rt-14-dev iproute2 unzip python3 wireshark-common
   # packaging: cpack's Depends (dpkg-shlibdeps), the package check, the clean Debian 12 to install it in
   dpkg-dev lintian debootstrap
 )
