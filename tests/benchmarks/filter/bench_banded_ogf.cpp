@@ -37,12 +37,16 @@ std::vector<Measurement> scanBatch(std::int8_t y) {
   return batch;
 }
 
-// The fraction of the benchmark's measurements that were skipped (below the tolerance or clamped). Every
-// benchmark here reports it: the CSV reporter takes its columns from the first benchmark's counters and
-// aborts on a counter it has not seen.
-void reportSkipped(benchmark::State& state, std::size_t skipped) {
-  state.counters["skipped_fraction"] =
-      static_cast<double>(skipped) / static_cast<double>(state.iterations() * static_cast<std::int64_t>(kBatch));
+// What every benchmark here reports of its batches: time per measurement, measurements per second, and the
+// fraction skipped (below the tolerance or clamped). The same counters in all of them, since the CSV
+// reporter takes its columns from the first benchmark's counters and aborts on a counter it has not seen.
+void reportMeasurements(benchmark::State& state, std::size_t skipped) {
+  const auto measurements = state.iterations() * static_cast<std::int64_t>(kBatch);
+  state.counters["ns_per_measurement"] =
+      benchmark::Counter(static_cast<double>(kBatch) * 1e-9,
+                         benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["skipped_fraction"] = static_cast<double>(skipped) / static_cast<double>(measurements);
+  state.SetItemsProcessed(measurements);
 }
 
 FilterConfig configFor(int radiusSquared, int threads) {
@@ -74,11 +78,8 @@ void BM_FirstMeasurement(benchmark::State& state) {
     map = ogf::filter::Error{};  // free outside the timing
     state.ResumeTiming();
   }
-  state.counters["ns_per_measurement"] = benchmark::Counter(
-      static_cast<double>(kBatch) * 1e-9, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   state.counters["bytes_per_cell"] = bytesPerCell;
-  reportSkipped(state, skipped);
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kBatch));
+  reportMeasurements(state, skipped);
 }
 
 // The update alone: the same batch on a map whose blocks the batch has already allocated (one warm-up
@@ -96,10 +97,7 @@ void BM_AllocatedMeasurement(benchmark::State& state) {
     const auto stats = map->update(batch);
     skipped += stats.skipped;
   }
-  state.counters["ns_per_measurement"] = benchmark::Counter(
-      static_cast<double>(kBatch) * 1e-9, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
-  reportSkipped(state, skipped);
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kBatch));
+  reportMeasurements(state, skipped);
 }
 
 // A static scene measured again and again after `passes` warm-up passes: as the cells converge, more and
@@ -116,10 +114,7 @@ void BM_RepeatedMeasurement(benchmark::State& state) {
     const auto stats = map->update(batch);
     skipped += stats.skipped;
   }
-  reportSkipped(state, skipped);
-  state.counters["ns_per_measurement"] = benchmark::Counter(
-      static_cast<double>(kBatch) * 1e-9, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kBatch));
+  reportMeasurements(state, skipped);
 }
 
 // One thread: CPU time, which a busy shared machine inflates far less than wall time. Two threads: wall
