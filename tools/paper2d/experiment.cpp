@@ -61,6 +61,7 @@ bool runExperiment(const GroundTruth& truth, std::span<const Sample> samples, co
   config.kernelSigma = options.sigma;
   config.occupiedThreshold = options.occupiedThreshold;
   config.freeThreshold = options.freeThreshold;
+  config.occupiedPriority = filter::OccupiedPriority::kScan;  // every sample reaches eq. (5), as in the dense filter
   if (options.bandedRadius > 0.0) {
     config.stencilRadius = options.bandedRadius;
   }

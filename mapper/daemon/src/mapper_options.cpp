@@ -168,7 +168,7 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
     auto& fc = o.map.filter;
     OGF_TRY(checkKeys(path, f, "filter", {"sigma", "amplitude", "stencil_radius", "taper_support", "occupied_threshold",
                                           "free_threshold", "skip_tolerance", "clamp_z", "free_clamp_z",
-                                          "threads"}));
+                                          "occupied_priority", "free_release_scans", "threads"}));
     OGF_TRY(readOptional(path, f, "filter", "sigma", fc.kernelSigma));
     OGF_TRY(readOptional(path, f, "filter", "amplitude", fc.kernelAmplitude));
     OGF_TRY(readOptional(path, f, "filter", "stencil_radius", fc.stencilRadius));
@@ -178,6 +178,13 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
     OGF_TRY(read(path, f, "filter", "skip_tolerance", fc.skipTolerance));
     OGF_TRY(read(path, f, "filter", "clamp_z", fc.clampZ));
     OGF_TRY(read(path, f, "filter", "free_clamp_z", fc.freeClampZ));
+    if (const auto op = f["occupied_priority"]) {
+      const std::string v = op.as<std::string>("");
+      const auto p = filter::parseOccupiedPriority(v);
+      if (!p) return Error{where(path, op, "filter.occupied_priority") + ": 'scan' or 'map', got '" + v + "'"};
+      fc.occupiedPriority = *p;
+    }
+    OGF_TRY(read(path, f, "filter", "free_release_scans", fc.freeReleaseCount));
     OGF_TRY(read(path, f, "filter", "threads", fc.threads));
   }
   if (const auto fu = root["fusion"]) {
@@ -225,6 +232,10 @@ std::string exampleMapperConfig() {
     << "  skip_tolerance: 1e-4\n"
     << "  clamp_z: 3                # skip a measurement agreeing with its cell beyond this probit z; 0: never\n"
     << "  free_clamp_z: 1.5         # the same for free measurements (most of a scan); 0: clamp_z\n"
+    << "  occupied_priority: " << filter::toString(d.map.filter.occupiedPriority)
+    << "      # map: a cell once measured occupied ignores free measurements (scan: exact filter)\n"
+    << "  free_release_scans: " << d.map.filter.freeReleaseCount
+    << "    # ... until this many scans in a row measure it free; 0: never\n"
     << "  threads: 1\n"
     << "fusion:\n"
     << "  max_pose_wait_s: " << d.map.fusion.pending.max_pose_wait_s << "\n"

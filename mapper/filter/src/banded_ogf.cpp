@@ -108,6 +108,7 @@ struct BandedOgf::Group {
   std::uint32_t neighbours = 0;  // bit d set: block d of the 3×3×3 neighbourhood is touched
   std::size_t begin = 0;         // range in the sorted measurement keys
   std::size_t end = 0;
+  std::uint8_t* marks = nullptr;  // the block's cell marks when it existed before the batch (occupied priority)
 };
 
 Result<BandedOgf> BandedOgf::create(const FilterConfig& config) {
@@ -192,6 +193,7 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   std::vector<Group> groups;
   CellKey lastBlock{};
   std::uint32_t lastGroup = BlockKeyTable::kAbsent;
+  const bool occupiedPriority = config_.occupiedPriority == OccupiedPriority::kMap;
   for (const Measurement& m : batch) {
     if ((m.y != 1 && m.y != -1) || (flat && m.key.z != 0)) {
       ++stats.rejected;
@@ -203,11 +205,18 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
       lastGroup = batchWork.blocks.findOrInsert(block, static_cast<std::uint32_t>(groups.size()), inserted);
       lastBlock = block;
       if (inserted) {
-        groups.push_back({block, colourOf(block), 0, 0, 0});
+        Block* existing = occupiedPriority ? storage_.find(block) : nullptr;
+        groups.push_back({block, colourOf(block), 0, 0, 0, existing != nullptr ? existing->marks().data() : nullptr});
       }
     }
     const std::size_t local = localIndexOf(m.key);
     Group& g = groups[lastGroup];
+    // A cell's marks before the batch decide (occupied measurements mark it in step 3), so the outcome does
+    // not depend on the order of the batch.
+    if (m.y < 0 && g.marks != nullptr && holdBackFree(g.marks[local])) {
+      ++stats.heldBack;
+      continue;
+    }
     g.neighbours |= neighbourMask_[local];
     ++g.end;  // the count for now
     batchWork.groupOf[accepted] = lastGroup;
@@ -257,8 +266,12 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
       if ((g.neighbours >> d) & 1U) {
         const CellKey key = g.block + CellKey{static_cast<int>(d % 3) - 1, static_cast<int>((d / 3) % 3) - 1,
                                               static_cast<int>(d / 9) - 1};
-        float* data = obtainBlock(key, stats.blocksAllocated).data();
+        Block& block = obtainBlock(key, stats.blocksAllocated);
+        float* data = block.data();
         batchWork.neighbourhoods[r * 27 + d] = data;
+        if (d == kOwnBlock && occupiedPriority) {
+          markOccupied(block, std::span<const std::uint16_t>(batchWork.sorted).subspan(g.begin, g.end - g.begin));
+        }
         if (sink != nullptr) {
           bool inserted = false;
           const auto next = static_cast<std::uint32_t>(batchWork.touched.size());
@@ -412,6 +425,28 @@ void BandedOgf::applyRun(std::span<const Group> groups, std::span<const std::uin
   }
 }
 
+bool BandedOgf::holdBackFree(std::uint8_t& mark) const {
+  if ((mark & CellMark::kHit) == 0) {
+    return false;
+  }
+  const int count = (mark & CellMark::kCount) + 1;
+  if (config_.freeReleaseCount == 0 || count < config_.freeReleaseCount) {
+    mark = static_cast<std::uint8_t>(CellMark::kHit | std::min(count, static_cast<int>(CellMark::kCount)));
+    return true;
+  }
+  mark = 0;  // released: free measurements apply again until the next occupied one
+  return false;
+}
+
+void BandedOgf::markOccupied(Block& block, std::span<const std::uint16_t> codes) {
+  const std::span<std::uint8_t> marks = block.marks();
+  for (const std::uint16_t code : codes) {
+    if ((code & 1U) != 0) {
+      marks[code >> 1] = CellMark::kHit;
+    }
+  }
+}
+
 bool BandedOgf::applyMeasurement(float* const* records, int y) {
   const float* self = records[band_.self];
   const double mean = static_cast<double>(self[0]);
@@ -438,6 +473,8 @@ Status BandedOgf::adoptPolicy(const FilterConfig& config) {
   next.skipTolerance = config.skipTolerance;
   next.clampZ = config.clampZ;
   next.freeClampZ = config.freeClampZ;
+  next.occupiedPriority = config.occupiedPriority;
+  next.freeReleaseCount = config.freeReleaseCount;
   next.threads = config.threads;
   // Only the policy changed: the structure (and its prior's certificate) is the map's own.
   if (auto st = next.validatePolicy(); !st) {
@@ -514,8 +551,10 @@ std::uint64_t BandedOgf::checksum() const {
   sum.addValue(*config_.stencilRadius);
   sum.addValue(*config_.taperSupport);
   for (const CellKey& key : storage_.sortedKeys()) {
+    const Block* b = storage_.find(key);
     sum.addValue(key);
-    sum.add(std::as_bytes(storage_.find(key)->values()));
+    sum.add(std::as_bytes(b->values()));
+    sum.add(std::as_bytes(b->marks()));
   }
   return sum.value();
 }
@@ -525,7 +564,18 @@ std::span<const float> BandedOgf::blockValues(const CellKey& blockKey) const {
   return b == nullptr ? std::span<const float>{} : b->values();
 }
 
-Status BandedOgf::restoreBlock(const CellKey& blockKey, std::span<const float> values) {
+std::span<const std::uint8_t> BandedOgf::blockMarks(const CellKey& blockKey) const {
+  const Block* b = storage_.find(blockKey);
+  return b == nullptr ? std::span<const std::uint8_t>{} : b->marks();
+}
+
+Status BandedOgf::restoreBlock(const CellKey& blockKey, std::span<const float> values,
+                               std::span<const std::uint8_t> marks) {
+  if (!marks.empty() && marks.size() != storage_.cellsPerBlock()) {
+    return Error{"block " + std::to_string(blockKey.x) + "," + std::to_string(blockKey.y) + "," +
+                 std::to_string(blockKey.z) + ": " + std::to_string(marks.size()) + " cell marks, expected " +
+                 std::to_string(storage_.cellsPerBlock())};
+  }
   if (values.size() != floatsPerBlock()) {
     return Error{"block " + std::to_string(blockKey.x) + "," + std::to_string(blockKey.y) + "," +
                  std::to_string(blockKey.z) + ": " + std::to_string(values.size()) + " values, expected " +
@@ -541,6 +591,7 @@ Status BandedOgf::restoreBlock(const CellKey& blockKey, std::span<const float> v
   bool fresh = false;
   Block& b = storage_.obtain(blockKey, fresh);
   std::copy(values.begin(), values.end(), b.data());
+  std::copy(marks.begin(), marks.end(), b.marks().begin());
   return okStatus();
 }
 

@@ -6,7 +6,10 @@
 namespace ogf::filter {
 
 Block::Block(std::size_t cells, std::size_t forwardSlots)
-    : cells_(cells), size_(cells * (2 + forwardSlots)), data_(std::make_unique_for_overwrite<float[]>(size_)) {}
+    : cells_(cells), size_(cells * (2 + forwardSlots)),
+      data_(std::make_unique_for_overwrite<float[]>(size_ + (cells + sizeof(float) - 1) / sizeof(float))) {
+  std::fill(marks().begin(), marks().end(), std::uint8_t{0});
+}
 
 BlockStorage::BlockStorage(int dimensions, std::size_t forwardSlots)
     : dimensions_(dimensions), forwardSlots_(forwardSlots),
@@ -44,7 +47,7 @@ std::vector<CellKey> BlockStorage::sortedKeys() const {
 std::size_t BlockStorage::memoryBytes() const {
   // Per block: the float arrays, the Block object, and an unordered_map node (key, pointer, next
   // pointer, cached hash); plus one bucket pointer per bucket.
-  const std::size_t perBlock = cellsPerBlock_ * floatsPerCell() * sizeof(float) + sizeof(Block) +
+  const std::size_t perBlock = cellsPerBlock_ * (floatsPerCell() * sizeof(float) + 1) + sizeof(Block) +
                                sizeof(CellKey) + 3 * sizeof(void*) + sizeof(std::size_t);
   return blocks_.size() * perBlock + blocks_.bucket_count() * sizeof(void*);
 }

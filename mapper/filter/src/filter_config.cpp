@@ -124,10 +124,28 @@ Status FilterConfig::validatePolicy() const {
   if (!std::isfinite(freeClampZ) || freeClampZ < 0.0) {
     return fieldError("freeClampZ", freeClampZ, "must be >= 0 (0: free measurements use clampZ)");
   }
+  if (occupiedPriority != OccupiedPriority::kScan && occupiedPriority != OccupiedPriority::kMap) {
+    return fieldError("occupiedPriority", static_cast<int>(occupiedPriority), "must be scan (0) or map (1)");
+  }
+  if (freeReleaseCount < 0 || freeReleaseCount > kMaxFreeRelease) {
+    return fieldError("freeReleaseCount", freeReleaseCount, "must lie in [0, 127] scans (0: never)");
+  }
   if (threads < 1 || threads > 256) {
     return fieldError("threads", threads, "must lie in [1, 256]");
   }
   return okStatus();
+}
+
+const char* toString(OccupiedPriority p) { return p == OccupiedPriority::kScan ? "scan" : "map"; }
+
+std::optional<OccupiedPriority> parseOccupiedPriority(std::string_view text) {
+  if (text == "scan") {
+    return OccupiedPriority::kScan;
+  }
+  if (text == "map") {
+    return OccupiedPriority::kMap;
+  }
+  return std::nullopt;
 }
 
 }  // namespace ogf::filter

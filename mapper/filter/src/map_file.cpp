@@ -74,6 +74,8 @@ struct Header {
   double skipTolerance = 0.0;
   double clampZ = 0.0;
   double freeClampZ = 0.0;  // version 2 on
+  std::int32_t occupiedPriority = 0;  // version 3 on; version 1 and 2 maps filtered every measurement
+  std::int32_t freeReleaseCount = 0;  // version 3 on
   std::int32_t manhattanRadius = 0;
   std::uint32_t blockSide = 0;
   std::uint32_t floatsPerCell = 0;
@@ -104,6 +106,8 @@ void writeHeaderFields(Writer& w, const Header& h) {
   w.put(h.skipTolerance);
   w.put(h.clampZ);
   w.put(h.freeClampZ);
+  w.put(h.occupiedPriority);
+  w.put(h.freeReleaseCount);
   w.put(h.manhattanRadius);
   w.put(h.blockSide);
   w.put(h.floatsPerCell);
@@ -127,6 +131,10 @@ bool readHeaderFields(Reader& r, Header& h) {
   }
   // Version 1 has no free clamp: its free measurements used clampZ, which freeClampZ = 0 keeps.
   if (h.version >= 2 && !r.get(h.freeClampZ, "free clamp z")) {
+    return false;
+  }
+  if (h.version >= 3 &&
+      !(r.get(h.occupiedPriority, "occupied priority") && r.get(h.freeReleaseCount, "free release count"))) {
     return false;
   }
   return r.get(h.manhattanRadius, "stencil Manhattan radius") &&
@@ -161,6 +169,9 @@ std::vector<std::uint8_t> encodeMap(const BandedOgf& map) {
     for (float v : map.blockValues(key)) {
       payload.put(v);
     }
+    for (std::uint8_t mark : map.blockMarks(key)) {
+      payload.put(mark);
+    }
   }
   Header h;
   std::memcpy(h.magic, kMagic, sizeof kMagic);
@@ -176,6 +187,8 @@ std::vector<std::uint8_t> encodeMap(const BandedOgf& map) {
   h.skipTolerance = c.skipTolerance;
   h.clampZ = c.clampZ;
   h.freeClampZ = c.freeClampZ;
+  h.occupiedPriority = static_cast<std::int32_t>(c.occupiedPriority);
+  h.freeReleaseCount = c.freeReleaseCount;
   h.manhattanRadius = c.stencilManhattanRadius;
   h.blockSide = kBlockSide;
   h.cellsPerBlock = c.dimensions == 3 ? 512U : 64U;
@@ -205,7 +218,7 @@ Result<BandedOgf> decodeMap(std::span<const std::uint8_t> bytes, std::string_vie
     return r.fail("magic", "not an ogf map file");
   }
   r.seek(8);
-  if (h.version != 1 && h.version != kMapFileVersion) {
+  if (h.version < 1 || h.version > kMapFileVersion) {
     return r.fail("version", std::to_string(h.version) + " (this build reads 1 to " + std::to_string(kMapFileVersion) + ")");
   }
   r.seek(headerEnd);
@@ -225,6 +238,13 @@ Result<BandedOgf> decodeMap(std::span<const std::uint8_t> bytes, std::string_vie
   config.skipTolerance = h.skipTolerance;
   config.clampZ = h.clampZ;
   config.freeClampZ = h.freeClampZ;
+  if (h.occupiedPriority != static_cast<std::int32_t>(OccupiedPriority::kScan) &&
+      h.occupiedPriority != static_cast<std::int32_t>(OccupiedPriority::kMap)) {
+    r.seek(96);  // the field's offset in version 3, the only version that has it
+    return r.fail("occupied priority", std::to_string(h.occupiedPriority) + " (0 scan or 1 map)");
+  }
+  config.occupiedPriority = static_cast<OccupiedPriority>(h.occupiedPriority);
+  config.freeReleaseCount = h.freeReleaseCount;
   config.threads = std::clamp(threads, 1, 256);
   auto created = BandedOgf::create(config);
   if (!created) {
@@ -238,7 +258,8 @@ Result<BandedOgf> decodeMap(std::span<const std::uint8_t> bytes, std::string_vie
     return r.fail("block layout", "block side " + std::to_string(h.blockSide) + ", " +
                                       std::to_string(h.floatsPerCell) + " floats per cell do not match the stencil");
   }
-  const std::size_t blockBytes = 3 * sizeof(std::int32_t) + floatsPerBlock * sizeof(float);
+  const std::size_t marksPerBlock = h.version >= 3 ? cellsPerBlock : 0;
+  const std::size_t blockBytes = 3 * sizeof(std::int32_t) + floatsPerBlock * sizeof(float) + marksPerBlock;
   const std::size_t payloadStart = r.pos() + sizeof(std::uint64_t);
   const std::size_t payloadBytes = bytes.size() - payloadStart;
   if (h.blockCount > payloadBytes / blockBytes || h.blockCount * blockBytes != payloadBytes) {
@@ -255,6 +276,7 @@ Result<BandedOgf> decodeMap(std::span<const std::uint8_t> bytes, std::string_vie
   }
   r.seek(payloadStart);
   std::vector<float> values(floatsPerBlock);
+  std::vector<std::uint8_t> marks(marksPerBlock);
   for (std::uint64_t b = 0; b < h.blockCount; ++b) {
     CellKey key;
     if (!r.get(key.x, "block key") || !r.get(key.y, "block key") || !r.get(key.z, "block key")) {
@@ -272,7 +294,9 @@ Result<BandedOgf> decodeMap(std::span<const std::uint8_t> bytes, std::string_vie
                                           (isVariance ? "positive" : "finite"));
       }
     }
-    if (auto st = map.restoreBlock(key, values); !st) {
+    std::copy_n(bytes.data() + r.pos(), marksPerBlock, marks.begin());
+    r.seek(r.pos() + marksPerBlock);
+    if (auto st = map.restoreBlock(key, values, marks); !st) {
       r.seek(valuesAt - 3 * sizeof(std::int32_t));
       return r.fail("block key", st.error().message);
     }

@@ -154,33 +154,80 @@ TEST(MapFile, ClampsRoundTrip) {
 // A version 1 file (written before the free clamp existed): the same header without its 8 bytes, both
 // checksums recomputed. It loads, its free measurements keep using clampZ (freeClampZ 0), and its blocks
 // are the same.
-TEST(MapFile, VersionOneFilesAreStillRead) {
-  const BandedOgf map = sampleMap(3);
+// The bytes an older version would have written for `map`: version 2 lacks the occupied priority and the
+// release count (8 bytes at [96, 104)) and every block's cell marks; version 1 also the free clamp (8 bytes
+// at [88, 96)).
+std::vector<std::uint8_t> olderVersion(const BandedOgf& map, std::uint32_t version) {
   std::vector<std::uint8_t> bytes = encodeMap(map);
   constexpr std::size_t kVersionAt = 8;
-  constexpr std::size_t kFreeClampAt = 88;  // after the clamp at [80, 88)
-  const std::uint32_t one = 1;
-  std::memcpy(bytes.data() + kVersionAt, &one, sizeof one);
-  bytes.erase(bytes.begin() + kFreeClampAt, bytes.begin() + kFreeClampAt + 8);
+  std::memcpy(bytes.data() + kVersionAt, &version, sizeof version);
+  const std::size_t floatBytes = map.floatsPerBlock() * sizeof(float);
+  std::vector<std::uint8_t> payload;
+  for (std::size_t at = kMapFilePayloadAt; at < bytes.size(); at += 12 + floatBytes + map.cellsPerBlock()) {
+    payload.insert(payload.end(), bytes.begin() + static_cast<std::ptrdiff_t>(at),
+                   bytes.begin() + static_cast<std::ptrdiff_t>(at + 12 + floatBytes));
+  }
+  bytes.resize(kMapFilePayloadAt);
+  bytes.insert(bytes.end(), payload.begin(), payload.end());
+  MapChecksum payloadSum;
+  payloadSum.add(std::as_bytes(std::span(payload)));
+  const std::uint64_t p = payloadSum.value();
+  std::memcpy(bytes.data() + kMapFilePayloadChecksumAt, &p, sizeof p);
+  std::size_t removed = 8;
+  bytes.erase(bytes.begin() + 96, bytes.begin() + 104);
+  if (version == 1) {
+    bytes.erase(bytes.begin() + 88, bytes.begin() + 96);
+    removed += 8;
+  }
+  const std::size_t headerChecksumAt = kMapFileHeaderChecksumAt - removed;
   MapChecksum header;
-  header.add(std::as_bytes(std::span(bytes).first(kMapFileHeaderChecksumAt - 8)));
-  const std::uint64_t sum = header.value();
-  std::memcpy(bytes.data() + kMapFileHeaderChecksumAt - 8, &sum, sizeof sum);
+  header.add(std::as_bytes(std::span(bytes).first(headerChecksumAt)));
+  const std::uint64_t h = header.value();
+  std::memcpy(bytes.data() + headerChecksumAt, &h, sizeof h);
+  return bytes;
+}
 
+TEST(MapFile, VersionOneAndTwoFilesAreReadWithoutCellMarks) {
+  const BandedOgf map = sampleMap(3);
+  for (const std::uint32_t version : {1U, 2U}) {
+    const auto loaded = decodeMap(olderVersion(map, version));
+    ASSERT_TRUE(loaded.ok()) << "version " << version << ": " << loaded.error().message;
+    EXPECT_EQ(loaded->config().freeClampZ, version == 1 ? 0.0 : map.config().freeClampZ);
+    EXPECT_EQ(loaded->config().clampZ, map.config().clampZ);
+    // Maps of those versions filtered every measurement.
+    EXPECT_EQ(loaded->config().occupiedPriority, OccupiedPriority::kScan);
+    EXPECT_EQ(loaded->blockKeys(), map.blockKeys());
+    for (const CellKey& key : map.blockKeys()) {
+      const auto a = map.blockValues(key);
+      const auto b = loaded->blockValues(key);
+      ASSERT_EQ(a.size(), b.size());
+      EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)), 0);
+      for (const std::uint8_t mark : loaded->blockMarks(key)) {
+        ASSERT_EQ(mark, 0);
+      }
+    }
+  }
+}
+
+TEST(MapFile, CellMarksRoundTripAndAnUnknownVersionIsRefused) {
+  const BandedOgf map = sampleMap(3);
+  std::size_t hits = 0;
+  for (const CellKey& key : map.blockKeys()) {
+    for (const std::uint8_t mark : map.blockMarks(key)) {
+      hits += (mark & CellMark::kHit) != 0 ? 1 : 0;
+    }
+  }
+  ASSERT_GT(hits, 0U);  // the sample measures cells occupied
+  std::vector<std::uint8_t> bytes = encodeMap(map);
   const auto loaded = decodeMap(bytes);
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
-  EXPECT_EQ(loaded->config().freeClampZ, 0.0);
-  EXPECT_EQ(loaded->config().clampZ, map.config().clampZ);
-  EXPECT_EQ(loaded->blockKeys(), map.blockKeys());
   for (const CellKey& key : map.blockKeys()) {
-    const auto a = map.blockValues(key);
-    const auto b = loaded->blockValues(key);
-    ASSERT_EQ(a.size(), b.size());
-    EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)), 0);
+    const auto a = map.blockMarks(key);
+    const auto b = loaded->blockMarks(key);
+    ASSERT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end()));
   }
-  // An unknown version is refused, naming the field.
-  const std::uint32_t three = 3;
-  std::memcpy(bytes.data() + kVersionAt, &three, sizeof three);
+  const std::uint32_t four = kMapFileVersion + 1;
+  std::memcpy(bytes.data() + 8, &four, sizeof four);
   const auto refused = decodeMap(bytes);
   ASSERT_FALSE(refused.ok());
   EXPECT_NE(refused.error().message.find("version"), std::string::npos) << refused.error().message;

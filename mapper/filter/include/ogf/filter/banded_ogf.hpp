@@ -35,6 +35,7 @@ struct UpdateStats {
   std::size_t applied = 0;          // measurements that changed the map
   std::size_t skipped = 0;          // negligible updates skipped (below skipTolerance)
   std::size_t rejected = 0;         // y not ±1, or z ≠ 0 in a 2-D map
+  std::size_t heldBack = 0;         // free measurements of cells measured occupied (OccupiedPriority::kMap)
   std::size_t blocksAllocated = 0;  // new blocks this batch
 };
 
@@ -77,12 +78,16 @@ class BandedOgf {
   // configured now, not as it was when saved. Error (nothing changed) when `config` is invalid.
   Status adoptPolicy(const FilterConfig& config);
 
-  // Raw block access for the map file: sorted keys, a block's floats (layout of Block), and restoring a
-  // block from such floats (error on a wrong size, a key outside the 2-D slice or a duplicate).
+  // Raw block access for the map file: sorted keys, a block's floats (layout of Block) and cell marks
+  // (CellMark), and restoring a block from them (error on a wrong size, a key outside the 2-D slice or a
+  // duplicate; no marks: all 0).
   std::vector<CellKey> blockKeys() const { return storage_.sortedKeys(); }
   std::span<const float> blockValues(const CellKey& blockKey) const;
+  std::span<const std::uint8_t> blockMarks(const CellKey& blockKey) const;
   std::size_t floatsPerBlock() const { return storage_.cellsPerBlock() * storage_.floatsPerCell(); }
-  Status restoreBlock(const CellKey& blockKey, std::span<const float> values);
+  std::size_t cellsPerBlock() const { return storage_.cellsPerBlock(); }
+  Status restoreBlock(const CellKey& blockKey, std::span<const float> values,
+                      std::span<const std::uint8_t> marks = {});
 
  private:
   struct Group;
@@ -115,11 +120,16 @@ class BandedOgf {
   // are found then (locate_, into `ring`: kRingSlots slots of band_.cells pointers) and asked of
   // the CPU: a colour pass over a scan-sized map (several MB) finds many of them out of cache, above all
   // the cells one z layer ahead, which no earlier measurement of the block has touched. The kernel takes
-  // the same pointers, so the records are found once. Measured: the update alone in 0.44-0.54 of the time
-  // of the search-in-the-kernel code without prefetch (README, "Sixth session").
+  // the same pointers, so the records are found once: the update alone takes about half the time it takes
+  // when the kernel searches the records itself without prefetch (docs/performance.md).
   void applyRun(std::span<const Group> groups, std::span<const std::uint16_t> codes,
                 float* const* neighbourhoods, std::span<float*> ring, UpdateStats& stats);
   bool applyMeasurement(float* const* records, int y);
+  // OccupiedPriority::kMap: whether a free measurement of the cell with this mark is held back (and the
+  // mark counted on, or released); and the marks of a group's occupied measurements.
+  bool holdBackFree(std::uint8_t& mark) const;
+  static void markOccupied(Block& block, std::span<const std::uint16_t> codes);
+  static constexpr unsigned kOwnBlock = 13;  // (0, 0, 0) in the 3×3×3 neighbourhood's numbering
   static constexpr std::size_t kPrefetchAhead = 4;
   static constexpr std::size_t kRingSlots = 8;  // a power of two above kPrefetchAhead
   static_assert(std::has_single_bit(kRingSlots) && kRingSlots > kPrefetchAhead);

@@ -28,7 +28,8 @@ inline std::size_t localIndexOf(const CellKey& cell) {
 
 class Block {
  public:
-  // The values are left uninitialised: the owner writes every one (the prior, or a restored block).
+  // The values are left uninitialised: the owner writes every one (the prior, or a restored block). The
+  // marks start at 0.
   Block(std::size_t cells, std::size_t forwardSlots);
   std::size_t cells() const { return cells_; }
   // Layout: cell-major; cell l at l·(2 + F): [mean, variance, slot 0, ..., slot F-1].
@@ -36,11 +37,24 @@ class Block {
   const float* data() const { return data_.get(); }
   std::span<float> values() { return {data_.get(), size_}; }
   std::span<const float> values() const { return {data_.get(), size_}; }
+  // One byte per cell, kept after the values in the same allocation: the cell's measurement history as
+  // the occupied priority needs it (CellMark).
+  std::span<std::uint8_t> marks() { return {reinterpret_cast<std::uint8_t*>(data_.get() + size_), cells_}; }
+  std::span<const std::uint8_t> marks() const {
+    return {reinterpret_cast<const std::uint8_t*>(data_.get() + size_), cells_};
+  }
 
  private:
   std::size_t cells_;
   std::size_t size_;
   std::unique_ptr<float[]> data_;
+};
+
+// A cell's mark: bit 7 set once an occupied measurement reached the cell, cleared when free measurements
+// release it; bits 0-6 count the free measurements since the last occupied one (saturating).
+struct CellMark {
+  static constexpr std::uint8_t kHit = 0x80;
+  static constexpr std::uint8_t kCount = 0x7F;
 };
 
 class BlockStorage {
@@ -56,7 +70,7 @@ class BlockStorage {
   std::size_t size() const { return blocks_.size(); }
   // Keys of all blocks, sorted: the deterministic order of iteration, checksums and files.
   std::vector<CellKey> sortedKeys() const;
-  // Bytes in use: block arrays, block headers and the hash table.
+  // Bytes in use: block arrays and marks, block headers and the hash table.
   std::size_t memoryBytes() const;
   // Key of the cell at `local` in block `blockKey`.
   CellKey cellKey(const CellKey& blockKey, std::size_t local) const;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <optional>
+#include <string_view>
 
 #include "ogf/filter/kernel.hpp"
 #include "ogf/filter/result.hpp"
@@ -13,6 +14,21 @@ namespace ogf::filter {
 
 // Side of a storage block in cells (ogf.md §4: B = 8). Blocks are B×B×B in 3-D and B×B×1 in 2-D.
 inline constexpr int kBlockSide = 8;
+
+// Which measurements of a cell that rays have ended in reach the filter (Sun et al. Sec. VI-B: "a cell
+// previously measured as free could be re-measured as occupied, but the opposite was not allowed"). A
+// surface cell is crossed by the rays of neighbouring beams, by grazing rays and, with range noise, by rays
+// that end in the next cell; with a symmetric likelihood those free measurements outvote the hits of a
+// cell that is hit in fewer than about half of the scans, and real surfaces vanish from the map.
+enum class OccupiedPriority : int {
+  // Occupied wins over free within one batch only (the measurement set of a scan keeps one measurement
+  // per cell); every measurement reaches eq. (5): the exact filter.
+  kScan = 0,
+  // Occupied wins across batches: a cell once measured occupied ignores free measurements until
+  // `freeReleaseCount` batches in a row have measured it free and none occupied (a moving solid that left);
+  // then it takes them again until its next occupied measurement.
+  kMap = 1,
+};
 
 struct FilterConfig {
   // 3: cells are 3-D and the stencil is a ball. 2: the map is the z = 0 slice and the stencil a disc.
@@ -38,9 +54,15 @@ struct FilterConfig {
   // The threshold for free measurements (y = −1), which are most of a scan's: −m/√(1+s) > freeClampZ skips
   // one, i.e. once the predictive probability of "free" exceeds Φ(1.5) = 0.933 (OctoMap clamps free space
   // at 0.88, its 0.12 occupancy bound). Occupied measurements keep clampZ, so occupied evidence keeps
-  // accumulating. Costs and gains are in the README (speed 1.7× on street scans, accuracy −0.005 on the
-  // simulated lab). 0: free measurements use clampZ too. Ignored when clampZ is 0.
+  // accumulating. Costs and gains: docs/mapping.md, "Clamps". 0: free measurements use clampZ too. Ignored
+  // when clampZ is 0.
   double freeClampZ = 1.5;
+  OccupiedPriority occupiedPriority = OccupiedPriority::kMap;
+  // Under kMap, the free measurement (one a batch, so a scan) that releases a cell once measured occupied
+  // when it is the freeReleaseCount-th in a row: the ones before it are held back, it and later ones apply.
+  // 0: never released (the paper's rule as stated). At most kMaxFreeRelease. 20 scans (2 s at 10 Hz) keep
+  // real surfaces that most rays miss and clear a walking person's trail as fast as OctoMap (docs/mapping.md).
+  int freeReleaseCount = 20;
   int threads = 1;  // worker threads of BandedOgf::update; the map is bit-identical for any count
 
   // Every optional field filled in, and every field checked. The error names the field.
@@ -61,5 +83,11 @@ struct FilterConfig {
 // 3-D), else √⌊(4σ/cell)²⌋: at σ = cell, R = 4 keeps d ≈ 0.1 % on the paper's 2-D experiment where R = 3
 // needs a taper that damps the prior enough to cost ≈ 10 % (ogf-paper2d --banded-radius).
 double defaultStencilRadius(double sigmaCells);
+
+inline constexpr int kMaxFreeRelease = 127;  // the count is kept in 7 bits of a cell's mark
+
+// "scan" / "map", as configuration files spell the policy; nullopt for anything else.
+const char* toString(OccupiedPriority p);
+std::optional<OccupiedPriority> parseOccupiedPriority(std::string_view text);
 
 }  // namespace ogf::filter

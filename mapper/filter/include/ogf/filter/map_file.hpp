@@ -1,8 +1,9 @@
 // The banded map on disk. A header (magic, version, dimensions, resolution, kernel σ and amplitude, stencil
-// R and L, taper support, thresholds, skip tolerance and clamps, block layout, block count), a 64-bit checksum of the payload and one
-// of the header, then every block (key, then its floats) in key order; all little-endian. Written
-// atomically (temporary file, fsync, rename, fsync of the directory). A truncated or corrupted file is
-// refused with an error naming the file, the offset and the field; nothing is half-loaded.
+// R and L, taper support, thresholds, skip tolerance, clamps and occupied priority, block layout, block
+// count), a 64-bit checksum of the payload and one of the header, then every block (key, its floats, its
+// cell marks) in key order; all little-endian. Written atomically (temporary file, fsync, rename, fsync of
+// the directory). A truncated or corrupted file is refused with an error naming the file, the offset and
+// the field; nothing is half-loaded.
 #pragma once
 
 #include <cstddef>
@@ -17,13 +18,16 @@
 
 namespace ogf::filter {
 
-inline constexpr std::uint32_t kMapFileVersion = 2;  // 2 added freeClampZ; version 1 files are read too
-// Layout of version 2: header fields [0, 128) ending with the payload checksum at [120, 128), the header
-// checksum (over [0, 128)) at [128, 136), blocks from 136 on. Version 1 lacks the free clamp (8 bytes after
-// the clamp at [80, 88)), so its offsets are 8 less.
-inline constexpr std::size_t kMapFilePayloadChecksumAt = 120;
-inline constexpr std::size_t kMapFileHeaderChecksumAt = 128;
-inline constexpr std::size_t kMapFilePayloadAt = 136;
+// 2 added freeClampZ, 3 the occupied priority and the cell marks; versions 1 and 2 are read too (their
+// cells carry no marks).
+inline constexpr std::uint32_t kMapFileVersion = 3;
+// Layout of version 3: header fields [0, 136) ending with the payload checksum at [128, 136), the header
+// checksum (over [0, 136)) at [136, 144), blocks from 144 on. Version 2 lacks the occupied priority and
+// release count ([96, 104), after the free clamp at [88, 96)), version 1 also the free clamp (after the
+// clamp at [80, 88)), so their offsets are 8 and 16 less.
+inline constexpr std::size_t kMapFilePayloadChecksumAt = 128;
+inline constexpr std::size_t kMapFileHeaderChecksumAt = 136;
+inline constexpr std::size_t kMapFilePayloadAt = 144;
 
 std::vector<std::uint8_t> encodeMap(const BandedOgf& map);
 // `source` names the bytes in error messages (a path, or "<memory>"). `threads` is a runtime setting the

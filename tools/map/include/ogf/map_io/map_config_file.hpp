@@ -21,6 +21,8 @@
 //     skip_tolerance: 1e-4
 //     clamp_z: 3.0             # skip measurements agreeing with a cell beyond this probit z (0: never)
 //     free_clamp_z: 1.5        # the same for free measurements (0: clamp_z)
+//     occupied_priority: map   # map: a cell once measured occupied ignores free measurements; scan: exact
+//     free_release_scans: 20   # ... until this many scans in a row measure it free (0: never)
 //     threads: 1
 #pragma once
 
