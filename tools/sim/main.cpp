@@ -36,6 +36,9 @@ Outputs in --out DIR:
                        x fastest: 0 free (open air the sensor's air space reaches), 1 occupied
                        (holds a solid's surface), 2 unobservable (wholly inside a solid, or air
                        sealed off behind surfaces). Reader: ogf::sim::readGroundTruth.
+                       truth.grid is the static world: moving solids (--movers) are not in it.
+  swept.grid           with --movers: the cells the moving solids passed through, in truth.grid's
+                       format and geometry (1 swept, 0 not); ogf-eval reports what a map left there.
   sim.yaml             what was simulated (world, trajectory, sensor, extrinsic sensor->body, counts).
 )";
 
@@ -45,6 +48,7 @@ int main(int argc, char** argv) {
   CLI::App app{"ogf-sim: a simulated VLP-16 in a known world, with odometry and ground truth"};
   app.footer(kOutputs);
   std::string world = "lab";
+  std::string movers = "none";
   std::string trajectory;
   std::string out_dir;
   std::string return_mode = "strongest";
@@ -92,6 +96,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.02, 5.0));
   app.add_option("--start-utime", config.start_utime, "Time of the first firing, us since the epoch")
       ->capture_default_str();
+  app.add_option("--movers", movers,
+                 "Moving solids of the world (e.g. person: someone walking through the lab, then gone), or none; "
+                 "the lidar sees them, truth.grid does not; swept.grid marks the cells they passed through")
+      ->capture_default_str();
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
@@ -107,6 +115,13 @@ int main(int argc, char** argv) {
     spdlog::error("--trajectory: {}", spec.error().message);
     return EXIT_FAILURE;
   }
+  auto moving = ogf::sim::resolveMovers(*scene, movers);
+  if (!moving) {
+    spdlog::error("--movers: {}", moving.error().message);
+    return EXIT_FAILURE;
+  }
+  config.movers = *moving;
+  config.movers_label = movers;
   auto model = ogf::sim::odometryErrorPreset(odometry_error);
   if (!model) {
     spdlog::error("--odometry-error: {}", model.error().message);

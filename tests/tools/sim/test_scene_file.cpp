@@ -86,5 +86,55 @@ TEST(SimSceneFile, TrajectoryEntryParses) {
   EXPECT_EQ(spec->waypoints[1], Eigen::Vector3d(4, 0, 0.5));
 }
 
+TEST(SimSceneFile, MoversAreNamedSetsResolvedByName) {
+  const char* yaml =
+      "ground: {height: 0}\n"
+      "bounds: {min: [-1, -1, -1], max: [5, 5, 3]}\n"
+      "materials:\n  - {name: person, reflectivity: 30}\n"
+      "movers:\n"
+      "  cart:\n"
+      "    - {type: box, center: [0, 0, 0.5], size: [1, 0.6, 1], start_s: 2,\n"
+      "       path: {speed: 0.5, waypoints: [[0, 0], [3, 0]]}}\n"
+      "    - {type: cylinder, center: [0, 0], radius: 0.2, z: [0, 1.8], material: person,\n"
+      "       path: {waypoints: [[1, 1], [1, 4]]}}\n";
+  const auto scene = parseScene(yaml, "movers.yaml");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  auto cart = resolveMovers(*scene, "cart");
+  ASSERT_TRUE(cart.ok()) << cart.error().message;
+  ASSERT_EQ(cart->size(), 2u);
+  EXPECT_EQ((*cart)[0].start_s, 2.0);
+  EXPECT_EQ((*cart)[0].path.speed, 0.5);
+  EXPECT_EQ((*cart)[1].start_s, 0.0);
+  EXPECT_TRUE(std::holds_alternative<Cylinder>((*cart)[1].solid.shape));
+  EXPECT_TRUE(resolveMovers(*scene, "none")->empty());
+  EXPECT_TRUE(resolveMovers(*scene, "")->empty());
+  const auto unknown = resolveMovers(*scene, "bus");
+  ASSERT_FALSE(unknown.ok());
+  EXPECT_NE(unknown.error().message.find("cart"), std::string::npos) << unknown.error().message;
+}
+
+TEST(SimSceneFile, AMoverWithoutAPathOrWithAMisspeltKeyIsRefused) {
+  auto scene = parseScene("solids:\n  - {type: box, center: [3, 3, 1], size: [1, 1, 2]}\n"
+                          "movers:\n  x:\n    - {type: box, center: [0, 0, 0.5], size: [1, 1, 1]}\n",
+                          "p.yaml");
+  ASSERT_FALSE(scene.ok());
+  EXPECT_NE(scene.error().message.find("p.yaml:5"), std::string::npos) << scene.error().message;
+  EXPECT_NE(scene.error().message.find("path"), std::string::npos) << scene.error().message;
+  scene = parseScene("solids:\n  - {type: box, center: [3, 3, 1], size: [1, 1, 2]}\nmovers:\n  x:\n    - {type: box, center: [0, 0, 0.5], size: [1, 1, 1], start: 1,\n"
+                     "       path: {waypoints: [[0, 0], [1, 0]]}}\n",
+                     "k.yaml");
+  ASSERT_FALSE(scene.ok());
+  EXPECT_NE(scene.error().message.find("start: unknown field"), std::string::npos) << scene.error().message;
+}
+
+TEST(SimSceneFile, TheLabHasAPersonWalkingThrough) {
+  const auto lab = resolveScene("lab");
+  ASSERT_TRUE(lab.ok()) << lab.error().message;
+  const auto person = resolveMovers(*lab, "person");
+  ASSERT_TRUE(person.ok()) << person.error().message;
+  ASSERT_EQ(person->size(), 1u);
+  EXPECT_GT((*person)[0].start_s, 0.0);
+}
+
 }  // namespace
 }  // namespace ogf::sim

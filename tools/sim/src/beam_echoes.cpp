@@ -24,12 +24,12 @@ const Echo* BeamEchoes::strongest(bool excluding_last) const {
   return best;
 }
 
-BeamEchoes traceBeam(const World& world, const Ray& ray, double max_range) {
+BeamEchoes traceBeam(const World& world, const Ray& ray, double max_range, std::optional<double> time_s) {
   BeamEchoes out;
   double t_min = 0.0;
   double share = 1.0;  // of the emitted beam still travelling
   while (out.count < BeamEchoes::kMax && share >= kMinShare) {
-    const auto hit = world.firstHit(ray, t_min, max_range);
+    const auto hit = world.firstHit(ray, t_min, max_range, time_s);
     if (!hit) break;
     const Material& m = world.materialOf(*hit);
     const double incidence = std::max(kMinIncidenceFactor, std::abs(hit->normal.dot(ray.direction)));

@@ -88,6 +88,38 @@ void sealOffUnreachableAir(GroundTruth& truth, const std::vector<Eigen::Vector3d
 
 }  // namespace
 
+// Calls visit(index, overlap) for every cell of `grid` the shape meets (only the cells of its bounding
+// box are tried; every cell for a half-space).
+template <class Visit>
+void forEachCellMeeting(const Shape& shape, const GroundTruth& grid, Visit&& visit) {
+  const double r = grid.resolution;
+  const CellKey lo = grid.min_key;
+  const CellKey hi{lo.x + grid.size[0] - 1, lo.y + grid.size[1] - 1, lo.z + grid.size[2] - 1};
+  const auto nx = static_cast<std::size_t>(grid.size[0]);
+  const auto ny = static_cast<std::size_t>(grid.size[1]);
+  CellKey from = lo;
+  CellKey to = hi;
+  if (const auto b = boundsOf(shape)) {
+    from = {std::max(lo.x, floorKey(b->min.x(), r)), std::max(lo.y, floorKey(b->min.y(), r)),
+            std::max(lo.z, floorKey(b->min.z(), r))};
+    to = {std::min(hi.x, floorKey(b->max.x(), r)), std::min(hi.y, floorKey(b->max.y(), r)),
+          std::min(hi.z, floorKey(b->max.z(), r))};
+  }
+  for (std::int32_t k = from.z; k <= to.z; ++k) {
+    for (std::int32_t j = from.y; j <= to.y; ++j) {
+      for (std::int32_t i = from.x; i <= to.x; ++i) {
+        const Eigen::Vector3d min{i * r, j * r, k * r};
+        const Eigen::Vector3d max = min + Eigen::Vector3d::Constant(r * (1.0 - kHalfOpenShrink));
+        const CellOverlap o = classifyCell(shape, Aabb{min, max});
+        if (o == CellOverlap::None) continue;
+        visit(static_cast<std::size_t>(i - lo.x) +
+                  nx * (static_cast<std::size_t>(j - lo.y) + ny * static_cast<std::size_t>(k - lo.z)),
+              o);
+      }
+    }
+  }
+}
+
 GroundTruth computeGroundTruth(const World& world, double resolution,
                                const std::vector<Eigen::Vector3d>& sensor_positions) {
   GroundTruth truth;
@@ -107,31 +139,11 @@ GroundTruth computeGroundTruth(const World& world, double resolution,
   truth.cells.assign(nx * ny * nz, static_cast<std::uint8_t>(CellClass::Free));
 
   for (const Solid& solid : world.solids) {
-    // Only the cells of the solid's bounding box can meet it (all cells for a half-space).
-    CellKey from = lo;
-    CellKey to = hi;
-    if (const auto b = boundsOf(solid.shape)) {
-      from = {std::max(lo.x, floorKey(b->min.x(), r)), std::max(lo.y, floorKey(b->min.y(), r)),
-              std::max(lo.z, floorKey(b->min.z(), r))};
-      to = {std::min(hi.x, floorKey(b->max.x(), r)), std::min(hi.y, floorKey(b->max.y(), r)),
-            std::min(hi.z, floorKey(b->max.z(), r))};
-    }
-    for (std::int32_t k = from.z; k <= to.z; ++k) {
-      for (std::int32_t j = from.y; j <= to.y; ++j) {
-        for (std::int32_t i = from.x; i <= to.x; ++i) {
-          const Eigen::Vector3d min{i * r, j * r, k * r};
-          const Eigen::Vector3d max = min + Eigen::Vector3d::Constant(r * (1.0 - kHalfOpenShrink));
-          const CellOverlap o = classifyCell(solid.shape, Aabb{min, max});
-          if (o == CellOverlap::None) continue;
-          const auto idx = static_cast<std::size_t>(i - lo.x) +
-                           nx * (static_cast<std::size_t>(j - lo.y) + ny * static_cast<std::size_t>(k - lo.z));
-          // Inside any solid beats a surface, a surface beats open air.
-          const auto c = static_cast<std::uint8_t>(o == CellOverlap::Inside ? CellClass::Unobservable
-                                                                            : CellClass::Occupied);
-          truth.cells[idx] = std::max(truth.cells[idx], c);
-        }
-      }
-    }
+    forEachCellMeeting(solid.shape, truth, [&](std::size_t idx, CellOverlap o) {
+      // Inside any solid beats a surface, a surface beats open air.
+      const auto c = static_cast<std::uint8_t>(o == CellOverlap::Inside ? CellClass::Unobservable : CellClass::Occupied);
+      truth.cells[idx] = std::max(truth.cells[idx], c);
+    });
   }
   if (!sensor_positions.empty()) sealOffUnreachableAir(truth, sensor_positions);
   return truth;
@@ -219,6 +231,22 @@ Result<GroundTruth> readGroundTruth(const std::string& path) {
     }
   }
   return truth;
+}
+
+GroundTruth sweptCells(const World& world, const GroundTruth& grid, double duration_s, double step_s) {
+  GroundTruth swept = grid;
+  swept.cells.assign(grid.cells.size(), static_cast<std::uint8_t>(CellClass::Free));
+  for (const MovingSolid& m : world.movers) {
+    const double end = std::min(duration_s, m.endS());
+    for (double t = m.startS(); t <= end; t += step_s) {
+      if (const auto shape = m.placedAt(t)) {
+        forEachCellMeeting(*shape, swept, [&](std::size_t idx, CellOverlap) {
+          swept.cells[idx] = static_cast<std::uint8_t>(CellClass::Occupied);
+        });
+      }
+    }
+  }
+  return swept;
 }
 
 }  // namespace ogf::sim

@@ -81,7 +81,7 @@ vlp16::DataPacket LidarSimulator::dataPacket(std::uint64_t index) const {
                                   sin_elevation_[laser]};
       const Ray ray{sensor * Eigen::Vector3d{0.0, 0.0, model_.vertical_offset_m[laser]}, sensor.linear() * local};
 
-      BeamEchoes echoes = traceBeam(world_, ray, trace_range);
+      BeamEchoes echoes = traceBeam(world_, ray, trace_range, static_cast<double>(t) * 1e-9);
       const double drop = rng.uniform();
       for (std::size_t i = 0; i < echoes.count; ++i) echoes.echoes[i].range += config_.range_noise_m * rng.normal();
       if (drop < config_.dropout) echoes.count = 0;

@@ -89,12 +89,14 @@ class Parser {
 
   // Refuses keys outside `allowed`, so a misspelt field is not silently ignored.
   std::optional<Error> onlyKeys(const YAML::Node& map, const std::string& path,
-                                std::initializer_list<const char*> allowed) const {
+                                std::initializer_list<const char*> allowed,
+                                std::initializer_list<const char*> also = {}) const {
     if (!map.IsMap()) return error(map, path.empty() ? "(top level)" : path, "expected a mapping");
     for (const auto& kv : map) {
       const std::string key = kv.first.Scalar();
       bool known = false;
       for (const char* a : allowed) known = known || key == a;
+      for (const char* a : also) known = known || key == a;
       if (!known) return error(kv.first, path + key, "unknown field");
     }
     return std::nullopt;
@@ -134,13 +136,15 @@ class Parser {
     return error(node["material"], path + "material", "no material named '" + *name + "'");
   }
 
-  Result<Solid> solid(const World& world, const YAML::Node& node, const std::string& path) const {
+  // `also`: further keys the caller reads (a moving solid's path and start_s).
+  Result<Solid> solid(const World& world, const YAML::Node& node, const std::string& path,
+                      std::initializer_list<const char*> also = {}) const {
     auto type = string(node, "type", path, std::nullopt);
     if (!type) return Error{type.error().message};
     auto material = materialIndex(world, node, path);
     if (!material) return Error{material.error().message};
     if (*type == "box") {
-      if (auto e = onlyKeys(node, path, {"type", "center", "size", "yaw_deg", "material"})) return *e;
+      if (auto e = onlyKeys(node, path, {"type", "center", "size", "yaw_deg", "material"}, also)) return *e;
       auto c = vector(node, "center", path, 3, 3);
       if (!c) return Error{c.error().message};
       auto s = vector(node, "size", path, 3, 3);
@@ -151,7 +155,7 @@ class Parser {
       return Solid{Box{*c, *s, *yaw * kDeg}, *material};
     }
     if (*type == "cylinder") {
-      if (auto e = onlyKeys(node, path, {"type", "center", "radius", "z", "material"})) return *e;
+      if (auto e = onlyKeys(node, path, {"type", "center", "radius", "z", "material"}, also)) return *e;
       auto c = vector(node, "center", path, 2, 2);
       if (!c) return Error{c.error().message};
       auto r = number(node, "radius", path, std::nullopt);
@@ -163,7 +167,7 @@ class Parser {
       return Solid{Cylinder{Eigen::Vector2d{(*c)[0], (*c)[1]}, *r, (*z)[0], (*z)[1]}, *material};
     }
     if (*type == "plane") {
-      if (auto e = onlyKeys(node, path, {"type", "point", "normal", "material"})) return *e;
+      if (auto e = onlyKeys(node, path, {"type", "point", "normal", "material"}, also)) return *e;
       auto p = vector(node, "point", path, 3, 3);
       if (!p) return Error{p.error().message};
       auto n = vector(node, "normal", path, 3, 3);
@@ -177,7 +181,7 @@ class Parser {
 
   Result<Scene> scene(const YAML::Node& root) const {
     if (auto e = onlyKeys(root, "", {"name", "bounds", "materials", "ground", "solids", "sensor_mount",
-                                     "trajectories", "default_trajectory"})) {
+                                     "trajectories", "default_trajectory", "movers"})) {
       return *e;
     }
     Scene scene;
@@ -295,7 +299,38 @@ class Parser {
       return error(root["default_trajectory"], "default_trajectory", "no trajectory named '" + *def + "'");
     }
     scene.default_trajectory = *def;
+
+    if (const YAML::Node movers = root["movers"]; movers.IsDefined()) {
+      if (!movers.IsMap()) return error(movers, "movers", "expected a mapping of name: list of moving solids");
+      for (const auto& kv : movers) {
+        const std::string mname = kv.first.Scalar();
+        if (!kv.second.IsSequence()) return error(kv.second, "movers." + mname, "expected a list");
+        std::vector<MovingSolidSpec> set;
+        for (std::size_t i = 0; i < kv.second.size(); ++i) {
+          auto m = mover(world, kv.second[i], "movers." + mname + "[" + std::to_string(i) + "].");
+          if (!m) return Error{m.error().message};
+          set.push_back(*m);
+        }
+        scene.movers[mname] = std::move(set);
+      }
+    }
     return scene;
+  }
+
+  // A moving solid: the keys of a box or cylinder solid (in its own frame), plus path and start_s.
+  Result<MovingSolidSpec> mover(const World& world, const YAML::Node& node, const std::string& path) const {
+    if (!node.IsMap()) return error(node, path, "expected a mapping");
+    auto s = solid(world, node, path, {"path", "start_s"});
+    if (!s) return Error{s.error().message};
+    if (std::holds_alternative<HalfSpace>(s->shape)) return error(node["type"], path + "type", "a moving solid is a box or a cylinder");
+    const YAML::Node p = node["path"];
+    if (!p.IsDefined()) return error(node, path + "path", "required: {speed, waypoints, loop}");
+    auto t = trajectory(p, path + "path.");
+    if (!t) return Error{t.error().message};
+    auto start = number(node, "start_s", path, 0.0);
+    if (!start) return Error{start.error().message};
+    if (!(*start >= 0.0)) return error(node["start_s"], path + "start_s", "must be >= 0");
+    return MovingSolidSpec{*s, *t, *start};
   }
 
  private:

@@ -31,6 +31,14 @@ Result<Scene> resolveScene(const std::string& preset_or_path) {
   return loadSceneFile(preset_or_path);
 }
 
+Result<std::vector<MovingSolidSpec>> resolveMovers(const Scene& scene, const std::string& name) {
+  if (name.empty() || name == "none") return std::vector<MovingSolidSpec>{};
+  if (const auto it = scene.movers.find(name); it != scene.movers.end()) return it->second;
+  std::string known = "none";
+  for (const auto& [n, set] : scene.movers) known += ", " + n;
+  return Error{"world '" + scene.world.name + "' has no moving solids named '" + name + "' (" + known + ")"};
+}
+
 Result<TrajectorySpec> resolveTrajectory(const Scene& scene, const std::string& name_or_path) {
   const std::string name = name_or_path.empty() ? scene.default_trajectory : name_or_path;
   if (const auto it = scene.trajectories.find(name); it != scene.trajectories.end()) return it->second;

@@ -34,6 +34,8 @@ Status writeDescription(const std::string& path, const Scene& scene, const Simul
       << fmt::format("capture: {{data_packets: {}, position_packets: {}, first_utime: {}, last_utime: {}}}\n",
                      report.capture.data_packets, report.capture.position_packets, report.capture.first_utime,
                      report.capture.last_utime)
+      << fmt::format("movers: {{set: {}, count: {}, swept_cells: {}}}\n", config.movers_label.empty() ? "none" : config.movers_label,
+                     config.movers.size(), report.swept_cells)
       << fmt::format("truth: {{file: truth.grid, resolution: {}, occupied: {}, free: {}, unobservable: {}}}\n",
                      report.truth.resolution, report.truth.count(CellClass::Occupied),
                      report.truth.count(CellClass::Free), report.truth.count(CellClass::Unobservable));
@@ -60,7 +62,13 @@ Result<SimulationReport> runSimulation(const Scene& scene, const TrajectorySpec&
   SimulationReport report;
   report.path_length_m = trajectory->length();
 
-  const LidarSimulator sim(scene.world, scene.sensor_to_body, *trajectory, config.sensor, config.start_utime);
+  World world = scene.world;
+  for (const MovingSolidSpec& spec : config.movers) {
+    auto mover = MovingSolid::build(spec);
+    if (!mover) return Error{"moving solid: " + mover.error().message};
+    world.movers.push_back(std::move(*mover));
+  }
+  const LidarSimulator sim(world, scene.sensor_to_body, *trajectory, config.sensor, config.start_utime);
   auto capture = writeCapture(sim, config.duration_s, (dir / "capture.pcap").string());
   if (!capture) return Error{capture.error().message};
   report.capture = *capture;
@@ -85,6 +93,11 @@ Result<SimulationReport> runSimulation(const Scene& scene, const TrajectorySpec&
   for (const auto& p : truth) sensor_positions.push_back((p.pose.isometry() * scene.sensor_to_body).translation());
   report.truth = computeGroundTruth(scene.world, config.truth_resolution_m, sensor_positions);
   if (auto s = writeGroundTruth((dir / "truth.grid").string(), report.truth); !s) return Error{s.error().message};
+  if (!world.movers.empty()) {
+    const GroundTruth swept = sweptCells(world, report.truth, config.duration_s);
+    report.swept_cells = swept.count(CellClass::Occupied);
+    if (auto s = writeGroundTruth((dir / "swept.grid").string(), swept); !s) return Error{s.error().message};
+  }
   if (auto s = writeDescription((dir / "sim.yaml").string(), scene, config, report); !s) return Error{s.error().message};
   return report;
 }

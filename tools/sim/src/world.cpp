@@ -5,14 +5,21 @@
 
 namespace ogf::sim {
 
-std::optional<SurfaceHit> World::firstHit(const Ray& ray, double t_min, double t_max) const {
+std::optional<SurfaceHit> World::firstHit(const Ray& ray, double t_min, double t_max,
+                                          std::optional<double> time_s) const {
   std::optional<SurfaceHit> best;
   double best_t = t_max;
-  for (std::size_t i = 0; i < solids.size(); ++i) {
-    const auto crossing = intersect(solids[i].shape, ray);
-    if (!crossing || crossing->t_enter < t_min || crossing->t_enter > best_t) continue;
+  const auto consider = [&](const Shape& shape, std::size_t index) {
+    const auto crossing = intersect(shape, ray);
+    if (!crossing || crossing->t_enter < t_min || crossing->t_enter > best_t) return;
     best_t = crossing->t_enter;
-    best = SurfaceHit{crossing->t_enter, crossing->t_exit, crossing->normal, i};
+    best = SurfaceHit{crossing->t_enter, crossing->t_exit, crossing->normal, index};
+  };
+  for (std::size_t i = 0; i < solids.size(); ++i) consider(solids[i].shape, i);
+  if (time_s) {
+    for (std::size_t i = 0; i < movers.size(); ++i) {
+      if (const auto shape = movers[i].placedAt(*time_s)) consider(*shape, solids.size() + i);
+    }
   }
   return best;
 }

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstddef>
+#include <optional>
 
 #include "ogf/sim/world.hpp"
 
@@ -29,6 +30,8 @@ struct BeamEchoes {
 // Echoes up to `max_range` metres. The reported intensity is the material's reflectivity scaled by the
 // share of the beam that reached the surface, by what the surface returns (1 − transmittance), and by the
 // cosine of the incidence angle (a Lambertian surface, floored at 0.1 so grazing hits still show).
-BeamEchoes traceBeam(const World& world, const Ray& ray, double max_range);
+// `time_s` (seconds into the capture) places the moving solids; without it only the static world is seen.
+BeamEchoes traceBeam(const World& world, const Ray& ray, double max_range,
+                     std::optional<double> time_s = std::nullopt);
 
 }  // namespace ogf::sim

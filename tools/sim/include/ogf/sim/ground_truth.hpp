@@ -53,6 +53,11 @@ struct GroundTruth {
 GroundTruth computeGroundTruth(const World& world, double resolution,
                                const std::vector<Eigen::Vector3d>& sensor_positions = {});
 
+// The cells of `grid` that a moving solid of the world met at some instant of [0, duration_s], sampled every
+// step_s: Occupied (1) for those, Free (0) for the rest; the same grid geometry, so it is written and read
+// as a truth grid (swept.grid). What a map still holds there at the end is what the solid left behind.
+GroundTruth sweptCells(const World& world, const GroundTruth& grid, double duration_s, double step_s = 0.01);
+
 // FNV-1a 64 of the cell bytes, as the file header states it.
 std::uint64_t truthChecksum(const std::vector<std::uint8_t>& cells);
 

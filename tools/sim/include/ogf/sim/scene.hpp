@@ -16,6 +16,10 @@
 //     static: {waypoints: [[x, y]], yaw_deg: 0}
 //     loop: {speed: 1.0, loop: true, waypoints: [[x, y], [x, y, z], ...]}
 //   default_trajectory: loop
+//   movers:                                    # named sets of moving solids, usable as --movers
+//     person:
+//       - {type: cylinder, center: [0, 0], radius: 0.25, z: [0, 1.75], material: skin, start_s: 2,
+//          path: {speed: 1.2, waypoints: [[x, y], ...]}}   # shape in its own frame; gone at the path's end
 // A trajectory file holds one trajectory entry at its top level ({speed, loop, waypoints, yaw_deg}).
 #pragma once
 
@@ -37,6 +41,7 @@ struct Scene {
   Eigen::Isometry3d sensor_to_body = Eigen::Isometry3d::Identity();
   std::map<std::string, TrajectorySpec> trajectories;
   std::string default_trajectory;
+  std::map<std::string, std::vector<MovingSolidSpec>> movers;
 };
 
 // Parses scene YAML; `source` names it in errors ("lab.yaml:12: solids[3].radius: must be positive").
@@ -53,6 +58,8 @@ Result<Scene> presetScene(const std::string& name);
 
 // The scene named by --world: a preset name, else a YAML file path.
 Result<Scene> resolveScene(const std::string& preset_or_path);
+// The moving solids named by --movers: a set of the scene's, or none for "" and "none".
+Result<std::vector<MovingSolidSpec>> resolveMovers(const Scene& scene, const std::string& name);
 // The trajectory named by --trajectory: one of the scene's named trajectories, else a YAML file path; an
 // empty name means the scene's default_trajectory.
 Result<TrajectorySpec> resolveTrajectory(const Scene& scene, const std::string& name_or_path);

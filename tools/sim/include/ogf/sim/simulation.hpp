@@ -3,7 +3,8 @@
 //   odometry.csv          body pose in the odometry frame, utime,x,y,z,qw,qx,qy,qz (pose_files.hpp)
 //   odometry.lcmlog       the same as ogf.odometry_t on POSE
 //   trajectory_true.csv   the true body pose in the world frame, same columns
-//   truth.grid            ground-truth occupancy (ground_truth.hpp)
+//   truth.grid            ground-truth occupancy of the static world (ground_truth.hpp)
+//   swept.grid            with moving solids: the cells they passed through (ground_truth.hpp, sweptCells)
 //   sim.yaml              what was simulated: world, trajectory, sensor, extrinsic, clock, seed, counts
 // The odometry frame starts on the world frame (the first odometry pose is the true one), so with the
 // default exact odometry a map built from capture + odometry lines up with truth.grid directly.
@@ -34,12 +35,15 @@ struct SimulationConfig {
   double truth_resolution_m = 0.2;
   std::string world_label;       // how the world was named (preset or path), for sim.yaml
   std::string trajectory_label;  // likewise for the trajectory
+  std::vector<MovingSolidSpec> movers;  // moving solids the lidar sees (none by default)
+  std::string movers_label;             // their set's name, for sim.yaml
 };
 
 struct SimulationReport {
   CaptureSummary capture;
   std::size_t odometry_poses = 0;
   GroundTruth truth;  // kept so the caller can report counts
+  std::size_t swept_cells = 0;  // cells moving solids passed through (swept.grid)
   double path_length_m = 0.0;
 };
 

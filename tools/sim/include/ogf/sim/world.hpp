@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "ogf/sim/intersect.hpp"
+#include "ogf/sim/moving_solid.hpp"
 #include "ogf/sim/shapes.hpp"
 
 namespace ogf::sim {
@@ -32,13 +33,19 @@ struct World {
   std::string name;
   std::vector<Material> materials;  // never empty: index 0 is the default material
   std::vector<Solid> solids;
+  std::vector<MovingSolid> movers;  // seen by the lidar at their time, never part of the ground truth
   Aabb bounds;  // the region the ground truth grid covers
 
   // The first surface the ray enters at a distance in [t_min, t_max]. A solid that already contains the
-  // point at t_min is looked through (a sensor inside a solid sees out of it).
-  std::optional<SurfaceHit> firstHit(const Ray& ray, double t_min, double t_max) const;
+  // point at t_min is looked through (a sensor inside a solid sees out of it). With `time_s` (seconds into
+  // the capture) the moving solids present then count too; their hits number from solids.size() on.
+  std::optional<SurfaceHit> firstHit(const Ray& ray, double t_min, double t_max,
+                                     std::optional<double> time_s = std::nullopt) const;
 
-  const Material& materialOf(const SurfaceHit& hit) const { return materials[solids[hit.solid].material]; }
+  const Material& materialOf(const SurfaceHit& hit) const {
+    return materials[hit.solid < solids.size() ? solids[hit.solid].material
+                                               : movers[hit.solid - solids.size()].material()];
+  }
 };
 
 // The bounding box of a shape; nullopt for a half-space, which is unbounded.
