@@ -40,6 +40,7 @@ TEST(MapScores, HandComputedCountsOnAnEightCellWorld) {
   EXPECT_EQ(s.correct, 4);
   EXPECT_EQ(s.gap_cells, 2);
   EXPECT_EQ(s.gap_filled, 1);
+  EXPECT_EQ(s.false_filled, 1);  // cell 5: truly free, no ray ended there, classed occupied
 }
 
 TEST(MapScores, AccuracyCountsUnknownAsWrongAndLeavesUnobservableOut) {
@@ -72,6 +73,15 @@ TEST(MapScores, AnEmptyMapIsUnknownEverywhereSoAccuracyAndCoverageAreZero) {
   EXPECT_EQ(s.coverage, 0.0);
   EXPECT_EQ(s.precision, 0.0);
   EXPECT_DOUBLE_EQ(s.auc, 0.5);  // every probability the prior: all pairs tie
+}
+
+TEST(MapScores, SweptCellsLeftOccupiedAreCountedAmongTheTrulyFreeOnly) {
+  // Cells 1 (occupied: a solid now stands there), 4 (free, classed free) and 5 (free, classed occupied)
+  // were swept by a moving solid.
+  const std::vector<std::uint8_t> swept{0, 1, 0, 0, 1, 1, 0, 0};
+  const auto s = ogf::eval::scoreSwept(kTruth, swept, kMap);
+  EXPECT_EQ(s.cells, 2);
+  EXPECT_EQ(s.left_occupied, 1);
 }
 
 TEST(RocAuc, PerfectSeparationIsOneAndReversedIsZero) {

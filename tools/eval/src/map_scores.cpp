@@ -65,6 +65,7 @@ MapScores scoreMap(std::span<const std::uint8_t> truth, std::span<const CellEsti
       ++s.truth_free;
       neg.push_back(e.probability);
       if (e.cell_class > 0) ++s.false_occupied;
+      if (gaps && ray_end[i] == 0 && e.cell_class > 0) ++s.false_filled;
       if (e.cell_class < 0) ++s.true_free;
     }
   }
@@ -75,6 +76,18 @@ MapScores scoreMap(std::span<const std::uint8_t> truth, std::span<const CellEsti
   s.coverage = share(s.classified, s.known);
   s.gap_fill = share(s.gap_filled, s.gap_cells);
   s.auc = rocAuc(pos, neg);
+  return s;
+}
+
+SweptScores scoreSwept(std::span<const std::uint8_t> truth, std::span<const std::uint8_t> swept,
+                       std::span<const CellEstimate> estimates) {
+  SweptScores s;
+  const std::size_t n = std::min({truth.size(), swept.size(), estimates.size()});
+  for (std::size_t i = 0; i < n; ++i) {
+    if (swept[i] != kTruthOccupied || truth[i] != kTruthFree) continue;
+    ++s.cells;
+    s.left_occupied += estimates[i].cell_class > 0 ? 1 : 0;
+  }
   return s;
 }
 

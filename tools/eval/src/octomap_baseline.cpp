@@ -42,6 +42,18 @@ void OctomapBaseline::insert(std::span<const Measurement> measurements) {
   }
 }
 
+void OctomapBaseline::insertCloud(std::span<const Eigen::Vector3d> points, const Eigen::Vector3d& origin,
+                                  double max_range_m) {
+  octomap::Pointcloud cloud;
+  cloud.reserve(points.size());
+  for (const Eigen::Vector3d& p : points) {
+    cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+  }
+  tree_->insertPointCloud(cloud, octomap::point3d(static_cast<float>(origin.x()), static_cast<float>(origin.y()),
+                                                  static_cast<float>(origin.z())),
+                          max_range_m, /*lazy_eval=*/true);
+}
+
 void OctomapBaseline::finish() { tree_->updateInnerOccupancy(); }
 
 CellEstimate OctomapBaseline::estimate(const CellKey& key) const {

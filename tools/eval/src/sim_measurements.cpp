@@ -2,6 +2,8 @@
 #include "ogf/eval/sim_measurements.hpp"
 
 #include <ogf/fusion/pose_buffer.hpp>
+#include <ogf/fusion/deskew.hpp>
+#include <ogf/fusion/measurement_set.hpp>
 #include <ogf/pipeline/scan_mapper.hpp>
 #include <yaml-cpp/yaml.h>
 
@@ -32,9 +34,8 @@ Result<fusion::ExtrinsicConfig> readSimExtrinsic(const std::filesystem::path& si
   }
 }
 
-Result<SimMeasurementCounts> replaySimMeasurements(const std::filesystem::path& sim_dir,
-                                                   const pipeline::MapperConfig& config,
-                                                   const std::function<void(std::span<const Measurement>)>& visit) {
+Result<SimMeasurementCounts> replaySimRays(const std::filesystem::path& sim_dir, const pipeline::MapperConfig& config,
+                                           const RayVisitor& visit) {
   auto odometry = map_io::readOdometry(sim_dir / "odometry.csv");
   if (!odometry) return Error{odometry.error().message};
   fusion::PoseBufferConfig pb = config.fusion.pose_buffer;
@@ -42,19 +43,35 @@ Result<SimMeasurementCounts> replaySimMeasurements(const std::filesystem::path& 
   fusion::PoseBuffer poses(pb);
   for (const auto& p : odometry->poses) poses.insert(p);
 
-  auto mapper = pipeline::ScanMapper::create(config);
-  if (!mapper) return Error{"configuration: " + mapper.error().message};
+  fusion::Deskew deskew(config.fusion.extrinsic.bodyFromSensor());
+  std::vector<Eigen::Vector3d> origins, endpoints;
   SimMeasurementCounts counts;
   map_io::PcapScanConfig pc;
   pc.min_range_m = config.fusion.measurement.min_range_m;
   auto read = map_io::readPcapScans(sim_dir / "capture.pcap", pc, [&](const map_io::ScanRecord& scan) {
-    ++counts.scans;
-    if (mapper->measure(scan.points(map_io::TimeBase::kDevice), poses) != fusion::PoseCoverage::kCovered) return;
+    const std::int64_t index = counts.scans++;
+    if (deskew.place(scan.points(map_io::TimeBase::kDevice), poses, origins, endpoints) != fusion::PoseCoverage::kCovered)
+      return;
     ++counts.scans_measured;
-    counts.measurements += static_cast<std::int64_t>(mapper->measurements().size());
-    visit(mapper->measurements());
+    visit(index, origins, endpoints);
   });
   if (!read) return Error{read.error().message};
+  return counts;
+}
+
+Result<SimMeasurementCounts> replaySimMeasurements(const std::filesystem::path& sim_dir,
+                                                   const pipeline::MapperConfig& config,
+                                                   const std::function<void(std::span<const Measurement>)>& visit) {
+  fusion::MeasurementSet set(config.fusion.measurement);
+  std::int64_t measurements = 0;
+  auto counts = replaySimRays(sim_dir, config, [&](std::int64_t, std::span<const Eigen::Vector3d> origins,
+                                                   std::span<const Eigen::Vector3d> endpoints) {
+    const auto ms = set.build(origins, endpoints);
+    measurements += static_cast<std::int64_t>(ms.size());
+    visit(ms);
+  });
+  if (!counts) return counts.error();
+  counts->measurements = measurements;
   return counts;
 }
 

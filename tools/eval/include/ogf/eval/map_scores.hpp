@@ -11,7 +11,8 @@
 //              ties counted half (the Mann-Whitney statistic); unallocated cells score the prior 0.5.
 //   coverage   share of the known cells the map classifies (class != 0).
 //   gap_*      truth-occupied cells in which no ray of the run ended (`ray_end[i] == 0`): how many, and how
-//              many of them the map classifies occupied anyway (filled from their neighbours).
+//              many of them the map classifies occupied anyway (filled from their neighbours); and the
+//              cells the map fills wrongly: classed occupied, no ray ended there, truth free.
 #pragma once
 
 #include <cstdint>
@@ -36,6 +37,7 @@ struct MapScores {
   std::int64_t classified = 0;      // known cells with class != 0
   std::int64_t gap_cells = 0;       // truth occupied, no ray ended there
   std::int64_t gap_filled = 0;      // ... and classified occupied
+  std::int64_t false_filled = 0;    // truth free, no ray ended there, classified occupied
   double accuracy = 0, precision = 0, recall = 0, auc = 0.5, coverage = 0, gap_fill = 0;
 };
 
@@ -44,6 +46,16 @@ struct MapScores {
 // with it.
 MapScores scoreMap(std::span<const std::uint8_t> truth, std::span<const CellEstimate> estimates,
                    std::span<const std::uint8_t> ray_end);
+
+// What moving solids left behind: among the cells a moving solid passed through that are free in the truth
+// (swept.grid of an ogf-sim run with --movers, aligned with the truth), how many the map classes occupied
+// at the end.
+struct SweptScores {
+  std::int64_t cells = 0;          // swept and truth-free
+  std::int64_t left_occupied = 0;  // ... classed occupied
+};
+SweptScores scoreSwept(std::span<const std::uint8_t> truth, std::span<const std::uint8_t> swept,
+                       std::span<const CellEstimate> estimates);
 
 // ROC AUC of scores: the probability that a random positive scores above a random negative, ties half.
 // 0.5 when either set is empty.

@@ -12,6 +12,8 @@
 #include <ogf/core/cell_key.hpp>
 #include <ogf/core/measurement.hpp>
 
+#include <Eigen/Core>
+
 #include <filesystem>
 #include <memory>
 #include <span>
@@ -34,6 +36,9 @@ class OctomapBaseline {
 
   // One scan's measurements (misses and hits), applied as OctoMap applies one point cloud.
   void insert(std::span<const Measurement> measurements);
+  // One point cloud from one sensor origin through OctoMap's own OcTree::insertPointCloud (its ray casting,
+  // its max-range cut), as a user of liboctomap maps a scan.
+  void insertCloud(std::span<const Eigen::Vector3d> points, const Eigen::Vector3d& origin, double max_range_m);
   // Brings the inner nodes up to date after the inserts (they are deferred); call before write().
   void finish();
   CellEstimate estimate(const CellKey& key) const;

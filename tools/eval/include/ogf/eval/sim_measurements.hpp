@@ -9,6 +9,8 @@
 #include <ogf/core/measurement.hpp>
 #include <ogf/pipeline/mapper_config.hpp>
 
+#include <Eigen/Core>
+
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -25,6 +27,13 @@ struct SimMeasurementCounts {
 // The extrinsic (sensor -> body) ogf-sim wrote into DIR/sim.yaml (`sensor_to_body: {xyz: [..],
 // quaternion_wxyz: [..]}`); an error naming the file and key when missing or malformed.
 Result<fusion::ExtrinsicConfig> readSimExtrinsic(const std::filesystem::path& sim_dir);
+
+// The rays of every scan the odometry covers, deskewed as the mapper places them (origin and endpoint per
+// point, odometry frame), handed to `visit` with the scan's number in capture order.
+using RayVisitor = std::function<void(std::int64_t scan, std::span<const Eigen::Vector3d> origins,
+                                      std::span<const Eigen::Vector3d> endpoints)>;
+Result<SimMeasurementCounts> replaySimRays(const std::filesystem::path& sim_dir, const pipeline::MapperConfig& config,
+                                           const RayVisitor& visit);
 
 // Replays DIR/capture.pcap with DIR/odometry.csv through `config`'s measurement pipeline (scan device time,
 // as ogf-mapper's default time base), handing each scan's measurements to `visit` in capture order.
