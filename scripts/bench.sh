@@ -35,7 +35,7 @@ if [ -n "$keep" ]; then mkdir -p "$keep"; work=$(cd "$keep" && pwd); else
   work=$(mktemp -d); trap 'rm -rf "$work"' EXIT; fi
 
 if [ "$quick" = 1 ]; then
-  scans=4; resolutions=0.2; gb=(--benchmark_min_time=0.05); world_s=5; mode="quick (--quick)"
+  scans=4; resolutions=0.2; gb=(--benchmark_min_time=0.2); world_s=5; mode="quick (--quick)"
 else
   scans=20; resolutions=0.2,0.1; gb=(--benchmark_repetitions=3 --benchmark_report_aggregates_only=true)
   world_s=20; mode="full"
@@ -46,10 +46,14 @@ start=$(date +%s)
 gbval() {
   local file=$1 name=$2 col=$3
   [ "$quick" = 1 ] || name="${name}_median"
-  awk -F, -v name="$name" -v col="$col" '
-    function unq(s) { gsub(/^"|"$/, "", s); return s }
-    /^name,/ { for (i = 1; i <= NF; i++) h[unq($i)] = i; next }
-    h["name"] && unq($1) == name { if (col in h) print $(h[col]); exit }' "$file"
+  # The name is quoted and may hold commas (capture(0=vlp16,1=dual,...)); the other fields do not.
+  awk -v name="$name" -v col="$col" '
+    /^name,/ { n = split($0, f, ","); for (i = 1; i <= n; i++) { gsub(/"/, "", f[i]); h[f[i]] = i }; next }
+    /^"/ {
+      e = index(substr($0, 2), "\"")
+      if (substr($0, 2, e - 1) != name || !(col in h)) next
+      split(substr($0, e + 3), f, ","); print f[h[col] - 1]; exit
+    }' "$file"
 }
 fmt() { awk -v v="$1" -v f="$2" 'BEGIN { if (v == "") print "n/a"; else printf(f, v) }'; }
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "" || b == "" || b + 0 == 0) print "n/a"; else printf("%.2f", a / b) }'; }
@@ -69,7 +73,12 @@ echo "== ogf-bench-filter (default stencil)" >&2
 "$bin/ogf-bench-filter" --benchmark_filter='Measurement/R2:0/' --benchmark_format=csv "${gb[@]}" \
   >"$work/filter.csv" 2>"$work/filter.err"
 echo "== ogf-bench-fusion" >&2
-"$bin/ogf-bench-fusion" --benchmark_format=csv "${gb[@]}" >"$work/fusion.csv" 2>"$work/fusion.err"
+# One run per benchmark family: Google Benchmark's CSV reporter aborts when a later benchmark has a counter
+# the first one did not have.
+"$bin/ogf-bench-fusion" --benchmark_filter='^BM_CastRandomRays/' --benchmark_format=csv "${gb[@]}" \
+  >"$work/fusion_rays.csv" 2>"$work/fusion_rays.err"
+"$bin/ogf-bench-fusion" --benchmark_filter='^BM_MeasurementSetVlp16/' --benchmark_format=csv "${gb[@]}" \
+  >"$work/fusion.csv" 2>"$work/fusion.err"
 echo "== ogf-bench-driver_decoding" >&2
 "$bin/ogf-bench-driver_decoding" --benchmark_format=csv "${gb[@]}" >"$work/decoding.csv" 2>"$work/decoding.err" || true
 
@@ -83,7 +92,10 @@ printf 'map:\n  extrinsic: {%s}\n' "$extrinsic" >"$work/mapper.yaml"
 
 # ---------------------------------------------------------------------------------------------------------
 cpu=$(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo)
-commit=$(git -C "$here" rev-parse --short HEAD 2>/dev/null || echo unknown)
+# The commit the programs were built from (the build tree's source folder), and whether it had changes.
+src=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$build/CMakeCache.txt" 2>/dev/null || true)
+commit=$(git -C "${src:-$here}" rev-parse --short HEAD 2>/dev/null || echo unknown)
+if ! git -C "${src:-$here}" diff --quiet HEAD -- 2>/dev/null; then commit="$commit with uncommitted changes"; fi
 buildtype=$(sed -n 's/^CMAKE_BUILD_TYPE:[A-Z]*=//p' "$build/CMakeCache.txt" 2>/dev/null || true)
 echo
 echo "Machine: $(nproc) CPUs, ${cpu:-unknown CPU}; $(uname -sr); load average at the start: $(cut -d' ' -f1-3 /proc/loadavg)"
@@ -119,7 +131,7 @@ echo "| filter memory per allocated cell, bytes | $(fmt "$(gbval "$f" "BM_FirstM
 u=$work/fusion.csv
 room=$(gbval "$u" "BM_MeasurementSetVlp16/street:0/resolution_mm:200" cpu_time)
 street=$(gbval "$u" "BM_MeasurementSetVlp16/street:1/resolution_mm:200" cpu_time)
-rays=$(gbval "$u" "BM_CastRandomRays/resolution_mm:200" cells/s)
+rays=$(gbval "$work/fusion_rays.csv" "BM_CastRandomRays/resolution_mm:200" cells/s)
 echo "| measurement set of a VLP-16 scan at 0.2 m, room / street: ms | $(fmt "$room" %.1f) / $(fmt "$street" %.1f) | scan period 100 ms | street $(ratio "$street" 100) of it |"
 echo "| ray casting at 0.2 m: M cells/s | $(fmt "$(awk -v v="$rays" 'BEGIN { if (v != "") print v / 1e6 }')" %.0f) | | |"
 d=$work/decoding.csv
@@ -147,7 +159,9 @@ awk '
   /^metric/ { on = 1 }
   on {
     label = substr($0, 1, 34); sub(/ +$/, "", label); n = split(substr($0, 35), v, " ")
-    line = "| " label; for (i = 1; i <= n; i++) line = line " | " v[i]; print line " |"
-    if (label == "metric") { line = "|---"; for (i = 1; i <= n; i++) line = line "|---"; print line "|" }
+    if (label == "metric") cols = n
+    for (i = cols + 1; i <= n; i++) v[cols] = v[cols] " " v[i]   # "29561 leaves": one cell
+    line = "| " label; for (i = 1; i <= cols; i++) line = line " | " v[i]; print line " |"
+    if (label == "metric") { line = "|---"; for (i = 1; i <= cols; i++) line = line "|---"; print line "|" }
     if (label == "cells held by the map") exit
   }' "$work/eval.txt"
