@@ -18,8 +18,10 @@ int main(int argc, char** argv) {
       "ogf-driver: Velodyne VLP-16 / Puck Hi-Res / VLP-32C / HDL-32E driver on LCM.\n"
       "Publishes VELODYNE_SCAN (ogf.lidar_scan_t, one per revolution, cut at --cut-angle), VELODYNE_PACKETS\n"
       "(ogf.velodyne_packets_t, the raw payloads of each scan, for lcm-logger) and VELODYNE_STATUS\n"
-      "(ogf.driver_status_t, 1 Hz). Settings come from --config (YAML, keys as the flags with '_') and then\n"
-      "the flags. Sources: UDP (default), --interface (live capture, needs CAP_NET_RAW) or --pcap FILE."};
+      "(ogf.driver_status_t, 1 Hz). Settings come from --config (YAML, keys as the flags with '_', except\n"
+      "pcap_file, sensor_address, receive_buffer_bytes, calibration and publish_packets: false for --pcap,\n"
+      "--sensor-ip, --receive-buffer, --calib and --no-packets) and then the flags. Sources: UDP (default),\n"
+      "--interface (live capture, needs CAP_NET_RAW) or --pcap FILE."};
   DriverConfig defaults;
   std::string config_path, source;
   app.add_option("--config", config_path, "YAML configuration file (flags override it)");

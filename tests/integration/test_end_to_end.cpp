@@ -9,7 +9,7 @@
 // Also measured and printed, never asserted: end-to-end latency from a scan's last packet (the driver's
 // receive time of it, lidar_scan_t.host_utime_end) to the arrival of the last part of that scan's delta on
 // OGF_MAP_DELTA (LCM's receive time at this listener), matched by the scan's utime; p50 and p99.
-// OGF_E2E_SECONDS (default 3) sets the world's duration, for measuring the README's figures.
+// OGF_E2E_SECONDS (default 3) sets the world's duration (longer runs give steadier latency figures).
 #include <gtest/gtest.h>
 #include <unistd.h>
 

@@ -1,4 +1,4 @@
-// Cell maps drawn 16 pixels per cell; curves drawn on a plain grid (no text: the README names the axes).
+// Cell maps drawn 16 pixels per cell; curves drawn on a plain grid (no text: docs/mapping.md names the axes).
 #include "figures.hpp"
 
 #include <algorithm>

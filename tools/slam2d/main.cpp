@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
   std::size_t max_records = 0;
   // The benchmark's published RBPF has 50 particles (Kümmerle et al. 2009); with 50, ACES scores 0.061 m
   // over seeds 42/1/7 against 0.080 with gmapping's 30, fr079 0.053 against 0.056, Intel 0.041 against
-  // 0.040 (README "2-D SLAM", Benchmark). The library keeps gmapping's 30 for the mapper's correction.
+  // 0.040 (docs/slam.md, "The benchmark"). The library keeps gmapping's 30 for the mapper's correction.
   config.slam.particles = 50;
   app.add_option("--log", log_path, "CARMEN log (.clf)")->required()->check(CLI::ExistingFile);
   app.add_option("--particles", config.slam.particles, "Particles (rbpf mode)")->capture_default_str();

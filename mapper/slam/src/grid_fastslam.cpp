@@ -15,7 +15,7 @@ GridFastSlamConfig GridFastSlamConfig::scanMatching() {
   c.particles = 1;
   c.sample_proposal = false;
   c.two_step_sampling = false;
-  // Measured on the Freiburg benchmark (README, 2-D SLAM): with one map and no second hypothesis, every
+  // Measured on the Freiburg benchmark (docs/slam.md): with one map and no second hypothesis, every
   // wrong match stays in the map. Short steps keep odometry's heading error per match small (fr079's
   // odometry is off by up to 20° within 3 s), climbs from ±0.1 and ±0.2 rad catch the rest, and a beam
   // without an endpoint near it costs as much as one 0.3 m off, so a pose leaving beams unexplained

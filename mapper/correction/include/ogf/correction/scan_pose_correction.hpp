@@ -1,4 +1,4 @@
-// Pose correction for 3-D scans (issue 8): the stage between the robot's odometry and the OGF. Each placed
+// Pose correction for 3-D scans: the stage between the robot's odometry and the OGF. Each placed
 // (deskewed) scan is cut to a planar scan in the body frame at the scan's reference time
 // (slam/planar_projection.hpp), the PoseCorrector (none, scan-match or rbpf, slam/pose_corrector.hpp)
 // estimates the corrected planar pose, and the result is a transform map_from_odom that moves the whole

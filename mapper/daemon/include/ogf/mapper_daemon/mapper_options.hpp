@@ -29,7 +29,7 @@ struct MapperOptions {
   ScanTimeBase time_base = ScanTimeBase::kDevice;
 
   pipeline::MapperConfig map;
-  // The optional stage between odometry and the OGF (issue 8): none, scan-match or rbpf.
+  // The optional stage between odometry and the OGF: none, scan-match or rbpf.
   correction::ScanPoseCorrectionConfig pose_correction;
 
   // Where snapshots and the journal live; empty = map in memory only.

@@ -46,7 +46,7 @@ struct GridFastSlamConfig {
   // far off; 0 takes the matcher's unmatched_distance_m. The hill climbing keeps the matcher's value.
   // gmapping charges an unexplained beam 50× a beam 0.1 m off (scanmatcher.h: −0.5/lsigma against
   // −d²/lsigma); at the matcher's 0.1 m the weights hardly told the particle closing ACES's loop from the
-  // others (loop closed on 0 of 3 seeds; with 0.3 m on 3 of 3, README "2-D SLAM").
+  // others (loop closed on 0 of 3 seeds; with 0.3 m on 3 of 3; docs/slam.md).
   double weight_unmatched_distance_m = 0.3;
   bool sample_proposal = true;    // draw x_t from N(μ, Σ); false keeps x* (scan-matching odometry)
   bool two_step_sampling = true;  // start each particle's match from a motion-model draw

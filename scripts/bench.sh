@@ -1,0 +1,167 @@
+#!/usr/bin/env bash
+# Runs ogf's benchmark programs on built-in data and prints, for the machine it ran on, one performance
+# table (every anchor, OctoMap first, measured in the same run) and one accuracy table (ogf-eval on a
+# simulated run). Needs a build with benchmarks (scripts/build.sh builds them); it builds nothing itself.
+#   scripts/bench.sh [--quick] [--build-dir DIR] [--keep DIR]
+#     --quick      short runs (a few scans, short repetitions, a 5 s world): under a minute; the figures
+#                  are noisier than a full run's, which takes a few minutes
+#     --build-dir  the build tree (default $OGF_BUILD_DIR, else build/)
+#     --keep DIR   keep every program's raw output in DIR (default: a temporary folder, removed)
+# Programs: ogf-bench-octomap (street scans through the OGF and through OctoMap), ogf-bench-filter,
+# ogf-bench-fusion and ogf-bench-driver_decoding (Google Benchmark), ogf-sim + ogf-map + ogf-eval.
+# The decoding benchmark reads the real captures in ../shared/data/real; without them its rows say so.
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${OGF_BUILD_DIR:-$here/build}
+quick=0
+keep=
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --quick) quick=1; shift ;;
+    --build-dir) build=$2; shift 2 ;;
+    --keep) keep=$2; shift 2 ;;
+    -h|--help) sed -n '2,13p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "bench.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+bin=$build/bin
+for p in ogf-bench-octomap ogf-bench-filter ogf-bench-fusion ogf-bench-driver_decoding ogf-sim ogf-map ogf-eval; do
+  if [ ! -x "$bin/$p" ]; then
+    echo "bench.sh: $bin/$p not found; build first (scripts/build.sh, benchmarks are on by default)" >&2
+    exit 1
+  fi
+done
+if [ -n "$keep" ]; then mkdir -p "$keep"; work=$(cd "$keep" && pwd); else
+  work=$(mktemp -d); trap 'rm -rf "$work"' EXIT; fi
+
+if [ "$quick" = 1 ]; then
+  scans=4; resolutions=0.2; gb=(--benchmark_min_time=0.2); world_s=5; mode="quick (--quick)"
+else
+  scans=20; resolutions=0.2,0.1; gb=(--benchmark_repetitions=3 --benchmark_report_aggregates_only=true)
+  world_s=20; mode="full"
+fi
+start=$(date +%s)
+
+# One value of a Google Benchmark CSV: the row whose name is $2 (a median row in a full run), column $3.
+gbval() {
+  local file=$1 name=$2 col=$3
+  [ "$quick" = 1 ] || name="${name}_median"
+  # The name is quoted and may hold commas (capture(0=vlp16,1=dual,...)); the other fields do not.
+  awk -v name="$name" -v col="$col" '
+    /^name,/ { n = split($0, f, ","); for (i = 1; i <= n; i++) { gsub(/"/, "", f[i]); h[f[i]] = i }; next }
+    /^"/ {
+      e = index(substr($0, 2), "\"")
+      if (substr($0, 2, e - 1) != name || !(col in h)) next
+      split(substr($0, e + 3), f, ","); print f[h[col] - 1]; exit
+    }' "$file"
+}
+fmt() { awk -v v="$1" -v f="$2" 'BEGIN { if (v == "") print "n/a"; else printf(f, v) }'; }
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "" || b == "" || b + 0 == 0) print "n/a"; else printf("%.2f", a / b) }'; }
+
+echo "ogf benchmarks, $mode run; raw output in $work" >&2
+
+echo "== ogf-bench-octomap --scans $scans --resolutions $resolutions" >&2
+"$bin/ogf-bench-octomap" --scans "$scans" --resolutions "$resolutions" >"$work/octomap.txt"
+if [ "$quick" = 0 ]; then
+  echo "== ogf-bench-octomap --scans $scans --resolutions 0.2 --deltas" >&2
+  "$bin/ogf-bench-octomap" --scans "$scans" --resolutions 0.2 --deltas >"$work/octomap_deltas.txt"
+fi
+# Columns of a row: res, mapper, mean ms, p50 ms, p99 ms, x 10 Hz, memory MB, cells.
+octo() { awk -v r="$2" -v m="$3" -v c="$4" '$1 == r && $2 == m { print $c; exit }' "$1"; }
+
+echo "== ogf-bench-filter (default stencil)" >&2
+"$bin/ogf-bench-filter" --benchmark_filter='Measurement/R2:0/' --benchmark_format=csv "${gb[@]}" \
+  >"$work/filter.csv" 2>"$work/filter.err"
+echo "== ogf-bench-fusion" >&2
+# One run per benchmark family: Google Benchmark's CSV reporter aborts when a later benchmark has a counter
+# the first one did not have.
+"$bin/ogf-bench-fusion" --benchmark_filter='^BM_CastRandomRays/' --benchmark_format=csv "${gb[@]}" \
+  >"$work/fusion_rays.csv" 2>"$work/fusion_rays.err"
+"$bin/ogf-bench-fusion" --benchmark_filter='^BM_MeasurementSetVlp16/' --benchmark_format=csv "${gb[@]}" \
+  >"$work/fusion.csv" 2>"$work/fusion.err"
+echo "== ogf-bench-driver_decoding" >&2
+"$bin/ogf-bench-driver_decoding" --benchmark_format=csv "${gb[@]}" >"$work/decoding.csv" 2>"$work/decoding.err" || true
+
+echo "== accuracy: ogf-sim --world lab --duration $world_s, ogf-map, ogf-eval" >&2
+"$bin/ogf-sim" --world lab --duration "$world_s" --out "$work/sim" >"$work/sim.txt" 2>&1
+extrinsic=$(sed -n 's/^sensor_to_body: {xyz: \(\[[^]]*\]\), quaternion_wxyz: \(\[[^]]*\]\)}.*/translation: \1, quaternion: \2/p' "$work/sim/sim.yaml")
+printf 'map:\n  extrinsic: {%s}\n' "$extrinsic" >"$work/mapper.yaml"
+"$bin/ogf-map" --pcap "$work/sim/capture.pcap" --odometry "$work/sim/odometry.csv" --config "$work/mapper.yaml" \
+  --out "$work/map.ogfm" >"$work/map.txt" 2>&1
+"$bin/ogf-eval" --map "$work/map.ogfm" --truth "$work/sim" >"$work/eval.txt" 2>"$work/eval.err"
+
+# ---------------------------------------------------------------------------------------------------------
+cpu=$(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo)
+# The commit the programs were built from (the build tree's source folder), and whether it had changes.
+src=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$build/CMakeCache.txt" 2>/dev/null || true)
+commit=$(git -C "${src:-$here}" rev-parse --short HEAD 2>/dev/null || echo unknown)
+if ! git -C "${src:-$here}" diff --quiet HEAD -- 2>/dev/null; then commit="$commit with uncommitted changes"; fi
+buildtype=$(sed -n 's/^CMAKE_BUILD_TYPE:[A-Z]*=//p' "$build/CMakeCache.txt" 2>/dev/null || true)
+echo
+echo "Machine: $(nproc) CPUs, ${cpu:-unknown CPU}; $(uname -sr); load average at the start: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "Code: $commit, build ${buildtype:-unknown}; scripts/bench.sh${quick:+ }$( [ "$quick" = 1 ] && echo --quick ); $(( $(date +%s) - start )) s"
+echo
+
+o=$work/octomap.txt
+echo "| benchmark | ogf | anchor, same run | ratio |"
+echo "|---|---|---|---|"
+for r in $(tr ',' ' ' <<<"$resolutions"); do
+  res=$(printf '%.2f' "$r")
+  om=$(octo "$o" "$res" OGF 3); op99=$(octo "$o" "$res" OGF 5); orf=$(octo "$o" "$res" OGF 6); omem=$(octo "$o" "$res" OGF 7)
+  cm=$(octo "$o" "$res" OctoMap 3); cp99=$(octo "$o" "$res" OctoMap 5); crf=$(octo "$o" "$res" OctoMap 6); cmem=$(octo "$o" "$res" OctoMap 7)
+  echo "| street VLP-16 scans, $r m cells, 30 m: ms per scan, mean / p99 ($scans scans, 1 thread) | $om / $op99 | OctoMap $cm / $cp99 | OGF $(ratio "$cm" "$om")× faster |"
+  echo "| same: × real time (10 Hz) | $orf | OctoMap $crf | |"
+  echo "| same: memory, MB | $omem | OctoMap $cmem | $(ratio "$omem" "$cmem")× OctoMap's |"
+done
+if [ "$quick" = 0 ]; then
+  dm=$(octo "$work/octomap_deltas.txt" 0.20 OGF 3); drf=$(octo "$work/octomap_deltas.txt" 0.20 OGF 6)
+  cm=$(octo "$o" 0.20 OctoMap 3)
+  echo "| same at 0.2 m with the delta stream's change detection (--deltas): ms per scan / × real time | $dm / $drf | OctoMap $cm | OGF $(ratio "$cm" "$dm")× faster |"
+fi
+f=$work/filter.csv
+for y in -1 1; do
+  kind=free; [ "$y" = 1 ] && kind=occupied
+  upd=$(gbval "$f" "BM_AllocatedMeasurement/R2:0/y:$y/threads:1" ns_per_measurement)
+  first=$(gbval "$f" "BM_FirstMeasurement/R2:0/y:$y/threads:1" ns_per_measurement)
+  upd2=$(gbval "$f" "BM_AllocatedMeasurement/R2:0/y:$y/threads:2/real_time" ns_per_measurement)
+  echo "| filter update alone, default stencil, $kind: ns per measurement, 1 thread / 2 threads | $(fmt "$upd" %.0f) / $(fmt "$upd2" %.0f) | | 2 threads take $(ratio "$upd2" "$upd") of the time |"
+  echo "| filter first measurement (with block allocation), $kind: ns, 1 thread | $(fmt "$first" %.0f) | update alone $(fmt "$upd" %.0f) | $(ratio "$first" "$upd")× |"
+done
+echo "| filter memory per allocated cell, bytes | $(fmt "$(gbval "$f" "BM_FirstMeasurement/R2:0/y:-1/threads:1" bytes_per_cell)" %.1f) | | |"
+u=$work/fusion.csv
+room=$(gbval "$u" "BM_MeasurementSetVlp16/street:0/resolution_mm:200" cpu_time)
+street=$(gbval "$u" "BM_MeasurementSetVlp16/street:1/resolution_mm:200" cpu_time)
+rays=$(gbval "$work/fusion_rays.csv" "BM_CastRandomRays/resolution_mm:200" cells/s)
+echo "| measurement set of a VLP-16 scan at 0.2 m, room / street: ms | $(fmt "$room" %.1f) / $(fmt "$street" %.1f) | scan period 100 ms | street $(ratio "$street" 100) of it |"
+echo "| ray casting at 0.2 m: M cells/s | $(fmt "$(awk -v v="$rays" 'BEGIN { if (v != "") print v / 1e6 }')" %.0f) | | |"
+d=$work/decoding.csv
+live=754   # VLP-16 data packets per second, single return (velodyne.md)
+for c in 0 2; do
+  name=VLP-16; [ "$c" = 2 ] && name=HDL-32E
+  dec=$(gbval "$d" "BM_PacketDecoder/capture(0=vlp16,1=dual,2=hdl32e):$c" packets/s)
+  str=$(gbval "$d" "BM_PacketStream/capture(0=vlp16,1=dual,2=hdl32e):$c" packets/s)
+  if [ -z "$dec" ]; then
+    echo "| packet decoding, $name | skipped (no ../shared/data/real captures) | | |"
+    continue
+  fi
+  if [ "$c" = 0 ]; then
+    echo "| $name packets → points (decoder) / → scans (whole stream): k packets/s, 1 core | $(fmt "$(awk -v v="$dec" 'BEGIN{print v/1e3}')" %.0f) / $(fmt "$(awk -v v="$str" 'BEGIN{print v/1e3}')" %.0f) | live rate 0.754 k/s | $(awk -v a="$dec" -v b="$str" -v l="$live" 'BEGIN { printf("%.0f× / %.0f× live", a / l, b / l) }') |"
+  else
+    echo "| $name packets → points / → scans: k packets/s, 1 core | $(fmt "$(awk -v v="$dec" 'BEGIN{print v/1e3}')" %.0f) / $(fmt "$(awk -v v="$str" 'BEGIN{print v/1e3}')" %.0f) | | |"
+  fi
+done
+
+echo
+echo "Accuracy: ogf-sim --world lab --duration $world_s, ogf-map at 0.2 m / 30 m, ogf-eval against the ground truth"
+echo "and an OctoMap fed the same rays:"
+echo
+awk '
+  /^metric/ { on = 1 }
+  on {
+    label = substr($0, 1, 34); sub(/ +$/, "", label); n = split(substr($0, 35), v, " ")
+    if (label == "metric") cols = n
+    for (i = cols + 1; i <= n; i++) v[cols] = v[cols] " " v[i]   # "29561 leaves": one cell
+    line = "| " label; for (i = 1; i <= cols; i++) line = line " | " v[i]; print line " |"
+    if (label == "metric") { line = "|---"; for (i = 1; i <= cols; i++) line = line "|---"; print line "|" }
+    if (label == "cells held by the map") exit
+  }' "$work/eval.txt"
