@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # Runs ogf's benchmark programs on built-in data and prints, for the machine it ran on, one performance
-# table (every anchor, OctoMap first, measured in the same run) and one accuracy table (ogf-eval on a
-# simulated run). Needs a build with benchmarks (scripts/build.sh builds them); it builds nothing itself.
+# table (every anchor, OctoMap first, measured in the same run); scripts/accuracy.sh prints the map-quality
+# table. Needs a build with benchmarks (scripts/build.sh builds them); it builds nothing itself.
 #   scripts/bench.sh [--quick] [--build-dir DIR] [--keep DIR]
-#     --quick      short runs (a few scans, short repetitions, a 5 s world): under a minute; the figures
+#     --quick      short runs (a few scans, short repetitions): under a minute; the figures
 #                  are noisier than a full run's, which takes a few minutes
 #     --build-dir  the build tree (default $OGF_BUILD_DIR, else build/)
 #     --keep DIR   keep every program's raw output in DIR (default: a temporary folder, removed)
 # Programs: ogf-bench-octomap (street scans through the OGF and through OctoMap), ogf-bench-filter,
-# ogf-bench-fusion and ogf-bench-driver_decoding (Google Benchmark), ogf-sim + ogf-map + ogf-eval.
+# ogf-bench-fusion and ogf-bench-driver_decoding (Google Benchmark).
 # The decoding benchmark reads the real captures in ../shared/data/real; without them its rows say so.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -35,10 +35,10 @@ if [ -n "$keep" ]; then mkdir -p "$keep"; work=$(cd "$keep" && pwd); else
   work=$(mktemp -d); trap 'rm -rf "$work"' EXIT; fi
 
 if [ "$quick" = 1 ]; then
-  scans=4; resolutions=0.2; gb=(--benchmark_min_time=0.2); world_s=5; mode="quick (--quick)"
+  scans=4; resolutions=0.2; gb=(--benchmark_min_time=0.2); mode="quick (--quick)"
 else
   scans=20; resolutions=0.2,0.1; gb=(--benchmark_repetitions=3 --benchmark_report_aggregates_only=true)
-  world_s=20; mode="full"
+  mode="full"
 fi
 start=$(date +%s)
 
@@ -82,13 +82,6 @@ echo "== ogf-bench-fusion" >&2
 echo "== ogf-bench-driver_decoding" >&2
 "$bin/ogf-bench-driver_decoding" --benchmark_format=csv "${gb[@]}" >"$work/decoding.csv" 2>"$work/decoding.err" || true
 
-echo "== accuracy: ogf-sim --world lab --duration $world_s, ogf-map, ogf-eval" >&2
-"$bin/ogf-sim" --world lab --duration "$world_s" --out "$work/sim" >"$work/sim.txt" 2>&1
-extrinsic=$(sed -n 's/^sensor_to_body: {xyz: \(\[[^]]*\]\), quaternion_wxyz: \(\[[^]]*\]\)}.*/translation: \1, quaternion: \2/p' "$work/sim/sim.yaml")
-printf 'map:\n  extrinsic: {%s}\n' "$extrinsic" >"$work/mapper.yaml"
-"$bin/ogf-map" --pcap "$work/sim/capture.pcap" --odometry "$work/sim/odometry.csv" --config "$work/mapper.yaml" \
-  --out "$work/map.ogfm" >"$work/map.txt" 2>&1
-"$bin/ogf-eval" --map "$work/map.ogfm" --truth "$work/sim" >"$work/eval.txt" 2>"$work/eval.err"
 
 # ---------------------------------------------------------------------------------------------------------
 cpu=$(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo)
@@ -150,18 +143,3 @@ for c in 0 2; do
     echo "| $name packets → points / → scans: k packets/s, 1 core | $(fmt "$(awk -v v="$dec" 'BEGIN{print v/1e3}')" %.0f) / $(fmt "$(awk -v v="$str" 'BEGIN{print v/1e3}')" %.0f) | | |"
   fi
 done
-
-echo
-echo "Accuracy: ogf-sim --world lab --duration $world_s, ogf-map at 0.2 m / 30 m, ogf-eval against the ground truth"
-echo "and an OctoMap fed the same rays:"
-echo
-awk '
-  /^metric/ { on = 1 }
-  on {
-    label = substr($0, 1, 34); sub(/ +$/, "", label); n = split(substr($0, 35), v, " ")
-    if (label == "metric") cols = n
-    for (i = cols + 1; i <= n; i++) v[cols] = v[cols] " " v[i]   # "29561 leaves": one cell
-    line = "| " label; for (i = 1; i <= cols; i++) line = line " | " v[i]; print line " |"
-    if (label == "metric") { line = "|---"; for (i = 1; i <= cols; i++) line = line "|---"; print line "|" }
-    if (label == "cells held by the map") exit
-  }' "$work/eval.txt"
