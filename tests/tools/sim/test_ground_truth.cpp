@@ -51,6 +51,21 @@ TEST(SimGroundTruth, SurfaceOnACellBoundaryBelongsToTheCellAboveIt) {
   EXPECT_EQ(t.at({7, 7, 6}), CellClass::Free);
 }
 
+TEST(SimGroundTruth, AFaceRoundedJustBelowACellBoundaryStaysASurface) {
+  // The lab's north wall: centre y 8.1, size 0.2, so it starts at 8.1 - 0.1 = 7.999999999999999. Its face
+  // is the surface of cell j = 40 ([8.0, 8.2)), not the wall's inside, and cell 39 is open air.
+  World w;
+  w.materials = {Material{"default", 50, 0}};
+  w.solids = {Solid{HalfSpace{}, 0}, Solid{Box{{5.0, 8.1, 1.5}, {10.4, 0.2, 3.0}, 0.0}, 0},
+              Solid{Box{{10.1, 4.0, 1.5}, {0.2, 8.0, 3.0}, 0.0}, 0}};
+  w.bounds = Aabb{{-0.4, -0.4, -0.4}, {10.4, 8.4, 3.4}};
+  const GroundTruth t = computeGroundTruth(w, 0.2);
+  EXPECT_EQ(t.at({25, 40, 5}), CellClass::Occupied);
+  EXPECT_EQ(t.at({25, 39, 5}), CellClass::Free);
+  EXPECT_EQ(t.at({50, 20, 5}), CellClass::Occupied);  // the east wall, x from 10.1 - 0.1
+  EXPECT_EQ(t.at({49, 20, 5}), CellClass::Free);
+}
+
 TEST(SimGroundTruth, YawedBoxAndCylinderCellsAgreeWithPointSampling) {
   World w;
   w.materials = {Material{}};

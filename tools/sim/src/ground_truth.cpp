@@ -16,6 +16,10 @@ namespace {
 
 // Upper faces of a cell move in by this fraction of the resolution (see classifyCell).
 constexpr double kHalfOpenShrink = 1e-9;
+// A solid's face within this fraction of the resolution below a cell's lower face counts as lying on it: a
+// wall given as centre 8.1 and size 0.2 starts at 7.999999999999999 in floating point, and its face belongs
+// to the cell [8.0, 8.2) it was meant to start, which must not be taken for the wall's inside.
+constexpr double kBoundarySnap = 1e-6;
 
 std::int32_t floorKey(double v, double r) { return static_cast<std::int32_t>(std::floor(v / r)); }
 
@@ -110,8 +114,12 @@ void forEachCellMeeting(const Shape& shape, const GroundTruth& grid, Visit&& vis
       for (std::int32_t i = from.x; i <= to.x; ++i) {
         const Eigen::Vector3d min{i * r, j * r, k * r};
         const Eigen::Vector3d max = min + Eigen::Vector3d::Constant(r * (1.0 - kHalfOpenShrink));
-        const CellOverlap o = classifyCell(shape, Aabb{min, max});
+        CellOverlap o = classifyCell(shape, Aabb{min, max});
         if (o == CellOverlap::None) continue;
+        if (o == CellOverlap::Inside &&
+            classifyCell(shape, Aabb{min - Eigen::Vector3d::Constant(r * kBoundarySnap), max}) != CellOverlap::Inside) {
+          o = CellOverlap::Surface;
+        }
         visit(static_cast<std::size_t>(i - lo.x) +
                   nx * (static_cast<std::size_t>(j - lo.y) + ny * static_cast<std::size_t>(k - lo.z)),
               o);
