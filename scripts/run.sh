@@ -43,7 +43,7 @@ out=$(cd "$out" && pwd)
 if [ -n "$pcap" ]; then
   # A real capture of a sensor that does not move: the pose is fixed at the origin.
   "$bin/ogf-map" --pcap "$pcap" --static --out "$out/map.ogfm" --export-ply "$out/map_occupied.ply" \
-    --png "$out/png" --png-zmin -1 --png-zmax 2 | tee "$out/map.txt"
+    --png "$out/png" | tee "$out/map.txt"
   echo
   echo "map:        $out/map.ogfm   (ogf map file)"
   echo "PLY:        $out/map_occupied.ply"
@@ -108,7 +108,7 @@ echo "== scoring the map against the ground truth and an OctoMap of the same ray
 echo
 echo "map:        $out/map.ogfs        (the mapper's final snapshot; the live state stays in $out/state)"
 echo "PLY:        $out/map_occupied.ply (occupied cells)"
-echo "PNG:        $out/png/ (truth, ogf/octomap classes and errors, occupancy, entropy; z 0.1..2 m)"
+echo "PNG:        $out/png/ (truth, ogf/octomap classes and errors, occupancy, entropy; walls above the floor)"
 echo "accuracy:   $out/accuracy.txt"
 echo "OctoMap:    $out/octomap.bt"
 echo "logs:       $out/logs/ (sim, mapper, driver, map-client); replay summary $out/replay.txt"

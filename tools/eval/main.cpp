@@ -403,8 +403,8 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   bool held_out = false, is_static = false;
   bool no_octomap = false;
-  ev::HeightBand band;
-  int scale = 4;
+  std::optional<double> png_zmin, png_zmax;  // default: the walls' band of the truth (or of the map)
+  int scale = 1;
   app.add_option("--map", map_path,
                  "OGF map: a map file (ogf-map --out) or a daemon snapshot (snapshot.ogfs); required unless "
                  "--odometry or --corrected is given")
@@ -429,9 +429,11 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "Seed of the held-out split")->capture_default_str();
   app.add_option("--png", png_dir, "Folder for truth.png, ogf_/octomap_classes.png, ogf_/octomap_errors.png and the "
                                    "map's occupancy.png/entropy.png");
-  app.add_option("--png-zmin", band.z_min, "Bottom of the PNGs' height band, metres")->capture_default_str();
-  app.add_option("--png-zmax", band.z_max, "Top of the PNGs' height band, metres")->capture_default_str();
-  app.add_option("--png-scale", scale, "Pixels per cell in the truth/class/error PNGs")->capture_default_str()->check(CLI::Range(1, 32));
+  app.add_option("--png-zmin", png_zmin, "Bottom of the PNGs' height band, metres (default: 0.2 m above the floor)");
+  app.add_option("--png-zmax", png_zmax, "Top of the PNGs' height band, metres (default: 2 m above the floor)");
+  app.add_option("--png-scale", scale, "Least pixels per cell in the truth/class/error PNGs (they are at least 800 px wide or high)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 32));
   auto* oin = app.add_option("--octomap", octomap_in, "Score this OctoMap (.bt) instead of building one")->check(CLI::ExistingFile);
   app.add_flag("--no-octomap", no_octomap, "Score the OGF only")->excludes(oin);
   app.add_option("--write-octomap", octomap_out, "Write the OctoMap built from the run as .bt");
@@ -621,6 +623,8 @@ int main(int argc, char** argv) {
   if (!png_dir.empty()) {
     std::error_code ec;
     fs::create_directories(png_dir, ec);
+    const ev::HeightBand walls = ev::wallBand(*truth);
+    const ev::HeightBand band{png_zmin.value_or(walls.z_min), png_zmax.value_or(walls.z_max)};
     report("--png", ev::writeTruthPng(*truth, band, scale, fs::path(png_dir) / "truth.png"));
     report("--png", ev::writeMapPngs(*truth, ogf_est, band, scale, png_dir, "ogf"));
     if (octo) report("--png", ev::writeMapPngs(*truth, octo_est, band, scale, png_dir, "octomap"));
@@ -629,7 +633,9 @@ int main(int argc, char** argv) {
     const auto cells = ogf::map_io::collectCells(map);
     if (!ply_out.empty()) report("--export-ply", ogf::map_io::writeOccupiedPly(cells, ply_out));
     if (!png_dir.empty()) {
-      auto png = ogf::map_io::writeTopDownPngs(cells, {band.z_min, band.z_max}, png_dir);
+      const auto walls = ogf::map_io::wallBand(cells).value_or(ogf::map_io::TopDownBand{});
+      auto png = ogf::map_io::writeTopDownPngs(cells, {png_zmin.value_or(walls.z_min), png_zmax.value_or(walls.z_max)},
+                                               png_dir);
       if (!png) report("--png", png.error());
     }
   }

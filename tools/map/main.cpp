@@ -79,7 +79,7 @@ struct Options {
   double resolution = 0.2, max_range = 30.0, min_range = 0.4;
   int threads = 1;
   std::string export_ply, export_csv, export_bt, png_dir;
-  double png_zmin = 0.0, png_zmax = 2.0;
+  std::optional<double> png_zmin, png_zmax;  // default: the walls' band (map_io::wallBand)
   std::string log_level = "info";
   std::string pose_correction = "none", corrected_out;
   std::size_t particles = 30;
@@ -154,8 +154,11 @@ int main(int argc, char** argv) {
   app.add_option("--export-ply", o.export_ply, "Occupied cells as binary PLY (x, y, z, p, variance)");
   app.add_option("--export-bt", o.export_bt, "OctoMap binary tree (.bt) for octovis");
   auto* png_opt = app.add_option("--png", o.png_dir, "Folder for top-down occupancy.png and entropy.png");
-  app.add_option("--png-zmin", o.png_zmin, "Bottom of the height band of --png, metres")->capture_default_str()->needs(png_opt);
-  app.add_option("--png-zmax", o.png_zmax, "Top of the height band of --png, metres")->capture_default_str()->needs(png_opt);
+  app.add_option("--png-zmin", o.png_zmin,
+                 "Bottom of the height band of --png, metres (default: 0.2 m above the floor, found in the map)")
+      ->needs(png_opt);
+  app.add_option("--png-zmax", o.png_zmax, "Top of the height band of --png, metres (default: 2 m above the floor)")
+      ->needs(png_opt);
   auto* threads_opt = app.add_option("--threads", o.threads, "Filter threads (the map is the same for any count)")
                           ->capture_default_str()
                           ->check(CLI::Range(1, 256));
@@ -349,9 +352,13 @@ int main(int argc, char** argv) {
                                           : std::string());
     }
     if (!o.png_dir.empty()) {
-      auto png = mio::writeTopDownPngs(cells, {o.png_zmin, o.png_zmax}, o.png_dir);
+      const mio::TopDownBand walls = mio::wallBand(cells).value_or(mio::TopDownBand{});
+      const mio::TopDownBand band{o.png_zmin.value_or(walls.z_min), o.png_zmax.value_or(walls.z_max)};
+      auto png = mio::writeTopDownPngs(cells, band, o.png_dir);
       if (!png) report("--png", png.error());
-      else spdlog::info("{}: occupancy.png and entropy.png, {} x {} pixels", o.png_dir, png->width, png->height);
+      else
+        spdlog::info("{}: occupancy.png and entropy.png of {} x {} cell columns, z {:.2f} to {:.2f} m", o.png_dir,
+                     png->width, png->height, band.z_min, band.z_max);
     }
   }
   if (!o.corrected_out.empty()) {

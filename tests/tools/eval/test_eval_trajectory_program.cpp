@@ -1,6 +1,7 @@
 // ogf-eval's absolute trajectory error as a process: on a run folder holding only trajectory_true.csv it
-// prints one row per given trajectory with the RMSE, mean and max computed by hand, needs --map only when no
-// trajectory is given, and exits 1 naming a file whose stamps match nothing.
+// prints one row per given trajectory with the RMSE, mean and max computed by hand, without a trajectory
+// scores the run's map (built here without --map) and names a missing truth, and exits 1 naming a file whose
+// stamps match nothing.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -53,11 +54,11 @@ TEST(EvalTrajectoryProgram, PrintsTheAteOfRawAndCorrectedPoses) {
       << run.stdout_text;
 }
 
-TEST(EvalTrajectoryProgram, MapIsRequiredWithoutATrajectory) {
+TEST(EvalTrajectoryProgram, WithoutATrajectoryOrAMapTheRunsTruthIsScoredAndItsAbsenceNamed) {
   ScratchDir dir;
   const auto run = runProgram({kEval, "--truth", dir.path().string()}, dir.path());
-  EXPECT_EQ(run.exit_code, 2);
-  EXPECT_NE(run.output.find("--map is required"), std::string::npos) << run.output;
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.output.find("truth.grid: cannot open"), std::string::npos) << run.output;
 }
 
 TEST(EvalTrajectoryProgram, TrajectoryMatchingNoTrueStampFails) {

@@ -3,19 +3,24 @@
 
 #include <ogf/sim/ground_truth.hpp>
 #include <ogf/tools/image.hpp>
+#include <ogf/tools/map_figure.hpp>
 #include <ogf/tools/png_writer.hpp>
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <functional>
+#include <cmath>
+#include <map>
 
 namespace ogf::eval {
 namespace {
 
 using tools::Rgb;
-constexpr Rgb kOccupied{0, 0, 0};
+constexpr Rgb kOccupied{25, 25, 25};
 constexpr Rgb kFree{255, 255, 255};
-constexpr Rgb kUnknown{150, 150, 150};
-constexpr Rgb kNoData{60, 60, 60};
+constexpr Rgb kUnknown{150, 175, 215};
+constexpr Rgb kNoData{215, 215, 215};
 
 // Calls `column(ix, iy, cells)` with the truth indices of the column's cells in the band.
 void forEachColumn(const sim::GroundTruth& t, const HeightBand& band,
@@ -42,31 +47,67 @@ Status save(const tools::Image& img, const std::filesystem::path& path) {
   return okStatus();
 }
 
-tools::Image canvas(const sim::GroundTruth& t, int scale) { return tools::Image::rgb(t.size[0] * scale, t.size[1] * scale); }
+tools::MapRaster canvas(const sim::GroundTruth& t) {
+  const auto n = static_cast<std::size_t>(t.size[0]) * static_cast<std::size_t>(t.size[1]);
+  return {t.size[0], t.size[1], std::vector<Rgb>(n, kNoData), t.resolution, t.min_key.x * t.resolution,
+          t.min_key.y * t.resolution};
+}
 
-void paint(tools::Image& img, const sim::GroundTruth& t, int scale, int ix, int iy, Rgb c) {
-  img.fillRect(ix * scale, (t.size[1] - 1 - iy) * scale, scale, scale, c);  // y up
+void paint(tools::MapRaster& r, int ix, int iy, Rgb c) {
+  r.cells[static_cast<std::size_t>(r.height - 1 - iy) * static_cast<std::size_t>(r.width) + static_cast<std::size_t>(ix)] = c;  // y up
+}
+
+Rgb errorColour(double share) {
+  const auto g = static_cast<std::uint8_t>(std::lround(255.0 * (1.0 - std::clamp(share, 0.0, 1.0))));
+  return Rgb{255, g, g};
+}
+
+std::string bandNote(const sim::GroundTruth& t, const HeightBand& band) {
+  return fmt::format("top-down, cells with centres in z {:.2f} to {:.2f} m; {} m cells", band.z_min, band.z_max,
+                     t.resolution);
 }
 
 }  // namespace
 
+HeightBand wallBand(const sim::GroundTruth& truth) {
+  std::map<int, int> occupiedPerLayer;
+  const std::size_t layer = static_cast<std::size_t>(truth.size[0]) * static_cast<std::size_t>(truth.size[1]);
+  for (std::size_t i = 0; i < truth.cells.size(); ++i) {
+    if (truth.cells[i] == static_cast<std::uint8_t>(sim::CellClass::Occupied)) ++occupiedPerLayer[static_cast<int>(i / layer)];
+  }
+  if (occupiedPerLayer.empty()) return {};
+  int fullest = 0;
+  for (const auto& [z, n] : occupiedPerLayer) fullest = std::max(fullest, n);
+  int floor = occupiedPerLayer.begin()->first;
+  for (const auto& [z, n] : occupiedPerLayer) {
+    if (2 * n >= fullest) {
+      floor = z;
+      break;
+    }
+  }
+  const double top = (truth.min_key.z + floor + 1) * truth.resolution;
+  return {top + 0.2, top + 2.0};
+}
+
 Status writeTruthPng(const sim::GroundTruth& truth, const HeightBand& band, int scale, const std::filesystem::path& path) {
-  auto img = canvas(truth, scale);
+  auto img = canvas(truth);
   forEachColumn(truth, band, [&](int ix, int iy, std::span<const std::size_t> cells) {
     bool occ = false, fre = false;
     for (auto i : cells) {
       occ |= truth.cells[i] == static_cast<std::uint8_t>(sim::CellClass::Occupied);
       fre |= truth.cells[i] == static_cast<std::uint8_t>(sim::CellClass::Free);
     }
-    paint(img, truth, scale, ix, iy, occ ? kOccupied : (fre ? kFree : kNoData));
+    paint(img, ix, iy, occ ? kOccupied : (fre ? kFree : kNoData));
   });
-  return save(img, path);
+  tools::FigureKey key;
+  key.legend = {{kOccupied, "occupied"}, {kFree, "free"}, {kNoData, "unobservable"}};
+  return save(tools::composeMapFigure(img, "Ground truth", bandNote(truth, band), key, scale), path);
 }
 
 Status writeMapPngs(const sim::GroundTruth& truth, std::span<const CellEstimate> estimates, const HeightBand& band,
                     int scale, const std::filesystem::path& dir, const std::string& name) {
-  auto classes = canvas(truth, scale);
-  auto errors = canvas(truth, scale);
+  auto classes = canvas(truth);
+  auto errors = canvas(truth);
   forEachColumn(truth, band, [&](int ix, int iy, std::span<const std::size_t> cells) {
     bool occ = false, fre = false;
     int known = 0, wrong = 0;
@@ -80,16 +121,22 @@ Status writeMapPngs(const sim::GroundTruth& truth, std::span<const CellEstimate>
       const bool right = (t == static_cast<std::uint8_t>(sim::CellClass::Occupied)) ? c > 0 : c < 0;
       if (!right) ++wrong;
     }
-    paint(classes, truth, scale, ix, iy, occ ? kOccupied : (fre ? kFree : kUnknown));
-    if (known == 0) {
-      paint(errors, truth, scale, ix, iy, kNoData);
-    } else {
-      const auto g = static_cast<std::uint8_t>(255 - (255 * wrong) / known);
-      paint(errors, truth, scale, ix, iy, Rgb{255, g, g});
-    }
+    paint(classes, ix, iy, occ ? kOccupied : (fre ? kFree : kUnknown));
+    paint(errors, ix, iy, known == 0 ? kNoData : errorColour(static_cast<double>(wrong) / known));
   });
-  if (auto st = save(classes, dir / (name + "_classes.png")); !st) return st;
-  return save(errors, dir / (name + "_errors.png"));
+  tools::FigureKey classKey;
+  classKey.legend = {{kOccupied, "occupied"}, {kFree, "free"}, {kUnknown, "unknown"}};
+  tools::FigureKey errorKey;
+  errorKey.legend = {{kNoData, "no known truth cell"}};
+  errorKey.colour_bar = tools::ColourBar{errorColour, "0 (all right)", "1 (all wrong)", "share wrong"};
+  const std::string note = bandNote(truth, band);
+  const std::string shown = name == "ogf" ? "OGF" : name == "octomap" ? "OctoMap" : name;
+  if (auto st = save(tools::composeMapFigure(classes, shown + ": classes", note, classKey, scale),
+                     dir / (name + "_classes.png"));
+      !st)
+    return st;
+  return save(tools::composeMapFigure(errors, shown + ": errors against the truth (eq. 13)", note, errorKey, scale),
+              dir / (name + "_errors.png"));
 }
 
 }  // namespace ogf::eval

@@ -1,6 +1,8 @@
+// Top-down figures of a map: see topdown_png.hpp.
 #include "ogf/map_io/topdown_png.hpp"
 
 #include <ogf/filter/occupancy.hpp>
+#include <ogf/tools/map_figure.hpp>
 #include <ogf/tools/png_writer.hpp>
 
 #include <fmt/format.h>
@@ -8,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -15,12 +18,31 @@ namespace ogf::map_io {
 namespace {
 
 constexpr int kMaxSide = 16384;
-
-std::uint8_t grey(double v01) {
-  return static_cast<std::uint8_t>(std::lround(std::clamp(v01, 0.0, 1.0) * 255.0));
-}
+constexpr tools::Rgb kOccupied{25, 25, 25};
+constexpr tools::Rgb kFree{255, 255, 255};
+constexpr tools::Rgb kUnknown{150, 175, 215};
+constexpr tools::Rgb kNotObserved{215, 215, 215};
 
 }  // namespace
+
+std::optional<TopDownBand> wallBand(const MapCells& cells) {
+  std::map<std::int32_t, int> occupiedPerLayer;
+  for (const CellRecord& c : cells.cells) {
+    if (c.cell_class > 0) ++occupiedPerLayer[c.key.z];
+  }
+  if (occupiedPerLayer.empty()) return std::nullopt;
+  int fullest = 0;
+  for (const auto& [z, n] : occupiedPerLayer) fullest = std::max(fullest, n);
+  std::int32_t floor = occupiedPerLayer.begin()->first;
+  for (const auto& [z, n] : occupiedPerLayer) {
+    if (2 * n >= fullest) {
+      floor = z;
+      break;
+    }
+  }
+  const double top = (floor + 1) * cells.resolution;
+  return TopDownBand{top + 0.2, top + 2.0};
+}
 
 Result<TopDownSize> writeTopDownPngs(const MapCells& cells, const TopDownBand& band, const std::filesystem::path& dir) {
   const auto inBand = [&](const CellRecord& c) {
@@ -41,30 +63,42 @@ Result<TopDownSize> writeTopDownPngs(const MapCells& cells, const TopDownBand& b
   if (w > kMaxSide || h > kMaxSide)
     return Error{fmt::format("--png: the map is {} x {} cells, more than {} on a side", w, h, kMaxSide)};
   const auto n = static_cast<std::size_t>(w * h);
-  std::vector<double> max_p(n, -1.0), entropy_sum(n, 0.0);
+  std::vector<std::int8_t> cls(n, -2);  // -2 not observed, else the strongest class seen (occupied > free > unknown)
+  std::vector<double> entropy_sum(n, 0.0);
   std::vector<int> count(n, 0);
+  const auto rank = [](std::int8_t c) { return c == 1 ? 3 : c == -1 ? 2 : c == 0 ? 1 : 0; };
   for (const CellRecord& c : cells.cells) {
     if (!inBand(c)) continue;
     // Row 0 is the top of the image: the largest y.
     const auto i = static_cast<std::size_t>(std::int64_t{y1 - c.key.y} * w + (c.key.x - x0));
-    max_p[i] = std::max(max_p[i], c.probability);
+    if (rank(c.cell_class) > rank(cls[i])) cls[i] = c.cell_class;
     entropy_sum[i] += filter::binaryEntropyBits(c.probability);
     ++count[i];
   }
-  tools::Image occupancy{static_cast<int>(w), static_cast<int>(h), 1, std::vector<std::uint8_t>(n)};
-  tools::Image entropy = occupancy;
+  tools::MapRaster occupancy{static_cast<int>(w), static_cast<int>(h), std::vector<tools::Rgb>(n), cells.resolution,
+                             x0 * cells.resolution, y0 * cells.resolution};
+  tools::MapRaster entropy = occupancy;
   for (std::size_t i = 0; i < n; ++i) {
-    const double p = count[i] > 0 ? max_p[i] : 0.5;
-    const double e = count[i] > 0 ? entropy_sum[i] / count[i] : 1.0;
-    occupancy.pixels[i] = grey(1.0 - p);
-    entropy.pixels[i] = grey(e);
+    occupancy.cells[i] = cls[i] > 0 ? kOccupied : cls[i] == -1 ? kFree : cls[i] == 0 ? kUnknown : kNotObserved;
+    entropy.cells[i] = count[i] > 0 ? tools::sequentialColour(entropy_sum[i] / count[i]) : kNotObserved;
   }
+  const std::string note = fmt::format("top-down, cells with centres in z {:.2f} to {:.2f} m; {} m cells", band.z_min,
+                                       band.z_max, cells.resolution);
+  tools::FigureKey classes;
+  classes.legend = {{kOccupied, "occupied"}, {kFree, "free"}, {kUnknown, "unknown"}, {kNotObserved, "not observed"}};
+  tools::FigureKey bits;
+  bits.legend = {{kNotObserved, "not observed"}};
+  bits.colour_bar = tools::ColourBar{tools::sequentialColour, "0 bit (certain)", "1 bit (prior)", "mean entropy"};
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) return Error{fmt::format("--png: {}: {}", dir.string(), ec.message())};
   std::string error;
-  if (!tools::writePng(dir / "occupancy.png", occupancy, error)) return Error{"--png: " + error};
-  if (!tools::writePng(dir / "entropy.png", entropy, error)) return Error{"--png: " + error};
+  if (!tools::writePng(dir / "occupancy.png",
+                       tools::composeMapFigure(occupancy, "Occupancy: the class of each column", note, classes), error))
+    return Error{"--png: " + error};
+  if (!tools::writePng(dir / "entropy.png",
+                       tools::composeMapFigure(entropy, "Entropy: what the map is unsure of", note, bits), error))
+    return Error{"--png: " + error};
   return TopDownSize{static_cast<int>(w), static_cast<int>(h)};
 }
 

@@ -1,10 +1,13 @@
 // ogf-eval --png DIR: top-down views of the ground truth and of each map's classification over a height
-// band, one square of `scale` pixels per truth cell column, x to the right and y up:
-//   truth.png                 black occupied, white free, dark grey unobservable (any cell of the column in
-//                             the band: occupied wins, then free)
-//   <name>_classes.png        black occupied, white free, mid grey unknown (occupied wins, then free)
+// band, x to the right and y up, drawn as figures a person reads without instructions
+// (tools::composeMapFigure: at least 800 pixels on the long side, axes in metres, a scale bar, a legend):
+//   truth.png                 occupied, free or unobservable (any cell of the column in the band: occupied
+//                             wins, then free)
+//   <name>_classes.png        occupied, free or unknown (occupied wins, then free)
 //   <name>_errors.png         per column, the share of known truth cells in the band the map gets wrong
-//                             (unknown counts as wrong, eq. 13): white none, red all; dark grey no known cell
+//                             (unknown counts as wrong, eq. 13), white none to red all; grey no known cell
+// The default band shows walls, not the floor: 0.2 m to 2 m above the truth's floor (the lowest layer with
+// at least half as many occupied cells as the fullest layer).
 #pragma once
 
 #include <ogf/common/result.hpp>
@@ -22,12 +25,16 @@ struct GroundTruth;
 namespace ogf::eval {
 
 struct HeightBand {
-  double z_min = 0.1;  // metres; a cell is in the band when its centre lies in [z_min, z_max]
+  double z_min = 0.0;  // metres; a cell is in the band when its centre lies in [z_min, z_max]
   double z_max = 2.0;
 };
 
+// The walls' band of the truth (see above); [0, 2] m when nothing is occupied.
+HeightBand wallBand(const sim::GroundTruth& truth);
+
 Status writeTruthPng(const sim::GroundTruth& truth, const HeightBand& band, int scale, const std::filesystem::path& path);
-// `estimates` are aligned with truth.cells. Writes DIR/<name>_classes.png and DIR/<name>_errors.png.
+// `estimates` are aligned with truth.cells. Writes DIR/<name>_classes.png and DIR/<name>_errors.png. Each
+// cell is at least `scale` pixels wide.
 Status writeMapPngs(const sim::GroundTruth& truth, std::span<const CellEstimate> estimates, const HeightBand& band,
                     int scale, const std::filesystem::path& dir, const std::string& name);
 
