@@ -29,7 +29,6 @@
 #include <ogf/transport/logging.hpp>
 
 #include "ogf/eval/held_out.hpp"
-#include "ogf/eval/map_loader.hpp"
 #include "ogf/eval/map_scores.hpp"
 #include "ogf/eval/octomap_baseline.hpp"
 #include "ogf/eval/return_scores.hpp"
@@ -39,6 +38,7 @@
 #include "ogf/map_io/cell_ply.hpp"
 #include "ogf/map_io/map_cells.hpp"
 #include "ogf/map_io/map_config_file.hpp"
+#include "ogf/map_io/map_loader.hpp"
 #include "ogf/map_io/pcap_scans.hpp"
 #include "ogf/map_io/topdown_png.hpp"
 
@@ -491,11 +491,11 @@ int main(int argc, char** argv) {
     return kExitFailed;
   }
   // The map scored: --map, or one built here from the run's rays (in the replay below).
-  std::optional<ev::LoadedMap> loaded;
+  std::optional<ogf::map_io::LoadedMap> loaded;
   std::optional<ogf::pipeline::ScanMapper> own;
   ogf::pipeline::MapperConfig config = built;
   if (!map_path.empty()) {
-    auto l = ev::loadOgfMap(map_path);
+    auto l = ogf::map_io::loadOgfMap(map_path);
     if (!l) {
       spdlog::error("--map: {}", l.error().message);
       return kExitFailed;

@@ -1,7 +1,8 @@
 // ogf-map: the mapping pipeline offline, as fast as the machine allows. Scans from a PCAP (with odometry
 // from a file, or a tripod), an LCM log or PCD files go through the same ScanMapper the daemon runs; the
 // result is a map file and optional CSV, PLY, OctoMap and PNG exports. This file owns the command line,
-// the logs, the progress bar and the exit code; the work is in ogf_map_io.
+// the logs, the progress bar and the exit code; the work is in ogf_map_io. --from-map exports a map made
+// before (a map file or a daemon snapshot) without mapping.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -22,10 +23,12 @@
 #include <ogf/transport/logging.hpp>
 
 #include "ogf/map_io/cell_csv.hpp"
+#include "ogf/map_io/cell_pcd.hpp"
 #include "ogf/map_io/cell_ply.hpp"
 #include "ogf/map_io/lcm_log_scans.hpp"
 #include "ogf/map_io/map_cells.hpp"
 #include "ogf/map_io/map_config_file.hpp"
+#include "ogf/map_io/map_loader.hpp"
 #include "ogf/map_io/octomap_export.hpp"
 #include "ogf/map_io/odometry_file.hpp"
 #include "ogf/map_io/offline_mapping.hpp"
@@ -78,7 +81,7 @@ struct Options {
   bool is_static = false;
   double resolution = 0.2, max_range = 30.0, min_range = 0.4;
   int threads = 1;
-  std::string export_ply, export_csv, export_bt, png_dir;
+  std::string export_ply, export_csv, export_pcd, export_bt, png_dir, from_map;
   std::optional<double> png_zmin, png_zmax;  // default: the walls' band (map_io::wallBand)
   std::string log_level = "info";
   std::string pose_correction = "none", corrected_out;
@@ -112,6 +115,65 @@ bool loadOdometry(const std::string& path, const std::string& channel, mio::Offl
   return true;
 }
 
+// The --export-* files and --png of `map`; false when one failed (each failure logged).
+bool writeExports(const ogf::filter::BandedOgf& map, const Options& o) {
+  bool ok = true;
+  if (o.export_csv.empty() && o.export_ply.empty() && o.export_pcd.empty() && o.export_bt.empty() && o.png_dir.empty())
+    return ok;
+  for (const std::string* path : {&o.export_csv, &o.export_ply, &o.export_pcd, &o.export_bt}) {
+    const auto parent = std::filesystem::path(*path).parent_path();
+    std::error_code ec;
+    if (!path->empty() && !parent.empty()) std::filesystem::create_directories(parent, ec);
+  }
+  const mio::MapCells cells = mio::collectCells(map);
+  const auto report = [&](const char* flag, const ogf::Status& st) {
+    if (!st) {
+      spdlog::error("{}: {}", flag, st.error().message);
+      ok = false;
+    }
+  };
+  if (!o.export_csv.empty()) report("--export-csv", mio::writeCellCsv(cells, o.export_csv));
+  if (!o.export_ply.empty()) report("--export-ply", mio::writeOccupiedPly(cells, o.export_ply));
+  if (!o.export_pcd.empty()) report("--export-pcd", mio::writeOccupiedPcd(cells, o.export_pcd));
+  if (!o.export_bt.empty()) {
+    auto bt = mio::writeOctomapBinary(cells, o.export_bt);
+    if (!bt) report("--export-bt", bt.error());
+    else
+      spdlog::info("{}: {} occupied and {} free leaves{}", o.export_bt, bt->occupied, bt->free,
+                   bt->out_of_range > 0 ? fmt::format(", {} cells beyond OctoMap's extent left out", bt->out_of_range)
+                                        : std::string());
+  }
+  if (!o.png_dir.empty()) {
+    const mio::TopDownBand walls = mio::wallBand(cells).value_or(mio::TopDownBand{});
+    const mio::TopDownBand band{o.png_zmin.value_or(walls.z_min), o.png_zmax.value_or(walls.z_max)};
+    auto png = mio::writeTopDownPngs(cells, band, o.png_dir);
+    if (!png) report("--png", png.error());
+    else
+      spdlog::info("{}: occupancy.png and entropy.png of {} x {} cell columns, z {:.2f} to {:.2f} m", o.png_dir,
+                   png->width, png->height, band.z_min, band.z_max);
+  }
+  return ok;
+}
+
+// --from-map: the exports of a map made before (a map file or a daemon snapshot), no mapping.
+int exportMapFile(const Options& o) {
+  auto loaded = ogf::map_io::loadOgfMap(o.from_map);
+  if (!loaded) {
+    spdlog::error("--from-map: {}", loaded.error().message);
+    return kExitNothingMapped;
+  }
+  int rc = kExitOk;
+  if (!o.out.empty()) {
+    if (auto st = ogf::filter::saveMapFile(loaded->map, o.out); !st) {
+      spdlog::error("--out: {}", st.error().message);
+      rc = kExitNothingMapped;
+    }
+  }
+  if (!writeExports(loaded->map, o)) rc = kExitNothingMapped;
+  std::printf("map %s cells %zu\n", loaded->kind == "snapshot" ? "snapshot" : "file", loaded->map.allocatedCells());
+  return rc;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -121,6 +183,8 @@ int main(int argc, char** argv) {
       "  --pcap FILE [--calib FILE] (--odometry FILE | --static)   a Velodyne capture\n"
       "  --lcm-log FILE                                             lidar_scan_t and poses as lcm-logger records them\n"
       "  --pcd FILE...                                              PCL point clouds (rays from each VIEWPOINT)\n"
+      "or exports a map already made: --from-map FILE (a map file or a daemon snapshot) with any --export-*\n"
+      "and --png; then --out is optional and the last line is  map <kind> cells <allocated cells>.\n"
       "With --pose-correction scan-match|rbpf the odometry's drift is corrected scan by scan before mapping.\n"
       "Odometry: CSV `utime,x,y,z,qw,qx,qy,qz` (utime in us on the capture's clock; the scan's device time\n"
       "unless --time host) or an LCM log with ogf.odometry_t or bot_core.pose_t on POSE. Scans the odometry\n"
@@ -129,7 +193,7 @@ int main(int argc, char** argv) {
       "  scans <mapped> measurements <cell measurements> cells <allocated cells> seconds <wall time>\n"
       "Exit 0 when at least one scan was mapped and every output written, 1 when nothing could be mapped or\n"
       "an output failed, 2 on bad flags or configuration."};
-  app.add_option("--out", o.out, "Map file to write (ogf map format, see ogf/filter/map_file.hpp)")->required();
+  auto* out_opt = app.add_option("--out", o.out, "Map file to write (ogf map format, see ogf/filter/map_file.hpp)");
   app.add_option("--config", o.config_path,
                  "YAML settings (resolution, min_range, max_range, extrinsic, filter), or ogf-mapper's own "
                  "configuration file (its map, filter and fusion sections); flags override it")
@@ -152,6 +216,7 @@ int main(int argc, char** argv) {
   app.add_option("--pose-channel", o.pose_channel, "Pose channel in LCM logs")->capture_default_str();
   app.add_option("--export-csv", o.export_csv, "Every allocated cell: x,y,z,p,class,variance (cell centres, metres)");
   app.add_option("--export-ply", o.export_ply, "Occupied cells as binary PLY (x, y, z, p, variance)");
+  app.add_option("--export-pcd", o.export_pcd, "Occupied cells as binary PCD v0.7 (x, y, z, p, variance)");
   app.add_option("--export-bt", o.export_bt, "OctoMap binary tree (.bt) for octovis");
   auto* png_opt = app.add_option("--png", o.png_dir, "Folder for top-down occupancy.png and entropy.png");
   app.add_option("--png-zmin", o.png_zmin,
@@ -174,12 +239,20 @@ int main(int argc, char** argv) {
   app.add_option("--log-level", o.log_level, "trace|debug|info|warn|error")->capture_default_str();
   odo_opt->excludes(static_opt);
   pcd_opt->excludes(pcap_opt)->excludes(lcm_opt)->excludes(odo_opt)->excludes(static_opt);
+  auto* from_opt = app.add_option("--from-map", o.from_map, "Export this map file or daemon snapshot instead of mapping")
+                       ->check(CLI::ExistingFile);
+  from_opt->excludes(pcap_opt)->excludes(lcm_opt)->excludes(pcd_opt);
   lcm_opt->excludes(pcap_opt);
   CLI11_PARSE(app, argc, argv);
 
   if (!ogf::transport::setupLoggingAt("ogf-map", "--log-level", o.log_level)) return kExitUsage;
+  if (!o.from_map.empty()) return exportMapFile(o);
   if (o.pcap.empty() && o.lcm_log.empty() && o.pcd.empty()) {
-    spdlog::error("no input: give --pcap, --lcm-log or --pcd");
+    spdlog::error("no input: give --pcap, --lcm-log, --pcd or --from-map");
+    return kExitUsage;
+  }
+  if (out_opt->count() == 0) {
+    spdlog::error("--out is required when mapping");
     return kExitUsage;
   }
   if (!o.pcap.empty() && o.odometry.empty() && !o.is_static) {
@@ -322,7 +395,7 @@ int main(int argc, char** argv) {
   }
 
   // Output folders are created as needed, as --png's is.
-  for (const std::string* path : {&o.out, &o.export_csv, &o.export_ply, &o.export_bt}) {
+  for (const std::string* path : {&o.out}) {
     const auto parent = std::filesystem::path(*path).parent_path();
     std::error_code ec;
     if (!path->empty() && !parent.empty()) std::filesystem::create_directories(parent, ec);
@@ -333,34 +406,7 @@ int main(int argc, char** argv) {
     spdlog::error("--out: {}", st.error().message);
     rc = kExitNothingMapped;
   }
-  if (!o.export_csv.empty() || !o.export_ply.empty() || !o.export_bt.empty() || !o.png_dir.empty()) {
-    const mio::MapCells cells = mio::collectCells(filter);
-    const auto report = [&](const char* flag, const ogf::Status& st) {
-      if (!st) {
-        spdlog::error("{}: {}", flag, st.error().message);
-        rc = kExitNothingMapped;
-      }
-    };
-    if (!o.export_csv.empty()) report("--export-csv", mio::writeCellCsv(cells, o.export_csv));
-    if (!o.export_ply.empty()) report("--export-ply", mio::writeOccupiedPly(cells, o.export_ply));
-    if (!o.export_bt.empty()) {
-      auto bt = mio::writeOctomapBinary(cells, o.export_bt);
-      if (!bt) report("--export-bt", bt.error());
-      else
-        spdlog::info("{}: {} occupied and {} free leaves{}", o.export_bt, bt->occupied, bt->free,
-                     bt->out_of_range > 0 ? fmt::format(", {} cells beyond OctoMap's extent left out", bt->out_of_range)
-                                          : std::string());
-    }
-    if (!o.png_dir.empty()) {
-      const mio::TopDownBand walls = mio::wallBand(cells).value_or(mio::TopDownBand{});
-      const mio::TopDownBand band{o.png_zmin.value_or(walls.z_min), o.png_zmax.value_or(walls.z_max)};
-      auto png = mio::writeTopDownPngs(cells, band, o.png_dir);
-      if (!png) report("--png", png.error());
-      else
-        spdlog::info("{}: occupancy.png and entropy.png of {} x {} cell columns, z {:.2f} to {:.2f} m", o.png_dir,
-                     png->width, png->height, band.z_min, band.z_max);
-    }
-  }
+  if (!writeExports(filter, o)) rc = kExitNothingMapped;
   if (!o.corrected_out.empty()) {
     if (auto st = mio::writeOdometryCsv(o.corrected_out, run.correctedPoses()); !st) {
       spdlog::error("--corrected-out: {}", st.error().message);

@@ -12,6 +12,7 @@
 #include <ogf/odometry_t.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <regex>
@@ -23,12 +24,20 @@
 
 #include "ogf/filter/map_file.hpp"
 #include "ogf/map_io/pcap_scans.hpp"
+#include "ogf/map_io/pcd_file.hpp"
 #include "run_program.hpp"
 #include "scratch_dir.hpp"
 #include "support/shared_data.hpp"
 #include "synthetic_scan.hpp"
 
 namespace {
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream out;
+  out << in.rdbuf();
+  return out.str();
+}
 
 using namespace ogf;
 using ogf::testing::runProgram;
@@ -305,6 +314,43 @@ TEST(OgfMapProgram, TheMapperDaemonsConfigurationFileIsAccepted) {
                               dir.path());
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
   EXPECT_NE(bad.output.find("resolutoin"), std::string::npos) << bad.output;
+}
+
+TEST(OgfMapProgram, AMapMadeBeforeIsExportedWithoutMapping) {
+  ogf::testing::ScratchDir dir;
+  std::ostringstream pts;
+  int n = 0;
+  for (int iy = -20; iy <= 20; ++iy)
+    for (int iz = -10; iz <= 10; ++iz, ++n) pts << "5.1 " << 0.05 * iy << " " << 0.05 * iz << "\n";
+  writeFile(dir / "wall.pcd", "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH " +
+                                  std::to_string(n) + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " +
+                                  std::to_string(n) + "\nDATA ascii\n" + pts.str());
+  ASSERT_EQ(runProgram({kMap, "--pcd", (dir / "wall.pcd").string(), "--out", (dir / "m").string(), "--export-csv",
+                        (dir / "m.csv").string()},
+                       dir.path())
+                .exit_code,
+            0);
+  const auto run = runProgram({kMap, "--from-map", (dir / "m").string(), "--export-csv", (dir / "again.csv").string(),
+                               "--export-pcd", (dir / "m.pcd").string(), "--png", (dir / "png").string()},
+                              dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.stdout_text.find("map file cells "), std::string::npos) << run.stdout_text;
+  EXPECT_EQ(slurp(dir / "again.csv"), slurp(dir / "m.csv"));
+  const auto cloud = ogf::map_io::readPcdFile(dir / "m.pcd");
+  ASSERT_TRUE(cloud.ok()) << cloud.error().message;
+  const auto [header, rows] = readCsv(dir / "m.csv");
+  std::size_t occupied = 0;
+  for (const Row& r : rows) occupied += r.cls == 1 ? 1U : 0U;
+  EXPECT_GT(occupied, 20u);
+  EXPECT_EQ(cloud->points.size(), occupied);
+  for (const auto& p : cloud->points) EXPECT_NEAR(p.x(), 5.1, 1e-3);
+  EXPECT_TRUE(std::filesystem::exists(dir / "png" / "occupancy.png"));
+  // A file that is no map is named, exit 1.
+  writeFile(dir / "junk", "not a map");
+  const auto junk = runProgram({kMap, "--from-map", (dir / "junk").string(), "--export-pcd", (dir / "j.pcd").string()},
+                               dir.path());
+  EXPECT_EQ(junk.exit_code, 1) << junk.output;
+  EXPECT_NE(junk.output.find("junk"), std::string::npos) << junk.output;
 }
 
 TEST(OgfMapProgram, NoInputIsAUsageError) {

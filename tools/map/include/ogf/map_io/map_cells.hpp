@@ -6,7 +6,11 @@
 #include <ogf/core/cell_key.hpp>
 #include <ogf/filter/banded_ogf.hpp>
 
+#include <ogf/common/result.hpp>
+
 #include <cstdint>
+#include <filesystem>
+#include <string_view>
 #include <vector>
 
 namespace ogf::map_io {
@@ -26,5 +30,12 @@ struct MapCells {
 };
 
 MapCells collectCells(const filter::BandedOgf& map);
+
+// The occupied cells as point records for the PLY and PCD exports: five little-endian floats each, the
+// cell centre x, y, z in metres, p and variance.
+std::vector<char> occupiedPointRecords(const MapCells& cells);
+// Writes `header` then occupiedPointRecords to `path`; `kind` ("PLY") names the file in errors.
+Status writeOccupiedPoints(const MapCells& cells, const std::filesystem::path& path, std::string_view header,
+                           std::string_view kind);
 
 }  // namespace ogf::map_io

@@ -1,6 +1,7 @@
-// Loads the OGF map ogf-eval scores from either file the project writes: a filter map file (ogf-map --out,
-// filter::saveMapFile) or the mapper daemon's snapshot container (<state-dir>/snapshot.ogfs), told apart by
-// their magic: the snapshot decoder is tried first and refuses anything without its magic.
+// Loads an OGF map (what ogf-map exports and ogf-eval scores) from either file the project writes: a filter
+// map file (ogf-map --out, filter::saveMapFile) or the mapper daemon's snapshot container
+// (<state-dir>/snapshot.ogfs), told apart by their magic: the snapshot decoder is tried first and refuses
+// anything without its magic.
 #pragma once
 
 #include <ogf/common/result.hpp>
@@ -10,7 +11,7 @@
 #include <filesystem>
 #include <string>
 
-namespace ogf::eval {
+namespace ogf::map_io {
 
 struct LoadedMap {
   filter::BandedOgf map;
@@ -20,4 +21,4 @@ struct LoadedMap {
 
 Result<LoadedMap> loadOgfMap(const std::filesystem::path& path);
 
-}  // namespace ogf::eval
+}  // namespace ogf::map_io

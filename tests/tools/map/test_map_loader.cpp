@@ -1,4 +1,4 @@
-// ogf-eval reads both files a map lives in: the filter's map file and the daemon's snapshot container.
+// ogf-map and ogf-eval read both files a map lives in: the filter's map file and the daemon's snapshot container.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -8,7 +8,7 @@
 #include <ogf/filter/map_file.hpp>
 #include <ogf/persistence/state_directory.hpp>
 
-#include "ogf/eval/map_loader.hpp"
+#include "ogf/map_io/map_loader.hpp"
 
 namespace {
 
@@ -37,8 +37,8 @@ TEST(MapLoader, ReadsAMapFileAndASnapshotOfTheSameMapAlike) {
   const auto snap = ogf::persistence::encodeSnapshot(7, 42, bytes);
   std::ofstream(snap_path, std::ios::binary).write(reinterpret_cast<const char*>(snap.data()), static_cast<std::streamsize>(snap.size()));
 
-  auto a = ogf::eval::loadOgfMap(map_path);
-  auto b = ogf::eval::loadOgfMap(snap_path);
+  auto a = ogf::map_io::loadOgfMap(map_path);
+  auto b = ogf::map_io::loadOgfMap(snap_path);
   fs::remove(map_path);
   fs::remove(snap_path);
   ASSERT_TRUE(a.ok()) << a.error().message;
@@ -53,7 +53,7 @@ TEST(MapLoader, ReadsAMapFileAndASnapshotOfTheSameMapAlike) {
 TEST(MapLoader, RefusesAFileThatIsNeitherNamingIt) {
   const auto path = scratch("junk.bin");
   std::ofstream(path) << "this is not a map";
-  auto r = ogf::eval::loadOgfMap(path);
+  auto r = ogf::map_io::loadOgfMap(path);
   fs::remove(path);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find(path.string()), std::string::npos) << r.error().message;

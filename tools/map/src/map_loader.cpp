@@ -1,5 +1,5 @@
 // Loading a map file or a daemon snapshot: see map_loader.hpp.
-#include "ogf/eval/map_loader.hpp"
+#include "ogf/map_io/map_loader.hpp"
 
 #include <ogf/filter/map_file.hpp>
 #include <ogf/persistence/state_directory.hpp>
@@ -8,7 +8,7 @@
 #include <iterator>
 #include <vector>
 
-namespace ogf::eval {
+namespace ogf::map_io {
 
 Result<LoadedMap> loadOgfMap(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -27,4 +27,4 @@ Result<LoadedMap> loadOgfMap(const std::filesystem::path& path) {
   }
 }
 
-}  // namespace ogf::eval
+}  // namespace ogf::map_io
