@@ -9,7 +9,7 @@ PACKAGES=(
   # (default-jre: lcm-spy opens a window; the headless JDK alone only builds the jar)
   liblcm-dev liblcm-bin liblcm-java default-jdk-headless default-jre libjchart2d-java
   # libraries the code uses
-  libpcap-dev libeigen3-dev libboost-dev libspdlog-dev libyaml-cpp-dev libcli11-dev
+  zlib1g-dev libpcap-dev libeigen3-dev libboost-dev libspdlog-dev libyaml-cpp-dev libcli11-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev liboctomap-dev
   # fuzzing (clang's libFuzzer runtime) and tooling used by the tests (wireshark-common: editcap writes

@@ -29,7 +29,7 @@ TEST(PngWriter, PythonZlibReadsTheFileBackToTheSamePixels) {
   if (std::system("python3 -c 'import zlib' >/dev/null 2>&1") != 0) {
     GTEST_SKIP() << "python3 with zlib not available";
   }
-  // 300 × 120 RGB: more than one stored deflate block (65535 bytes).
+  // 300 × 120 RGB of varied pixels.
   Image img = Image::rgb(300, 120);
   for (int y = 0; y < img.height; ++y) {
     for (int x = 0; x < img.width; ++x) {

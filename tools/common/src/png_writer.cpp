@@ -1,4 +1,4 @@
-// PNG chunks around a stored zlib stream of filter-0 scanlines.
+// PNG chunks around a deflated zlib stream of filter-0 scanlines.
 #include "ogf/tools/png_writer.hpp"
 
 #include <cerrno>
@@ -50,7 +50,7 @@ std::vector<std::uint8_t> encodePng(const Image& image) {
     const auto begin = image.pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y) * rowBytes);
     raw.insert(raw.end(), begin, begin + static_cast<std::ptrdiff_t>(rowBytes));
   }
-  putChunk(out, "IDAT", zlibStored(raw));
+  putChunk(out, "IDAT", zlibDeflate(raw));
   putChunk(out, "IEND", {});
   return out;
 }

@@ -1,5 +1,5 @@
 // Writes an Image as a PNG file (8-bit grey or RGB, no interlace): signature, IHDR, one IDAT holding a zlib
-// stream of stored blocks, IEND, each chunk with its CRC-32. No PNG library needed.
+// stream of the deflated scanlines (zlib_stream.hpp), IEND, each chunk with its CRC-32.
 #pragma once
 
 #include <cstdint>

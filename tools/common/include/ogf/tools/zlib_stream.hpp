@@ -1,5 +1,5 @@
-// A zlib stream (RFC 1950) of stored (uncompressed) deflate blocks (RFC 1951 §3.2.4) with its Adler-32:
-// valid input for any inflater, no compression library needed. Used for PNG image data.
+// A zlib stream (RFC 1950) of deflated data (RFC 1951), made by Debian's zlib, with its Adler-32 check
+// value. Used for PNG image data: a figure of flat colours shrinks about a hundredfold.
 #pragma once
 
 #include <cstdint>
@@ -10,7 +10,7 @@ namespace ogf::tools {
 
 std::uint32_t adler32(std::span<const std::uint8_t> bytes);
 
-// `data` wrapped as a zlib stream.
-std::vector<std::uint8_t> zlibStored(std::span<const std::uint8_t> data);
+// `data` deflated (zlib's default level) and wrapped as a zlib stream.
+std::vector<std::uint8_t> zlibDeflate(std::span<const std::uint8_t> data);
 
 }  // namespace ogf::tools
