@@ -21,7 +21,11 @@
 #include <optional>
 #include <random>
 #include <regex>
+#include <string>
 #include <thread>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include "support/child_process.hpp"
 #include "support/lcm_thread.hpp"
@@ -323,6 +327,90 @@ TEST_F(MapperDaemonTest, ScanMatchingCorrectsDriftingOdometryAndPublishesTheCorr
   EXPECT_LT(corrected_error, 0.3 * odometry_error) << "odometry error " << odometry_error << " m";
   EXPECT_EQ(last.frame_id, "map");
   std::printf("corrected error %.3f m, odometry error %.3f m\n", corrected_error, odometry_error);
+  mapper.signal(SIGTERM);
+  EXPECT_EQ(mapper.wait(20s), 0) << mapper.log();
+}
+
+// ogf-map-query against the running daemon: a box over the room and cells on a wall and in the air are
+// answered from the map it holds; malformed and oversized requests are refused and counted, never stop
+// it; save, export and reset do what they say (the old map kept on disk) and mapping goes on after them.
+TEST_F(MapperDaemonTest, MapServicesAnswerQueriesAndCommandsWhileTheDaemonMaps) {
+  const std::string url = ogf::testing::loopbackUdpmUrl(34);
+  StatusListener status(url);
+  ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir_ / "state").string(), "--config",
+                       (dir_ / "mapper.yaml").string(), "--log-level", "warn"},
+                      (dir_ / "mapper.log").string());
+  ASSERT_TRUE(mapper.started());
+  ASSERT_TRUE(status.waitFor([](const auto&) { return true; }, 10s)) << mapper.log();
+  lcm::LCM lcm(url);
+  const auto feed = [&](int from, int to) {
+    for (int i = from; i < to; ++i) {
+      publishStep(lcm, ogf::testing::feedStep(i, 1500));
+      std::this_thread::sleep_for(20ms);
+    }
+    // The last scan may wait for odometry beyond its end and be dropped; the others are mapped.
+    return status.waitFor(
+        [&](const ogf::mapper_status_t& s) {
+          return s.scans_in == to && s.scans_mapped + s.scans_dropped_no_pose + s.scans_dropped_behind == to &&
+                 s.scans_mapped >= to - 2;
+        },
+        30s);
+  };
+  const auto fed = feed(0, 30);
+  ASSERT_TRUE(fed) << mapper.log() << (status.latest() ? " mapped " + std::to_string(status.latest()->scans_mapped) : "");
+  int n = 0;
+  const auto query = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), {kBin + "/ogf-map-query", "--lcm-url", url});
+    ChildProcess q(args, (dir_ / ("query" + std::to_string(++n) + ".log")).string());
+    const auto rc = q.wait(20s);
+    return std::make_pair(rc.value_or(-1), q.log());
+  };
+
+  // The room is 10 m x 8 m, walls at x = ±5 and y = ±4, 2 m high.
+  auto [rc, out] = query({"box", "-5", "-4", "0", "5", "4", "2"});
+  ASSERT_EQ(rc, 0) << out;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(out, m, std::regex("known_volume_m3 (\\S+) unknown_volume_m3 (\\S+) mean_entropy_bits (\\S+)")))
+      << out;
+  EXPECT_GT(std::stod(m[1]), 20.0) << out;   // most of the 160 m3 room is known
+  EXPECT_LT(std::stod(m[3]), 0.9) << out;     // and the map is surer than its prior (1 bit)
+  std::tie(rc, out) = query({"cell", "5.05", "0.1", "1.0", "3.0", "0.1", "0.5"});  // the sensor is 0.5 m up
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_TRUE(std::regex_search(out, std::regex("5\\.050 +0\\.100 +1\\.000 +\\S+ +occ"))) << out;
+  EXPECT_TRUE(std::regex_search(out, std::regex("3\\.000 +0\\.100 +0\\.500 +\\S+ +free"))) << out;
+
+  // Refused, counted, and the daemon goes on.
+  std::tie(rc, out) = query({"box", "-1000", "-1000", "-10", "1000", "1000", "10"});
+  EXPECT_EQ(rc, 1) << out;
+  EXPECT_NE(out.find("exceed the limit"), std::string::npos) << out;
+  const char junk[] = "not a map_query_t at all";
+  lcm.publish("OGF_MAP_QUERY", junk, sizeof junk);
+  EXPECT_TRUE(status.waitFor([](const ogf::mapper_status_t& s) { return s.service_requests_refused >= 2; }, 10s))
+      << mapper.log();
+  std::tie(rc, out) = query({"export", "ply", "relative.ply"});
+  EXPECT_EQ(rc, 1) << out;
+
+  std::tie(rc, out) = query({"export", "ply", (dir_ / "map.ply").string()});
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_GT(fs::file_size(dir_ / "map.ply"), 1000u);
+  std::tie(rc, out) = query({"save"});
+  EXPECT_EQ(rc, 0) << out;
+  std::tie(rc, out) = query({"reset"});
+  ASSERT_EQ(rc, 0) << out;
+  bool kept = false;
+  for (const auto& e : fs::directory_iterator(dir_ / "state")) {
+    kept |= e.path().filename().string().rfind("reset-", 0) == 0 && fs::exists(e.path() / "snapshot.ogfs");
+  }
+  EXPECT_TRUE(kept) << "the map before the reset stays on disk";
+  std::tie(rc, out) = query({"box", "-5", "-4", "0", "5", "4", "2"});
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_NE(out.find("occupied 0 free 0"), std::string::npos) << "a reset map knows nothing: " << out;
+
+  // Mapping goes on into the new map.
+  EXPECT_TRUE(feed(30, 40)) << mapper.log();
+  std::tie(rc, out) = query({"box", "-5", "-4", "0", "5", "4", "2"});
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_EQ(out.find("occupied 0 free 0"), std::string::npos) << out;
   mapper.signal(SIGTERM);
   EXPECT_EQ(mapper.wait(20s), 0) << mapper.log();
 }

@@ -1,3 +1,4 @@
+#include "map_id.hpp"
 #include "ogf/mapper_daemon/mapper_daemon.hpp"
 
 #include <ogf/filter/map_file.hpp>
@@ -23,12 +24,6 @@ using Clock = std::chrono::steady_clock;
 constexpr std::int64_t kWorkerStuckUs = 10'000'000;
 // Keyframe parts are sent in bursts of this many (~1 MB), with a pause so receivers' kernel buffers drain.
 constexpr int kKeyframeBurst = 16;
-
-std::int64_t newMapId() {
-  std::random_device rd;
-  const std::uint64_t hi = rd(), lo = rd();
-  return static_cast<std::int64_t>(((hi << 32) | lo) & 0x7FFFFFFFFFFFFFFFULL) | 1;
-}
 
 }  // namespace
 
@@ -181,6 +176,7 @@ void MapperDaemon::start() {
           spdlog::warn("map request on {} ({} bytes) {} ({} more)", ch, size, why, *n);
         }
       });
+  subscribeServices();
   pose_sub_ = lcm_.subscribeFunction(
       options_.pose_channel,
       +[](const lcm::ReceiveBuffer* rb, const std::string&, MapperDaemon* self) { self->onPose(*rb); }, this);
@@ -208,6 +204,8 @@ void MapperDaemon::stop() {
   pose_sub_ = nullptr;
   scan_sub_.reset();
   request_sub_.reset();
+  query_sub_.reset();
+  command_sub_.reset();
   takeSnapshot();
 }
 
@@ -306,7 +304,10 @@ void MapperDaemon::workerLoop() {
     }
     const bool keyframe = keyframe_requested_;
     keyframe_requested_ = false;
+    std::deque<ServiceRequest> services;
+    services.swap(service_requests_);
     lk.unlock();
+    serve(services);
     const auto now = steadyUtime();
     if (keyframe || now - last_keyframe_steady_ > keyframe_us) publishKeyframe();
     if ((state_ || retry_persistence_) && now - last_snapshot_steady_ > snapshot_us) takeSnapshot();
@@ -421,6 +422,8 @@ void MapperDaemon::publishStatus() {
     s.poses_rejected = poses_.counts().rejected() + malformed_poses_;
     s.requests_in = requests_ + malformed_requests_;
     s.requests_rejected = malformed_requests_;
+    s.service_requests_in = service_in_;
+    s.service_requests_refused = service_refused_;
     s.update_ms_mean = update_count_ > 0 ? static_cast<float>(update_ms_sum_ / update_count_) : 0.0f;
     update_ms_sum_ = 0;
     update_count_ = 0;

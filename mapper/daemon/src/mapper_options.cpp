@@ -74,8 +74,11 @@ Status MapperOptions::validate() const {
   if (auto st = map.validate(); !st) return Error{"map: " + st.error().message};
   if (auto st = pose_correction.validate(); !st) return Error{"pose_correction: " + st.error().message};
   for (const auto* ch : {&scan_channel, &pose_channel, &delta_channel, &request_channel, &status_channel,
-                         &corrected_pose_channel}) {
+                         &corrected_pose_channel, &query_channel, &command_channel}) {
     if (ch->empty() || ch->size() > 63) return Error{"channels: '" + *ch + "' must be 1 to 63 characters"};
+  }
+  for (const auto* ch : {&query_channel, &command_channel}) {
+    if (ch->size() > 57) return Error{"channels: '" + *ch + "' must be 1 to 57 characters (its reply adds _REPLY)"};
   }
   if (!(snapshot_interval_s > 0)) return Error{"snapshot_interval_s: must be > 0"};
   if (!(keyframe_interval_s > 0)) return Error{"keyframe_interval_s: must be > 0"};
@@ -124,13 +127,16 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
     else return Error{where(path, tb, "time_base") + ": 'device' or 'host', got '" + v + "'"};
   }
   if (const auto ch = root["channels"]) {
-    OGF_TRY(checkKeys(path, ch, "channels", {"scan", "pose", "delta", "request", "status", "corrected_pose"}));
+    OGF_TRY(checkKeys(path, ch, "channels",
+                      {"scan", "pose", "delta", "request", "status", "corrected_pose", "query", "command"}));
     OGF_TRY(read(path, ch, "channels", "scan", o.scan_channel));
     OGF_TRY(read(path, ch, "channels", "pose", o.pose_channel));
     OGF_TRY(read(path, ch, "channels", "delta", o.delta_channel));
     OGF_TRY(read(path, ch, "channels", "request", o.request_channel));
     OGF_TRY(read(path, ch, "channels", "status", o.status_channel));
     OGF_TRY(read(path, ch, "channels", "corrected_pose", o.corrected_pose_channel));
+    OGF_TRY(read(path, ch, "channels", "query", o.query_channel));
+    OGF_TRY(read(path, ch, "channels", "command", o.command_channel));
   }
   if (const auto pc = root["pose_correction"]) {
     OGF_TRY(checkKeys(path, pc, "pose_correction", {"mode", "particles", "band_z_min", "band_z_max", "seed"}));
@@ -213,7 +219,9 @@ std::string exampleMapperConfig() {
     << "lcm_url: \"\"                # empty: $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0\n"
     << "channels: {scan: " << d.scan_channel << ", pose: " << d.pose_channel << ", delta: " << d.delta_channel
     << ", request: " << d.request_channel << ", status: " << d.status_channel
-    << ", corrected_pose: " << d.corrected_pose_channel << "}\n"
+    << ", corrected_pose: " << d.corrected_pose_channel << ",\n"
+    << "           query: " << d.query_channel << ", command: " << d.command_channel
+    << "}   # map services answer on <channel>_REPLY\n"
     << "time_base: device          # the scan clock odometry utime shares: device or host\n"
     << "state_dir: \"\"              # snapshots + journal; empty keeps the map in memory only\n"
     << "snapshot_interval_s: " << d.snapshot_interval_s << "\n"

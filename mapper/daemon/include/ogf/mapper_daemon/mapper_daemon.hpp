@@ -10,18 +10,22 @@
 #include <ogf/fusion/pending_scans.hpp>
 #include <ogf/fusion/pose_buffer.hpp>
 #include <ogf/lidar_scan_t.hpp>
+#include <ogf/map_command_t.hpp>
+#include <ogf/map_query_t.hpp>
 #include <ogf/map_request_t.hpp>
 #include <ogf/mapper_status_t.hpp>
 
 #include <boost/asio/steady_timer.hpp>
 
 #include <condition_variable>
+#include <deque>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <random>
 #include <string>
 #include <thread>
+#include <variant>
 #include <vector>
 
 #include "ogf/common/result.hpp"
@@ -73,6 +77,15 @@ class MapperDaemon {
   bool applyRecovered(const persistence::RecoveredState& rec, const std::string& snapshot_source);
   void publishStatus();
   void armStatusTimer();
+  // Map services (map_services.cpp): queries and commands arrive on the Asio thread, wait in a bounded
+  // queue and are served by the worker between scans, so they never hold up mapping.
+  using ServiceRequest = std::variant<ogf::map_query_t, ogf::map_command_t>;
+  void subscribeServices();
+  void enqueueService(ServiceRequest request);
+  void serve(std::deque<ServiceRequest>& requests);
+  void carryOut(const ogf::map_command_t& command);
+  void resetMap();
+  void refreshMapStats();
   static std::int64_t steadyUtime();
   static std::int64_t wallUtime();
 
@@ -106,14 +119,19 @@ class MapperDaemon {
   std::int64_t malformed_poses_ = 0;
   std::int64_t requests_ = 0;            // well-formed keyframe requests
   std::int64_t malformed_requests_ = 0;  // refused by decodeMessage
+  std::deque<ServiceRequest> service_requests_;
+  std::int64_t service_in_ = 0;       // queries and commands received, malformed ones too
+  std::int64_t service_refused_ = 0;  // malformed, beyond the limits, or refused for a full queue
   double update_ms_sum_ = 0;
   int update_count_ = 0;
 
   std::unique_ptr<transport::Subscriber<ogf::lidar_scan_t>> scan_sub_;
   std::unique_ptr<transport::Subscriber<ogf::map_request_t>> request_sub_;
+  std::unique_ptr<transport::Subscriber<ogf::map_query_t>> query_sub_;
+  std::unique_ptr<transport::Subscriber<ogf::map_command_t>> command_sub_;
   lcm::Subscription* pose_sub_ = nullptr;
   boost::asio::steady_timer status_timer_;
-  transport::LogRateLimiter bad_scan_log_, bad_pose_log_, bad_request_log_, jump_log_, drop_log_;
+  transport::LogRateLimiter bad_scan_log_, bad_pose_log_, bad_request_log_, jump_log_, drop_log_, service_log_;
   std::thread worker_;
   bool started_ = false;
   bool stopped_ = false;

@@ -24,6 +24,9 @@ struct MapperOptions {
   std::string request_channel = "OGF_MAP_REQUEST";
   std::string status_channel = "OGF_MAPPER_STATUS";
   std::string corrected_pose_channel = "POSE_CORRECTED";  // published only when pose correction is on
+  // Map services; each answers on its channel + "_REPLY".
+  std::string query_channel = "OGF_MAP_QUERY";
+  std::string command_channel = "OGF_MAP_COMMAND";
   // Which scan clock the odometry's utime shares: the sensor's device time (GPS/PPS or top-of-hour +
   // host hour) or the driver host's receive time.
   ScanTimeBase time_base = ScanTimeBase::kDevice;

@@ -1,0 +1,169 @@
+// ogf-map-query: asks the running ogf-mapper about its map (OGF_MAP_QUERY) or orders it (OGF_MAP_COMMAND)
+// and prints the reply, the command-line face of the map services a planner uses over LCM.
+//   ogf-map-query cell X Y Z [X Y Z ...]          probability, class, mean, variance, entropy per point
+//   ogf-map-query box XMIN YMIN ZMIN XMAX YMAX ZMAX  known and unknown volume, mean entropy of the box
+//   ogf-map-query save | reset | export FORMAT PATH
+// Exit 0 when answered (or done), 1 when refused, failed or unanswered within --timeout, 2 on bad usage.
+#include <CLI/CLI.hpp>
+#include <lcm/lcm-cpp.hpp>
+#include <unistd.h>
+
+#include <ogf/map_command_reply_t.hpp>
+#include <ogf/map_command_t.hpp>
+#include <ogf/map_query_reply_t.hpp>
+#include <ogf/map_query_t.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "ogf/transport/lcm_url.hpp"
+#include "ogf/transport/logging.hpp"
+#include "ogf/transport/subscriber.hpp"
+
+namespace {
+
+constexpr int kExitOk = 0, kExitFailed = 1, kExitUsage = 2;
+
+std::int64_t nowUtime() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+// Waits up to `timeout_s` for the reply with `id` on `channel`.
+template <class Reply>
+std::optional<Reply> awaitReply(lcm::LCM& lcm, const std::string& channel, std::int64_t id, double timeout_s,
+                                const std::function<void()>& send) {
+  std::optional<Reply> reply;
+  ogf::transport::Subscriber<Reply> sub(
+      lcm, channel,
+      [&](const Reply& r, const lcm::ReceiveBuffer&, const std::string&) {
+        if (r.request_id == id) reply = r;
+      },
+      [](const std::string& ch, std::size_t size, const std::string& why) {
+        spdlog::warn("reply on {} ({} bytes) {}", ch, size, why);
+      });
+  send();
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (!reply && std::chrono::steady_clock::now() < deadline) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    lcm.handleTimeout(static_cast<int>(std::max<std::int64_t>(1, left.count())));
+  }
+  return reply;
+}
+
+int noReply(const std::string& channel, double timeout_s, const std::string& url) {
+  std::fprintf(stderr, "no reply on %s_REPLY within %.1f s: is ogf-mapper running on %s?\n", channel.c_str(), timeout_s,
+               url.c_str());
+  return kExitFailed;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "Ask the running ogf-mapper about its map, or order it, over LCM (OGF_MAP_QUERY / OGF_MAP_COMMAND; the\n"
+      "replies come on <channel>_REPLY). Coordinates are metres in the map frame.\n"
+      "Exit 0 when answered or done, 1 when refused, failed or unanswered within --timeout, 2 on bad usage."};
+  app.require_subcommand(1);
+  std::string url, query_channel = "OGF_MAP_QUERY", command_channel = "OGF_MAP_COMMAND", log_level = "warn";
+  double timeout_s = 5.0;
+  app.add_option("--lcm-url", url, "LCM URL (default: $LCM_DEFAULT_URL, else LCM's default)");
+  app.add_option("--query-channel", query_channel, "Query channel")->capture_default_str();
+  app.add_option("--command-channel", command_channel, "Command channel")->capture_default_str();
+  app.add_option("--timeout", timeout_s, "Seconds to wait for the reply")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
+  std::vector<double> cell_xyz, box;
+  auto* cell = app.add_subcommand("cell", "Probability, class, mean, variance and entropy of the cells holding points");
+  cell->add_option("xyz", cell_xyz, "X Y Z [X Y Z ...], metres")->required()->expected(3, 3 * 10'000);
+  auto* boxc = app.add_subcommand("box", "Known and unknown volume and mean entropy of a box");
+  boxc->add_option("corners", box, "XMIN YMIN ZMIN XMAX YMAX ZMAX, metres")->required()->expected(6);
+  app.add_subcommand("save", "Write a snapshot to the mapper's state directory now");
+  app.add_subcommand("reset", "Start an empty map with a new map id (the old one is kept on disk)");
+  std::string format, path;
+  auto* exp = app.add_subcommand("export", "Write the map on the mapper's machine");
+  exp->add_option("format", format, "ogfm, ply, pcd, csv or bt")->required();
+  exp->add_option("path", path, "Absolute path on the mapper's machine")->required();
+  CLI11_PARSE(app, argc, argv);
+  if (cell->parsed() && cell_xyz.size() % 3 != 0) {
+    std::fprintf(stderr, "cell: give X Y Z triples (%zu numbers given)\n", cell_xyz.size());
+    return kExitUsage;
+  }
+  if (!ogf::transport::setupLoggingAt("ogf-map-query", "--log-level", log_level)) return kExitUsage;
+  const std::string resolved = ogf::transport::withReceiveBuffer(ogf::transport::resolveLcmUrl(url));
+  lcm::LCM lcm(resolved);
+  if (!lcm.good()) {
+    spdlog::error("cannot join the LCM bus {}", resolved);
+    return kExitFailed;
+  }
+  std::mt19937_64 rng(std::random_device{}());
+  const auto id = static_cast<std::int64_t>(rng() >> 1);
+  const std::string requester = "ogf-map-query:" + std::to_string(::getpid());
+
+  if (cell->parsed() || boxc->parsed()) {
+    ogf::map_query_t q{};
+    q.utime = nowUtime();
+    q.request_id = id;
+    q.requester = requester;
+    if (cell->parsed()) {
+      q.kind = ogf::map_query_t::KIND_CELLS;
+      for (std::size_t i = 0; i + 2 < cell_xyz.size(); i += 3) {
+        q.points.push_back({static_cast<float>(cell_xyz[i]), static_cast<float>(cell_xyz[i + 1]),
+                            static_cast<float>(cell_xyz[i + 2])});
+      }
+      q.num_points = static_cast<std::int32_t>(q.points.size());
+    } else {
+      q.kind = ogf::map_query_t::KIND_BOX;
+      for (int a = 0; a < 3; ++a) {
+        q.box_min[a] = static_cast<float>(box[static_cast<std::size_t>(a)]);
+        q.box_max[a] = static_cast<float>(box[static_cast<std::size_t>(a) + 3]);
+      }
+    }
+    const auto r = awaitReply<ogf::map_query_reply_t>(lcm, query_channel + "_REPLY", id, timeout_s,
+                                                      [&] { lcm.publish(query_channel, &q); });
+    if (!r) return noReply(query_channel, timeout_s, resolved);
+    if (r->status != ogf::map_query_reply_t::STATUS_OK) {
+      std::fprintf(stderr, "refused: %s\n", r->message.c_str());
+      return kExitFailed;
+    }
+    std::printf("map_id %lld seq %lld resolution %.3f\n", static_cast<long long>(r->map_id),
+                static_cast<long long>(r->seq), static_cast<double>(r->resolution));
+    if (cell->parsed()) {
+      std::printf("%10s %10s %10s %11s %6s %10s %10s %8s\n", "x", "y", "z", "probability", "class", "mean", "variance",
+                  "entropy");
+      for (std::size_t i = 0; i < static_cast<std::size_t>(r->num_cells); ++i) {
+        const char* cls = r->cell_class[i] > 0 ? "occ" : r->cell_class[i] < 0 ? "free" : "unk";
+        std::printf("%10.3f %10.3f %10.3f %11.4f %6s %10.4f %10.4f %8.4f\n", static_cast<double>(q.points[i][0]),
+                    static_cast<double>(q.points[i][1]), static_cast<double>(q.points[i][2]),
+                    static_cast<double>(r->probability[i]), cls, static_cast<double>(r->mean[i]),
+                    static_cast<double>(r->variance[i]), static_cast<double>(r->entropy[i]));
+      }
+    } else {
+      std::printf("cells %lld occupied %lld free %lld unknown %lld\n", static_cast<long long>(r->box_cells),
+                  static_cast<long long>(r->box_occupied), static_cast<long long>(r->box_free),
+                  static_cast<long long>(r->box_unknown));
+      std::printf("known_volume_m3 %.3f unknown_volume_m3 %.3f mean_entropy_bits %.4f mean_variance %.4f\n",
+                  r->known_volume_m3, r->unknown_volume_m3, r->mean_entropy_bits, r->mean_variance);
+    }
+    return kExitOk;
+  }
+
+  ogf::map_command_t c{};
+  c.utime = nowUtime();
+  c.request_id = id;
+  c.requester = requester;
+  for (const char* name : {"save", "reset", "export"}) {
+    if (app.got_subcommand(name)) c.command = name;
+  }
+  c.format = format;
+  c.path = path;
+  const auto r = awaitReply<ogf::map_command_reply_t>(lcm, command_channel + "_REPLY", id, timeout_s,
+                                                      [&] { lcm.publish(command_channel, &c); });
+  if (!r) return noReply(command_channel, timeout_s, resolved);
+  std::printf("%s: %s (map_id %lld seq %lld)\n", r->status == ogf::map_command_reply_t::STATUS_OK ? "done" : "not done",
+              r->message.c_str(), static_cast<long long>(r->map_id), static_cast<long long>(r->seq));
+  return r->status == ogf::map_command_reply_t::STATUS_OK ? kExitOk : kExitFailed;
+}
