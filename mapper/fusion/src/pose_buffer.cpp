@@ -15,11 +15,15 @@ PoseInsertResult PoseBuffer::insert(const Pose& pose) {
     result.rejection = why;
     return result;
   };
-  if (!pose.position.allFinite() || !pose.orientation.coeffs().allFinite()) {
-    return reject(PoseRejection::kNonFinite, counts_.rejected_non_finite);
-  }
-  if ((pose.position.array().abs() > config_.max_abs_position_m).any()) {
-    return reject(PoseRejection::kAbsurdPosition, counts_.rejected_absurd);
+  switch (contentRejection(pose)) {
+    case PoseRejection::kNonFinite:
+      return reject(PoseRejection::kNonFinite, counts_.rejected_non_finite);
+    case PoseRejection::kAbsurdPosition:
+      return reject(PoseRejection::kAbsurdPosition, counts_.rejected_absurd);
+    case PoseRejection::kNotUnitQuaternion:
+      return reject(PoseRejection::kNotUnitQuaternion, counts_.rejected_not_unit);
+    default:
+      break;
   }
   if (size_ > 0 && pose.utime == newest().utime) {
     return reject(PoseRejection::kDuplicateTime, counts_.rejected_duplicate_time);
@@ -28,9 +32,6 @@ PoseInsertResult PoseBuffer::insert(const Pose& pose) {
     return reject(PoseRejection::kOutOfOrder, counts_.rejected_out_of_order);
   }
   const double norm = pose.orientation.norm();
-  if (!(std::abs(norm - 1.0) <= config_.quaternion_tolerance)) {
-    return reject(PoseRejection::kNotUnitQuaternion, counts_.rejected_not_unit);
-  }
   Pose stored = pose;
   if (norm != 1.0) {
     stored.orientation.normalize();
@@ -59,6 +60,13 @@ PoseInsertResult PoseBuffer::insert(const Pose& pose) {
   ++size_;
   ++counts_.accepted;
   return result;
+}
+
+PoseRejection PoseBuffer::contentRejection(const Pose& pose) const {
+  if (!pose.position.allFinite() || !pose.orientation.coeffs().allFinite()) return PoseRejection::kNonFinite;
+  if ((pose.position.array().abs() > config_.max_abs_position_m).any()) return PoseRejection::kAbsurdPosition;
+  if (!(std::abs(pose.orientation.norm() - 1.0) <= config_.quaternion_tolerance)) return PoseRejection::kNotUnitQuaternion;
+  return PoseRejection::kNone;
 }
 
 void PoseBuffer::clear() {

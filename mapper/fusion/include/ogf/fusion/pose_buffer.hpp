@@ -67,6 +67,9 @@ class PoseBuffer {
   explicit PoseBuffer(const PoseBufferConfig& config);
 
   PoseInsertResult insert(const Pose& pose);
+  // What insert() would refuse in the pose itself, whatever its time (non-finite, absurd, not a unit
+  // quaternion), or kNone; counts nothing.
+  PoseRejection contentRejection(const Pose& pose) const;
   // Forgets every pose (the odometry's clock jumped: the times kept are on another clock).
   void clear();
 
