@@ -138,6 +138,26 @@ void DriverApp::onDatagram(const driver_sources::UdpDatagram& d) {
     if (auto n = flag_log_.allow())
       spdlog::warn("skipped a data packet from {} with a bad block flag ({} more since the last report)",
                    driver_sources::formatIpv4(d.source_ip), *n);
+  } else if (after.bad_time_of_hour > before.bad_time_of_hour) {
+    if (auto n = other_log_.allow())
+      spdlog::warn("skipped a packet on port {} from {}: offset {} (timestamp) is past the hour ({} more since the "
+                   "last report)", d.destination_port, driver_sources::formatIpv4(d.source_ip), data ? 1200 : 198, *n);
+  } else if (after.unknown_return_mode > before.unknown_return_mode || after.unknown_model > before.unknown_model) {
+    if (auto n = other_log_.allow())
+      spdlog::warn("skipped a data packet from {}: offset {} holds 0x{:02x}, no known {} ({} more since the last "
+                   "report)", driver_sources::formatIpv4(d.source_ip),
+                   after.unknown_model > before.unknown_model ? 1205 : 1204,
+                   d.payload[after.unknown_model > before.unknown_model ? 1205 : 1204],
+                   after.unknown_model > before.unknown_model ? "product" : "return mode", *n);
+  } else if (after.bad_position > before.bad_position) {
+    if (auto n = other_log_.allow())
+      spdlog::warn("skipped a malformed position packet from {} ({} more since the last report)",
+                   driver_sources::formatIpv4(d.source_ip), *n);
+  } else if (after.nmea_time_refused > before.nmea_time_refused) {
+    if (auto n = other_log_.allow())
+      spdlog::warn("position packet from {}: GPS time more than a day ahead of the host clock not used: '{}' ({} "
+                   "more since the last report)", driver_sources::formatIpv4(d.source_ip),
+                   stream_.lastPosition() ? std::string(stream_.lastPosition()->nmea()) : "", *n);
   } else if (after.bad_other > before.bad_other) {
     if (auto n = other_log_.allow())
       spdlog::warn("skipped a malformed packet on port {} ({} more since the last report)",
@@ -212,6 +232,11 @@ void DriverApp::publishStatus() {
   s.bad_block_flag = c.bad_block_flag;
   s.foreign_sender = foreign_sender_;
   s.bad_other = c.bad_other + malformed_frames_;
+  s.bad_time_of_hour = c.bad_time_of_hour;
+  s.unknown_return_mode = c.unknown_return_mode;
+  s.unknown_model = c.unknown_model;
+  s.bad_position = c.bad_position;
+  s.nmea_time_refused = c.nmea_time_refused;
   s.scans_published = scans_published_;
   s.publish_errors = publish_errors_;
   s.pps_state = ogf::driver_status_t::PPS_UNKNOWN;

@@ -2,10 +2,13 @@
 // test capture) is sent to the data and position ports, and after the first packets every kind of bad
 // datagram is mixed into it: random bytes of random sizes, empty, truncated and oversized datagrams,
 // wrong-size position packets, data packets with a bad block flag in each block or an azimuth beyond
-// 36000, random 1206-byte payloads, position packets with a bad PPS byte or garbage NMEA, and valid
-// packets from another host. Checked: each is counted in VELODYNE_STATUS (bad_size, bad_block_flag,
-// bad_other, foreign_sender), the driver keeps running, and the scans it publishes are exactly those the
-// driver library decodes from the capture alone.
+// 36000, random 1206-byte payloads, data packets whose timestamp is past the hour or whose return-mode or
+// product byte is unknown, position packets with a bad PPS byte, a timestamp past the hour, garbage NMEA,
+// a forged GPS fix dated 2099 (checksum right, PPS locked) or random bytes, and valid packets from another
+// host. Checked: each is counted in VELODYNE_STATUS (bad_size, bad_block_flag, bad_other, foreign_sender,
+// bad_time_of_hour, unknown_return_mode, unknown_model, bad_position, nmea_time_refused), the driver keeps
+// running, and the scans it publishes are exactly those the driver library decodes from the capture alone,
+// on the host's hour.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
@@ -17,6 +20,8 @@
 #include <ogf/lidar_scan_t.hpp>
 
 #include <csignal>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <mutex>
 #include <random>
@@ -24,6 +29,7 @@
 
 #include "capture_decoding.hpp"
 #include "support/latest_message.hpp"
+#include "ogf/velodyne/position_packet.hpp"
 #include "ogf/velodyne/wire_format.hpp"
 #include "support/child_process.hpp"
 #include "support/lcm_thread.hpp"
@@ -71,6 +77,7 @@ class Sender {
 // What the driver must count: the capture's own packets plus every bad datagram sent.
 struct Expected {
   std::int64_t extra_position = 0, bad_size = 0, bad_block_flag = 0, bad_other = 0, foreign = 0;
+  std::int64_t bad_time_of_hour = 0, unknown_return_mode = 0, unknown_model = 0, bad_position = 0, nmea_refused = 0;
 };
 
 // The scans ogf-driver publishes, in order.
@@ -126,6 +133,10 @@ TEST(DriverBadInput, EveryBadDatagramIsCountedAndTheValidScansStillComeOut) {
   want.bad_size = expected.counters.bad_size;
   want.bad_block_flag = expected.counters.bad_block_flag;
   want.bad_other = expected.counters.bad_other;
+  want.bad_time_of_hour = expected.counters.bad_time_of_hour;
+  want.unknown_return_mode = expected.counters.unknown_return_mode;
+  want.unknown_model = expected.counters.unknown_model;
+  want.bad_position = expected.counters.bad_position;
   std::int64_t data_sent = 0, position_sent = 0;
 
   const Sender sensor(0x7F000001), other_host(0x7F000002);
@@ -161,6 +172,18 @@ TEST(DriverBadInput, EveryBadDatagramIsCountedAndTheValidScansStillComeOut) {
     azimuth[3 * 100 + 3] = 0x8C;
     sensor.send(data_port, azimuth);
     ++want.bad_other;
+    Bytes past_hour = valid;
+    for (int i = 1200; i < 1204; ++i) past_hour[static_cast<std::size_t>(i)] = 0xFF;  // 4294 s past the hour
+    sensor.send(data_port, past_hour);
+    ++want.bad_time_of_hour;
+    Bytes mode = valid;
+    mode[1204] = 0x99;
+    sensor.send(data_port, mode);
+    ++want.unknown_return_mode;
+    Bytes product = valid;
+    product[1205] = 0x77;
+    sensor.send(data_port, product);
+    ++want.unknown_model;
     other_host.send(data_port, valid);
     ++want.foreign;
   };
@@ -172,7 +195,38 @@ TEST(DriverBadInput, EveryBadDatagramIsCountedAndTheValidScansStillComeOut) {
     Bytes pps = valid;
     pps[202] = 9;  // PPS status beyond 3
     sensor.send(position_port, pps);
-    ++want.bad_other;
+    ++want.bad_position;
+    Bytes past_hour = valid;
+    for (int i = 198; i < 202; ++i) past_hour[static_cast<std::size_t>(i)] = 0xFF;
+    sensor.send(position_port, past_hour);
+    ++want.bad_time_of_hour;
+    // A forged fix: PPS locked, a well-formed sentence with its checksum right, dated 2099.
+    Bytes forged = valid;
+    std::fill(forged.begin() + 206, forged.end(), 0);
+    forged[202] = 2;
+    const std::string body = "GPRMC,120000,A,3707.8178,N,12139.2690,W,010.3,188.2,010199,013.8,E,D";
+    unsigned x = 0;
+    for (char c : body) x ^= static_cast<unsigned char>(c);
+    char sum[8];
+    std::snprintf(sum, sizeof(sum), "*%02X\r\n", x);
+    const std::string sentence2099 = "$" + body + sum;
+    std::copy(sentence2099.begin(), sentence2099.end(), forged.begin() + 206);
+    sensor.send(position_port, forged);
+    ++want.extra_position;
+    ++want.nmea_refused;
+    // Random 512-byte packets: refused by their timestamp or their structure, never taken as position packets.
+    for (int i = 0; i < 5; ++i) {
+      const Bytes r = randomBytes(rng, ogf::velodyne::wire::kPositionPacketSize);
+      sensor.send(position_port, r);
+      const std::uint32_t toh = ogf::velodyne::wire::readLe32(r.data() + 198);
+      if (toh >= ogf::velodyne::wire::kMicrosecondsPerHour) {
+        ++want.bad_time_of_hour;
+      } else if (ogf::velodyne::parsePositionPacket(r)) {
+        ++want.extra_position;
+      } else {
+        ++want.bad_position;
+      }
+    }
     // Garbage NMEA is not an error (the packet's timestamp and PPS state stand; the sentence gives no fix).
     Bytes nmea = valid;
     const Bytes garbage = randomBytes(rng, 306);
@@ -215,7 +269,9 @@ TEST(DriverBadInput, EveryBadDatagramIsCountedAndTheValidScansStillComeOut) {
       [&](const ogf::driver_status_t& s) {
         return s.data_packets == want_data && s.position_packets == want_position && s.bad_size == want.bad_size &&
                s.bad_block_flag == want.bad_block_flag && s.bad_other == want.bad_other &&
-               s.foreign_sender == want.foreign;
+               s.foreign_sender == want.foreign && s.bad_time_of_hour == want.bad_time_of_hour &&
+               s.unknown_return_mode == want.unknown_return_mode && s.unknown_model == want.unknown_model &&
+               s.bad_position == want.bad_position && s.nmea_time_refused == want.nmea_refused;
       },
       20s);
   const auto s = status.latest();
@@ -224,7 +280,11 @@ TEST(DriverBadInput, EveryBadDatagramIsCountedAndTheValidScansStillComeOut) {
                        << s->position_packets << "/" << want_position << ", bad_size " << s->bad_size << "/"
                        << want.bad_size << ", bad_block_flag " << s->bad_block_flag << "/" << want.bad_block_flag
                        << ", bad_other " << s->bad_other << "/" << want.bad_other << ", foreign_sender "
-                       << s->foreign_sender << "/" << want.foreign;
+                       << s->foreign_sender << "/" << want.foreign << ", bad_time_of_hour " << s->bad_time_of_hour
+                       << "/" << want.bad_time_of_hour << ", unknown_return_mode " << s->unknown_return_mode << "/"
+                       << want.unknown_return_mode << ", unknown_model " << s->unknown_model << "/"
+                       << want.unknown_model << ", bad_position " << s->bad_position << "/" << want.bad_position
+                       << ", nmea_time_refused " << s->nmea_time_refused << "/" << want.nmea_refused;
   EXPECT_FALSE(driver.wait(0ms).has_value()) << "the driver exited:\n" << driver.log();
   driver.signal(SIGTERM);  // publishes the scan in progress
   ASSERT_EQ(driver.wait(20s), 0) << driver.log();
@@ -242,6 +302,8 @@ TEST(DriverBadInput, EveryBadDatagramIsCountedAndTheValidScansStillComeOut) {
       EXPECT_EQ(got[i].time_offset_ns[p], e.points[p].time_offset_ns);
     }
     points += got[i].num_points;
+    // No scan took the forged date: device time stays within the hour rule of the host clock.
+    EXPECT_LT(std::llabs(got[i].device_utime_start - got[i].host_utime_start), 3'600'000'000LL) << "scan " << i;
   }
   std::printf("[ figures  ] driver bad input: %lld valid data + %lld position packets, bad_size %lld, "
               "bad_block_flag %lld, bad_other %lld, foreign_sender %lld counted; %zu scans (%lld points) "

@@ -1,8 +1,10 @@
 // NMEA sentences with checksums, position packets, and device time from the top-of-hour counter.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "ogf/velodyne/device_clock.hpp"
@@ -98,7 +100,7 @@ TEST(DeviceClock, HostHourFollowsTheThirtyMinuteRule) {
 
 TEST(DeviceClock, LockedPpsTakesTheHourFromNmeaNotTheHost) {
   ov::DeviceClock clock;
-  const std::int64_t host = 1'000'000'000'000'000LL;  // a host clock far from GPS time (2001)
+  const std::int64_t host = 2'000'000'000'000'000LL;  // a host clock years after the GPS time (2033): a replay
   const auto packet = ov::parsePositionPacket(positionPacket(2466500000u, 2, kRmc));
   ASSERT_TRUE(packet);
   clock.onPositionPacket(*packet, host);
@@ -116,7 +118,7 @@ TEST(DeviceClock, LockedPpsTakesTheHourFromNmeaNotTheHost) {
 namespace {
 // Scans from a VLP-16 stream of `packets` data packets (600 rpm: 4.8 degrees and 1327.104 us each) whose
 // first position packet (PPS locked, kRmc) arrives after packet `first_position`, then every 14th, with
-// the host clock in 2001, years from the GPS time.
+// the host clock in 2033, years after the GPS time.
 std::vector<ov::Scan> scansWithLateFirstPositionPacket(int clock_settle_packets, int packets, int first_position) {
   ov::StreamConfig config;
   config.model = ov::Model::Vlp16;
@@ -125,7 +127,7 @@ std::vector<ov::Scan> scansWithLateFirstPositionPacket(int clock_settle_packets,
   EXPECT_TRUE(stream) << stream.error().message;
   std::vector<ov::Scan> scans;
   stream->setScanSink([&](const ov::Scan& s) { scans.push_back(s); });
-  const std::int64_t host0 = 1'000'000'000'000'000LL;
+  const std::int64_t host0 = 2'000'000'000'000'000LL;
   const std::uint32_t toh0 = 2466500000u;
   for (int k = 0; k < packets; ++k) {
     const auto toh = static_cast<std::uint32_t>(toh0 + static_cast<std::uint32_t>(k * 1327.104));
@@ -175,4 +177,94 @@ TEST(PacketStream, AnAbsurdSettleWindowIsRefused) {
   ov::StreamConfig config;
   config.clock_settle_packets = 100'000;
   EXPECT_FALSE(ov::PacketStream::create(config));
+}
+
+namespace {
+// "$<body>*hh" with the NMEA checksum of body.
+std::string withChecksum(const std::string& body) {
+  unsigned x = 0;
+  for (char c : body) x ^= static_cast<unsigned char>(c);
+  char hex[3];
+  std::snprintf(hex, sizeof(hex), "%02X", x);
+  return "$" + body + "*" + hex;
+}
+}  // namespace
+
+TEST(DeviceClock, AGpsTimeFarAheadOfTheHostIsRefusedAndTheHourStaysTheHosts) {
+  const std::int64_t host = 1'750'000'000'000'000LL;  // 2025
+  // Well formed, checksum right, PPS locked, dated 2099.
+  const std::string forged = withChecksum("GPRMC,120000,A,3707.8178,N,12139.2690,W,010.3,188.2,010199,013.8,E,D");
+  const auto packet = ov::parsePositionPacket(positionPacket(1000u, 2, forged.c_str()));
+  ASSERT_TRUE(packet);
+  ASSERT_TRUE(packet->gpsFixValid());
+  ov::DeviceClock clock;
+  EXPECT_FALSE(clock.onPositionPacket(*packet, host));
+  const auto t = clock.toAbsolute(1000u, host);
+  EXPECT_EQ(t.source, ov::TimeSource::HostHour);
+  EXPECT_LT(std::abs(t.utime - host), kHourUs);
+  // The stream counts it and keeps the packet (its PPS state and sentence stand).
+  ov::StreamConfig config;
+  config.model = ov::Model::Vlp16;
+  auto stream = ov::PacketStream::create(config);
+  ASSERT_TRUE(stream);
+  EXPECT_TRUE(stream->addPositionPacket(positionPacket(1000u, 2, forged.c_str()), host));
+  EXPECT_TRUE(stream->addPositionPacket(positionPacket(2000u, 2, kRmc), host));  // 2015: a replay, accepted
+  EXPECT_EQ(stream->counters().nmea_time_refused, 1);
+  EXPECT_EQ(stream->counters().position_packets, 2);
+}
+
+TEST(PositionPacket, StructureChecksRefuseRandomPacketsAndTimesPastTheHour) {
+  EXPECT_FALSE(ov::parsePositionPacket(positionPacket(3'600'000'000u, 2, kRmc)));
+  EXPECT_TRUE(ov::parsePositionPacket(positionPacket(3'599'999'999u, 2, kRmc)));
+  auto empty = positionPacket(5u, 0, "");
+  empty[206] = 0;  // no GPS: the field is all NUL
+  EXPECT_TRUE(ov::parsePositionPacket(empty));
+  auto garbage = empty;
+  garbage[206] = 'G';
+  const auto r = ov::parsePositionPacket(garbage);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().message.find("offset 206"), std::string::npos) << r.error().message;
+  std::srand(24);
+  int accepted = 0;
+  for (int i = 0; i < 1000; ++i) {
+    std::vector<std::uint8_t> p(512);
+    for (auto& b : p) b = static_cast<std::uint8_t>(std::rand() & 0xFF);
+    if (ov::parsePositionPacket(p)) ++accepted;
+  }
+  EXPECT_EQ(accepted, 0) << "random 512-byte packets taken for position packets";
+  // The stream counts each kind on its own.
+  ov::StreamConfig config;
+  config.model = ov::Model::Vlp16;
+  auto stream = ov::PacketStream::create(config);
+  ASSERT_TRUE(stream);
+  EXPECT_FALSE(stream->addPositionPacket(positionPacket(4'000'000'000u, 2, kRmc), 0));
+  EXPECT_FALSE(stream->addPositionPacket(garbage, 0));
+  EXPECT_FALSE(stream->addPositionPacket(positionPacket(5u, 9, kRmc), 0));
+  EXPECT_EQ(stream->counters().bad_time_of_hour, 1);
+  EXPECT_EQ(stream->counters().bad_position, 2);
+  EXPECT_EQ(stream->counters().position_packets, 0);
+}
+
+TEST(PacketStream, DataPacketsWithUnknownFactoryBytesOrPastTheHourAreCountedAndNotUsed) {
+  for (const bool configured : {true, false}) {
+    ov::StreamConfig config;
+    if (configured) config.model = ov::Model::Vlp16;
+    config.clock_settle_packets = 0;
+    auto stream = ov::PacketStream::create(config);
+    ASSERT_TRUE(stream);
+    using ogf::testing::SyntheticPacket;
+    EXPECT_EQ(stream->addDataPacket(SyntheticPacket(3'600'000'000u).azimuths(0, 40).bytes(), 0),
+              ov::PacketStatus::BadTimeOfHour);
+    EXPECT_EQ(stream->addDataPacket(SyntheticPacket(1000u, 0x99).azimuths(0, 40).bytes(), 0),
+              ov::PacketStatus::UnknownReturnMode);
+    EXPECT_EQ(stream->addDataPacket(SyntheticPacket(1000u, 0x37, 0x77).azimuths(0, 40).bytes(), 0),
+              ov::PacketStatus::UnknownProduct);
+    EXPECT_EQ(stream->addDataPacket(SyntheticPacket(1000u, 0x00, 0x00).azimuths(0, 40).allChannels(5000, 10).bytes(), 0),
+              ov::PacketStatus::Ok) << "0 is old firmware that reports neither";
+    const auto& c = stream->counters();
+    EXPECT_EQ(c.bad_time_of_hour, 1) << configured;
+    EXPECT_EQ(c.unknown_return_mode, 1) << configured;
+    EXPECT_EQ(c.unknown_model, 1) << configured;
+    EXPECT_EQ(c.bad_other, 0) << configured;
+  }
 }

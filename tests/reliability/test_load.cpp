@@ -92,7 +92,8 @@ std::optional<ReplayFigures> parseReplay(const std::string& out) {
 
 // Every datagram the driver took in: decoded, or rejected and counted.
 std::int64_t datagramsReceived(const ogf::driver_status_t& s) {
-  return s.data_packets + s.position_packets + s.bad_size + s.bad_block_flag + s.foreign_sender + s.bad_other;
+  return s.data_packets + s.position_packets + s.bad_size + s.bad_block_flag + s.foreign_sender + s.bad_other +
+         s.bad_time_of_hour + s.unknown_return_mode + s.unknown_model + s.bad_position;
 }
 
 class LoadTest : public ::testing::Test {

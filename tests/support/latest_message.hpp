@@ -26,6 +26,11 @@ class LatestMessage {
     std::lock_guard lk(mu_);
     return latest_;
   }
+  // Forgets the latest message (a process was restarted: only its own messages count from now on).
+  void reset() {
+    std::lock_guard lk(mu_);
+    latest_.reset();
+  }
   // The first message (the latest at each poll) for which `pred` holds, or nullopt after `limit`.
   template <class Pred>
   std::optional<Message> waitFor(Pred pred, std::chrono::milliseconds limit) const {

@@ -18,8 +18,8 @@ std::int64_t placeInHour(std::uint32_t toh_us, std::int64_t reference_utime) {
   return t;
 }
 
-void DeviceClock::onPositionPacket(const PositionPacket& packet, std::int64_t host_utime) {
-  if (packet.pps != PpsState::Locked || !packet.gpsFixValid()) return;
+bool DeviceClock::onPositionPacket(const PositionPacket& packet, std::int64_t host_utime) {
+  if (packet.pps != PpsState::Locked || !packet.gpsFixValid()) return true;
   std::optional<std::int64_t> utc = packet.fix->utcMicroseconds();
   if (!utc) {
     // GGA carries no date: take the day that puts the time of day closest to the host clock.
@@ -29,9 +29,11 @@ void DeviceClock::onPositionPacket(const PositionPacket& packet, std::int64_t ho
     if (host_utime - candidate > kDayUs / 2) candidate += kDayUs;
     utc = candidate;
   }
+  if (*utc - host_utime > kMaxNmeaAheadUs) return false;
   // The NMEA time is the GPS second the sentence describes; the packet's own counter pins it within the hour.
   gps_utime_ = placeInHour(packet.toh_us, *utc);
   gps_host_utime_ = host_utime;
+  return true;
 }
 
 DeviceTime DeviceClock::toAbsolute(std::uint32_t toh_us, std::int64_t host_utime) const {

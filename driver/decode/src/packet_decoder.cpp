@@ -127,6 +127,16 @@ Result<PacketDecoder> PacketDecoder::create(const DecoderConfig& config) {
   p.firing = static_cast<std::uint8_t>(firing);
 }
 
+PacketStatus checkPacketTrailer(std::span<const std::uint8_t> payload) {
+  if (payload.size() != wire::kDataPacketSize) return PacketStatus::WrongSize;
+  if (wire::readLe32(payload.data() + 1200) >= wire::kMicrosecondsPerHour) return PacketStatus::BadTimeOfHour;
+  const std::uint8_t mode = payload[1204];
+  if (mode != wire::kReturnModeUnreported && !returnModeFromByte(mode)) return PacketStatus::UnknownReturnMode;
+  const std::uint8_t product = payload[1205];
+  if (product != 0 && !modelFromProductId(product)) return PacketStatus::UnknownProduct;
+  return PacketStatus::Ok;
+}
+
 PacketStatus PacketDecoder::decode(std::span<const std::uint8_t> payload, DecodedPacket& out) const {
   out.point_count = 0;
   out.firing_count = 0;
@@ -142,6 +152,7 @@ PacketStatus PacketDecoder::decode(std::span<const std::uint8_t> payload, Decode
     if (azimuth > kTurn) return PacketStatus::BadAzimuth;
     az[static_cast<std::size_t>(b)] = azimuth % kTurn;
   }
+  if (const PacketStatus trailer = checkPacketTrailer(payload); trailer != PacketStatus::Ok) return trailer;
   out.toh_us = wire::readLe32(packet.timestamp);
   out.product_id = packet.product_id;
   // Byte 1204 names the mode; firmware without it (HDL-32E before 2.2.20) is dual when a block pair shares

@@ -60,6 +60,11 @@ PacketStatus PacketStream::decodeAndAssemble(std::span<const std::uint8_t> paylo
     case PacketStatus::BadAzimuth:
       ++counters_.bad_other;
       return status;
+    case PacketStatus::BadTimeOfHour:
+    case PacketStatus::UnknownReturnMode:
+    case PacketStatus::UnknownProduct:
+      count(status);
+      return status;
   }
   ++counters_.data_packets;
   counters_.points += decoded_.point_count;
@@ -70,6 +75,22 @@ PacketStatus PacketStream::decodeAndAssemble(std::span<const std::uint8_t> paylo
     if (sink_) sink_(scan);
   });
   return status;
+}
+
+void PacketStream::count(PacketStatus status) {
+  switch (status) {
+    case PacketStatus::BadTimeOfHour:
+      ++counters_.bad_time_of_hour;
+      break;
+    case PacketStatus::UnknownReturnMode:
+      ++counters_.unknown_return_mode;
+      break;
+    case PacketStatus::UnknownProduct:
+      ++counters_.unknown_model;
+      break;
+    default:
+      break;
+  }
 }
 
 PacketStatus PacketStream::addDataPacket(std::span<const std::uint8_t> payload, std::int64_t host_utime) {
@@ -84,6 +105,10 @@ PacketStatus PacketStream::addDataPacket(std::span<const std::uint8_t> payload, 
         ++counters_.bad_block_flag;
         return PacketStatus::BadBlockFlag;
       }
+    }
+    if (const PacketStatus trailer = checkPacketTrailer(payload); trailer != PacketStatus::Ok) {
+      count(trailer);
+      return trailer;
     }
     detector_.observe(payload[1205], payload[1204], wire::readLe32(payload.data() + 1200));
     if (!ensureDecoder() && pending_.size() >= ModelDetector::kMaxPackets) {
@@ -118,13 +143,17 @@ bool PacketStream::addPositionPacket(std::span<const std::uint8_t> payload, std:
     ++counters_.bad_size;
     return false;
   }
+  if (wire::readLe32(payload.data() + offsetof(wire::RawPositionPacket, timestamp)) >= wire::kMicrosecondsPerHour) {
+    ++counters_.bad_time_of_hour;
+    return false;
+  }
   auto packet = parsePositionPacket(payload);
   if (!packet) {
-    ++counters_.bad_other;
+    ++counters_.bad_position;
     return false;
   }
   ++counters_.position_packets;
-  clock_.onPositionPacket(*packet, host_utime);
+  if (!clock_.onPositionPacket(*packet, host_utime)) ++counters_.nmea_time_refused;
   last_position_ = *packet;
   if (!clock_settled_) {
     clock_settled_ = true;

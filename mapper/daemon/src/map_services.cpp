@@ -164,10 +164,12 @@ void MapperDaemon::resetMap() {
     const auto aside = options_.state_dir / ("reset-" + std::to_string(wallUtime()));
     std::error_code ec;
     std::filesystem::create_directories(aside, ec);
-    const auto snapshot = state_->snapshotPath(), journal = state_->journalPath();
+    const std::filesystem::path files[] = {state_->snapshotPath(), state_->journalPath(),
+                                           state_->previousSnapshotPath(), state_->previousJournalPath()};
     state_.reset();
-    std::filesystem::rename(snapshot, aside / snapshot.filename(), ec);
-    std::filesystem::rename(journal, aside / journal.filename(), ec);
+    for (const auto& f : files) {
+      if (std::filesystem::exists(f, ec)) std::filesystem::rename(f, aside / f.filename(), ec);
+    }
     auto dir = persistence::StateDirectory::open(options_.state_dir);
     if (!dir) {
       persistenceFailed(dir.error().message, true);

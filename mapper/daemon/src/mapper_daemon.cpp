@@ -25,6 +25,24 @@ constexpr std::int64_t kWorkerStuckUs = 10'000'000;
 // Keyframe parts are sent in bursts of this many (~1 MB), with a pause so receivers' kernel buffers drain.
 constexpr int kKeyframeBurst = 16;
 
+// Whether a message whose clock TimeSanity judged goes on; logs a refusal (rate-limited) or a followed jump.
+bool timePlausible(const char* what, fusion::TimeVerdict verdict, const fusion::TimeSanity& clock,
+                   std::int64_t utime, std::int64_t wall_utime, transport::LogRateLimiter& log) {
+  using fusion::TimeVerdict;
+  if (verdict == TimeVerdict::kAccept) return true;
+  if (verdict == TimeVerdict::kFollowJump) {
+    spdlog::warn("{} clock jumped from {} to {} (host clock {}): followed after consistent messages", what,
+                 clock.timeBeforeLastJump() ? std::to_string(*clock.timeBeforeLastJump()) : "none", utime, wall_utime);
+    return true;
+  }
+  static constexpr const char* kWhy[] = {"", "ahead of the host clock", "ahead of the stream", "behind the stream"};
+  if (auto n = log.allow())
+    spdlog::warn("{} at {} refused: {} (newest accepted {}, host clock {}) ({} more)", what, utime,
+                 kWhy[static_cast<int>(verdict)],
+                 clock.reference() ? std::to_string(*clock.reference()) : "none", wall_utime, *n);
+  return false;
+}
+
 }  // namespace
 
 std::int64_t MapperDaemon::steadyUtime() {
@@ -62,6 +80,8 @@ MapperDaemon::MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, transpor
       drop_rng_(options.test_seed),
       poses_(options.map.fusion.pose_buffer),
       pending_(options.map.fusion.pending),
+      pose_clock_(options.map.fusion.time_sanity),
+      scan_clock_(options.map.fusion.time_sanity),
       status_timer_(loop.io()) {
   stats_.persistence_ok = true;
 }
@@ -114,22 +134,26 @@ void MapperDaemon::restore() {
         retry_persistence_ = false;
       }
     } else {
-      auto rec = dir->recover(newMapId());
+      auto rec = dir->recover(newMapId(), wallUtime());
       if (!rec) {
         // Never half-load a map, and never overwrite one that could still be rescued: set it aside.
-        const auto aside = options_.state_dir / ("damaged-" + std::to_string(wallUtime()));
-        std::error_code ec;
-        std::filesystem::create_directories(aside, ec);
-        std::filesystem::rename(dir->snapshotPath(), aside / dir->snapshotPath().filename(), ec);
-        std::filesystem::rename(dir->journalPath(), aside / dir->journalPath().filename(), ec);
-        spdlog::error("state directory: {}; moved to {} and starting a new map", rec.error().message, aside.string());
-        rec = dir->recover(newMapId());
+        const auto aside = dir->setAside(wallUtime());
+        spdlog::error("state directory: {}; moved to {} and starting a new map", rec.error().message,
+                      aside ? aside->string() : aside.error().message);
+        rec = dir->recover(newMapId(), wallUtime());
       }
       if (!rec) {
         persistenceFailed(rec.error().message, true);
       } else if (applyRecovered(*rec, dir->snapshotPath().string())) {
         seq = rec->last_seq;
         state_.emplace(std::move(*dir));
+        if (!rec->damage.empty()) {
+          // Restored around damage: said until the next snapshot holds the map again.
+          spdlog::error("state directory: {}", rec->damage);
+          std::lock_guard lk(mu_);
+          stats_.persistence_ok = false;
+          stats_.persistence_error = rec->damage;
+        }
       } else {
         persistenceFailed("the saved map does not fit the configuration (see the log); not persisting", false);
       }
@@ -226,6 +250,9 @@ void MapperDaemon::onScan(const ogf::lidar_scan_t& scan, const lcm::ReceiveBuffe
   auto owned = std::make_shared<const ogf::lidar_scan_t>(scan);
   const fusion::ScanTimeSpan span = fusion::timeSpanOf(scanPointsOf(*owned, options_.time_base));
   std::lock_guard lk(mu_);
+  const auto verdict = scan_clock_.check(span.end_utime, wallUtime(), steadyUtime());
+  if (!timePlausible("scan", verdict, scan_clock_, span.end_utime, wallUtime(), bad_time_log_)) return;
+  if (verdict == fusion::TimeVerdict::kFollowJump) pending_.restartClock();
   const auto outcome = pending_.push({span.begin_utime, span.end_utime, static_cast<std::size_t>(scan.num_points)},
                                      std::move(owned), steadyUtime());
   if (outcome == fusion::PushOutcome::kLate) {
@@ -249,17 +276,25 @@ void MapperDaemon::onPose(const lcm::ReceiveBuffer& rb) {
   fusion::PoseInsertResult r;
   {
     std::lock_guard lk(mu_);
+    // A pose refused for its content is counted as such by insert(), whatever its time.
+    const auto verdict = poses_.contentRejection(*pose) == fusion::PoseRejection::kNone
+                             ? pose_clock_.check(pose->utime, wallUtime(), steadyUtime())
+                             : fusion::TimeVerdict::kAccept;
+    if (!timePlausible("pose", verdict, pose_clock_, pose->utime, wallUtime(), bad_time_log_)) return;
+    if (verdict == fusion::TimeVerdict::kFollowJump) poses_.clear();
     r = poses_.insert(*pose);
     work_ = true;
     cv_.notify_one();
   }
   if (!r.accepted()) {
-    static constexpr const char* kWhy[] = {"", "out of order", "at a duplicate time", "not finite", "not a unit quaternion"};
+    static constexpr const char* kWhy[] = {"",         "out of order",          "at a duplicate time",
+                                           "not finite", "not a unit quaternion", "absurdly far from the origin"};
     if (auto n = bad_pose_log_.allow())
       spdlog::warn("pose at {} rejected: {} ({} more)", pose->utime, kWhy[static_cast<int>(r.rejection)], *n);
   } else if (r.jump) {
     if (auto n = jump_log_.allow())
-      spdlog::warn("odometry jumped {:.3f} m / {:.3f} rad at {} ({} more)", r.step_translation_m, r.step_rotation_rad,
+      spdlog::warn("odometry jumped {:.3f} m / {:.3f} rad at {}: beyond max_pose_jump, scans spanning it are dropped ({} more)",
+                   r.step_translation_m, r.step_rotation_rad,
                    pose->utime, *n);
   }
 }
@@ -422,6 +457,13 @@ void MapperDaemon::publishStatus() {
     s.poses_rejected = poses_.counts().rejected() + malformed_poses_;
     s.requests_in = requests_ + malformed_requests_;
     s.requests_rejected = malformed_requests_;
+    s.scans_refused_time = scan_clock_.counts().refused();
+    s.poses_refused_time = pose_clock_.counts().refused();
+    s.clock_jumps = scan_clock_.counts().jumps_followed + pose_clock_.counts().jumps_followed;
+    s.pose_jumps = poses_.counts().jumps;
+    s.scans_dropped_pose_jump = pc.scans_dropped_pose_jump;
+    s.scans_in += s.scans_refused_time;
+    s.poses_in += s.poses_refused_time;
     s.service_requests_in = service_in_;
     s.service_requests_refused = service_refused_;
     s.update_ms_mean = update_count_ > 0 ? static_cast<float>(update_ms_sum_ / update_count_) : 0.0f;

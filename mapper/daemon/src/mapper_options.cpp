@@ -196,14 +196,20 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
   if (const auto fu = root["fusion"]) {
     auto& fc = o.map.fusion;
     OGF_TRY(checkKeys(path, fu, "fusion", {"max_pose_wait_s", "pose_buffer_capacity", "max_pending_scans",
-                                           "max_pending_points", "jump_translation_m", "jump_rotation_rad",
-                                           "quaternion_tolerance"}));
+                                           "max_pending_points", "max_pose_jump", "quaternion_tolerance",
+                                           "max_time_ahead_s", "max_time_behind_s", "clock_jump_messages"}));
     OGF_TRY(read(path, fu, "fusion", "max_pose_wait_s", fc.pending.max_pose_wait_s));
     OGF_TRY(read(path, fu, "fusion", "pose_buffer_capacity", fc.pose_buffer.capacity));
     OGF_TRY(read(path, fu, "fusion", "max_pending_scans", fc.pending.max_pending_scans));
     OGF_TRY(read(path, fu, "fusion", "max_pending_points", fc.pending.max_pending_points));
-    OGF_TRY(read(path, fu, "fusion", "jump_translation_m", fc.pose_buffer.jump_translation_m));
-    OGF_TRY(read(path, fu, "fusion", "jump_rotation_rad", fc.pose_buffer.jump_rotation_rad));
+    if (const auto jump = fu["max_pose_jump"]) {
+      OGF_TRY(checkKeys(path, jump, "fusion.max_pose_jump", {"translation_m", "rotation_rad"}));
+      OGF_TRY(read(path, jump, "fusion.max_pose_jump", "translation_m", fc.pose_buffer.jump_translation_m));
+      OGF_TRY(read(path, jump, "fusion.max_pose_jump", "rotation_rad", fc.pose_buffer.jump_rotation_rad));
+    }
+    OGF_TRY(read(path, fu, "fusion", "max_time_ahead_s", fc.time_sanity.max_ahead_s));
+    OGF_TRY(read(path, fu, "fusion", "max_time_behind_s", fc.time_sanity.max_behind_s));
+    OGF_TRY(read(path, fu, "fusion", "clock_jump_messages", fc.time_sanity.follow_after));
     OGF_TRY(read(path, fu, "fusion", "quaternion_tolerance", fc.pose_buffer.quaternion_tolerance));
   }
   return okStatus();
@@ -250,8 +256,14 @@ std::string exampleMapperConfig() {
     << "  pose_buffer_capacity: " << d.map.fusion.pose_buffer.capacity << "\n"
     << "  max_pending_scans: " << d.map.fusion.pending.max_pending_scans << "\n"
     << "  max_pending_points: " << d.map.fusion.pending.max_pending_points << "\n"
-    << "  jump_translation_m: " << d.map.fusion.pose_buffer.jump_translation_m << "\n"
-    << "  jump_rotation_rad: " << d.map.fusion.pose_buffer.jump_rotation_rad << "\n"
+    << "  max_pose_jump: {translation_m: " << d.map.fusion.pose_buffer.jump_translation_m
+    << ", rotation_rad: " << d.map.fusion.pose_buffer.jump_rotation_rad
+    << "}   # a larger odometry step splits the trajectory\n"
+    << "  max_time_ahead_s: " << d.map.fusion.time_sanity.max_ahead_s
+    << "      # a pose or scan this far ahead of the host clock or its stream is refused\n"
+    << "  max_time_behind_s: " << d.map.fusion.time_sanity.max_behind_s << "     # ... or this far behind its stream\n"
+    << "  clock_jump_messages: " << d.map.fusion.time_sanity.follow_after
+    << "    # refused messages in a row that agree: the clock really jumped, follow it\n"
     << "pose_correction:            # between odometry and the map; corrected poses on channels.corrected_pose\n"
     << "  mode: none                # none, scan-match (improved odometry) or rbpf (grid-based FastSLAM)\n"
     << "  particles: " << d.pose_correction.corrector.slam.particles << "             # rbpf only\n"

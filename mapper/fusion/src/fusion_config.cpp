@@ -77,6 +77,8 @@ Status PoseBufferConfig::validate() const {
   }
   if (!(jump_translation_m > 0.0)) return fieldError("jump_translation_m", "must be > 0 metres", jump_translation_m);
   if (!(jump_rotation_rad > 0.0)) return fieldError("jump_rotation_rad", "must be > 0 radians", jump_rotation_rad);
+  if (!(max_abs_position_m > 0.0) || !std::isfinite(max_abs_position_m))
+    return fieldError("max_abs_position_m", "must be a positive number of metres", max_abs_position_m);
   return okStatus();
 }
 
@@ -93,6 +95,11 @@ Status FusionConfig::validate() const {
   if (Status s = prefixed("measurement.", measurement.validate()); !s) return s;
   if (Status s = prefixed("extrinsic.", extrinsic.validate()); !s) return s;
   if (Status s = prefixed("pose_buffer.", pose_buffer.validate()); !s) return s;
+  // Every cell a ray from a pose can reach must have an int32 key.
+  if ((pose_buffer.max_abs_position_m + measurement.max_range_m) / measurement.resolution_m > 2e9)
+    return fieldError("pose_buffer.max_abs_position_m", "plus max_range_m must be below 2e9 cells",
+                      pose_buffer.max_abs_position_m);
+  if (Status s = prefixed("time_sanity.", time_sanity.validate()); !s) return s;
   return prefixed("pending.", pending.validate());
 }
 

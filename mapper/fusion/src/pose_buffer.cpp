@@ -2,6 +2,7 @@
 #include <ogf/fusion/pose_buffer.hpp>
 
 #include <cmath>
+#include <vector>
 
 namespace ogf::fusion {
 
@@ -14,8 +15,15 @@ PoseInsertResult PoseBuffer::insert(const Pose& pose) {
     result.rejection = why;
     return result;
   };
-  if (!pose.position.allFinite() || !pose.orientation.coeffs().allFinite()) {
-    return reject(PoseRejection::kNonFinite, counts_.rejected_non_finite);
+  switch (contentRejection(pose)) {
+    case PoseRejection::kNonFinite:
+      return reject(PoseRejection::kNonFinite, counts_.rejected_non_finite);
+    case PoseRejection::kAbsurdPosition:
+      return reject(PoseRejection::kAbsurdPosition, counts_.rejected_absurd);
+    case PoseRejection::kNotUnitQuaternion:
+      return reject(PoseRejection::kNotUnitQuaternion, counts_.rejected_not_unit);
+    default:
+      break;
   }
   if (size_ > 0 && pose.utime == newest().utime) {
     return reject(PoseRejection::kDuplicateTime, counts_.rejected_duplicate_time);
@@ -24,9 +32,6 @@ PoseInsertResult PoseBuffer::insert(const Pose& pose) {
     return reject(PoseRejection::kOutOfOrder, counts_.rejected_out_of_order);
   }
   const double norm = pose.orientation.norm();
-  if (!(std::abs(norm - 1.0) <= config_.quaternion_tolerance)) {
-    return reject(PoseRejection::kNotUnitQuaternion, counts_.rejected_not_unit);
-  }
   Pose stored = pose;
   if (norm != 1.0) {
     stored.orientation.normalize();
@@ -39,17 +44,43 @@ PoseInsertResult PoseBuffer::insert(const Pose& pose) {
     result.step_rotation_rad = previous.orientation.angularDistance(stored.orientation);
     result.jump = result.step_translation_m > config_.jump_translation_m ||
                   result.step_rotation_rad > config_.jump_rotation_rad;
-    if (result.jump) ++counts_.jumps;
+    if (result.jump) {
+      ++counts_.jumps;
+      splits_.push_back({previous.utime, stored.utime});
+    }
   }
   if (size_ == ring_.size()) {
     head_ = (head_ + 1) % ring_.size();
     --size_;
     ++counts_.evicted;
+    // A split whose earlier pose is gone lies before the oldest pose: coverage says too old there.
+    std::erase_if(splits_, [&](const Split& s) { return size_ == 0 || s.before_utime < oldest().utime; });
   }
   ring_[(head_ + size_) % ring_.size()] = stored;
   ++size_;
   ++counts_.accepted;
   return result;
+}
+
+PoseRejection PoseBuffer::contentRejection(const Pose& pose) const {
+  if (!pose.position.allFinite() || !pose.orientation.coeffs().allFinite()) return PoseRejection::kNonFinite;
+  if ((pose.position.array().abs() > config_.max_abs_position_m).any()) return PoseRejection::kAbsurdPosition;
+  if (!(std::abs(pose.orientation.norm() - 1.0) <= config_.quaternion_tolerance)) return PoseRejection::kNotUnitQuaternion;
+  return PoseRejection::kNone;
+}
+
+void PoseBuffer::clear() {
+  head_ = 0;
+  size_ = 0;
+  splits_.clear();
+}
+
+bool PoseBuffer::crossesSplit(std::int64_t begin_utime, std::int64_t end_utime) const {
+  // [begin, end] needs the trajectory strictly between the two poses of a split when it starts before the
+  // later one and ends after the earlier one.
+  for (const Split& s : splits_)
+    if (begin_utime < s.after_utime && end_utime > s.before_utime) return true;
+  return false;
 }
 
 PoseCoverage PoseBuffer::coverageAt(std::int64_t utime) const {
@@ -61,8 +92,10 @@ PoseCoverage PoseBuffer::coverageAt(std::int64_t utime) const {
 PoseCoverage PoseBuffer::coverage(std::int64_t begin_utime, std::int64_t end_utime) const {
   // The stored poses have no gaps in between, so the two ends decide; too old wins because waiting
   // cannot help it.
+  // A split after the span's beginning breaks it even before the end is covered: waiting cannot help.
   const PoseCoverage begin = coverageAt(begin_utime);
   if (begin != PoseCoverage::kCovered) return begin;
+  if (crossesSplit(begin_utime, end_utime)) return PoseCoverage::kBroken;
   return coverageAt(end_utime);
 }
 
@@ -70,6 +103,10 @@ PoseLookup PoseBuffer::interpolate(std::int64_t utime) const {
   PoseLookup lookup;
   lookup.coverage = coverageAt(utime);
   if (!lookup.ok()) return lookup;
+  if (!splits_.empty() && crossesSplit(utime, utime)) {
+    lookup.coverage = PoseCoverage::kBroken;
+    return lookup;
+  }
   // First stored pose at or after utime (exists, since utime <= newest).
   std::size_t lo = 0;
   std::size_t hi = size_ - 1;

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 
 #include "ogf/common/crc32.hpp"
 #include "ogf/common/little_endian.hpp"
@@ -63,6 +64,49 @@ Status writeAll(int fd, const std::filesystem::path& path, const std::vector<std
 
 }  // namespace
 
+namespace {
+
+// The record at `off` when it is whole (magic, length within the file, checksum), else why not.
+struct RecordAt {
+  std::size_t length = 0;  // 0: not a whole record
+  std::string why;
+};
+
+RecordAt recordAt(const std::byte* data, std::size_t size, std::size_t off) {
+  if (size - off < kRecordFixed + 4) return {0, "record header truncated"};
+  const std::byte* r = data + off;
+  if (get<std::uint32_t>(r) != kRecordMagic) return {0, "bad record magic"};
+  const auto n = get<std::uint32_t>(r + 4);
+  if (n > kMaxMeasurements) return {0, "absurd measurement count " + std::to_string(n)};
+  const std::size_t len = kRecordFixed + static_cast<std::size_t>(n) * kMeasurementSize + 4;
+  if (size - off < len) return {0, "record truncated"};
+  if (get<std::uint32_t>(r + len - 4) != crc32(r, len - 4)) return {0, "record checksum mismatch"};
+  return {len, ""};
+}
+
+JournalRecord decodeRecord(const std::byte* r) {
+  JournalRecord rec;
+  const auto n = get<std::uint32_t>(r + 4);
+  rec.seq = get<std::int64_t>(r + 8);
+  rec.utime = get<std::int64_t>(r + 16);
+  rec.measurements.resize(n);
+  const std::byte* m = r + kRecordFixed;
+  for (std::uint32_t i = 0; i < n; ++i, m += kMeasurementSize) {
+    rec.measurements[i] = Measurement{{get<std::int32_t>(m), get<std::int32_t>(m + 4), get<std::int32_t>(m + 8)},
+                                      get<std::int8_t>(m + 12)};
+  }
+  return rec;
+}
+
+std::string headerDamage(const std::byte* data) {
+  if (std::memcmp(data, kMagic, sizeof(kMagic)) != 0) return "not an ogf journal (bad magic)";
+  if (get<std::uint32_t>(data + kHeaderSize - 4) != crc32(data, kHeaderSize - 4)) return "journal header checksum mismatch";
+  if (const auto v = get<std::uint32_t>(data + 8); v != kVersion) return "unsupported journal version " + std::to_string(v);
+  return "";
+}
+
+}  // namespace
+
 Result<JournalContents> readJournal(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return systemError(path, "cannot open journal");
@@ -71,44 +115,46 @@ Result<JournalContents> readJournal(const std::filesystem::path& path) {
   const std::size_t size = raw.size();
 
   if (size < kHeaderSize) return Error{path.string() + ": offset 0: journal header truncated (" + std::to_string(size) + " bytes)"};
-  if (std::memcmp(data, kMagic, sizeof(kMagic)) != 0) return Error{path.string() + ": offset 0: not an ogf journal (bad magic)"};
-  if (get<std::uint32_t>(data + kHeaderSize - 4) != crc32(data, kHeaderSize - 4))
-    return Error{path.string() + ": offset 0: journal header checksum mismatch"};
-  if (const auto v = get<std::uint32_t>(data + 8); v != kVersion)
-    return Error{path.string() + ": offset 8: unsupported journal version " + std::to_string(v)};
-
   JournalContents out;
-  out.map_id = get<std::int64_t>(data + 12);
-  out.base_seq = get<std::int64_t>(data + 20);
-  std::int64_t last_seq = out.base_seq;
-  std::size_t off = kHeaderSize;
-  const auto torn = [&](const std::string& why) {
-    out.torn_tail_offset = off;
-    out.torn_tail_reason = why;
-  };
-  while (off < size) {
-    if (size - off < kRecordFixed + 4) { torn("record header truncated"); break; }
-    const std::byte* r = data + off;
-    if (get<std::uint32_t>(r) != kRecordMagic) { torn("bad record magic"); break; }
-    const auto n = get<std::uint32_t>(r + 4);
-    if (n > kMaxMeasurements) { torn("absurd measurement count " + std::to_string(n)); break; }
-    const std::size_t len = kRecordFixed + static_cast<std::size_t>(n) * kMeasurementSize + 4;
-    if (size - off < len) { torn("record truncated"); break; }
-    if (get<std::uint32_t>(r + len - 4) != crc32(r, len - 4)) { torn("record checksum mismatch"); break; }
-    JournalRecord rec;
-    rec.seq = get<std::int64_t>(r + 8);
-    rec.utime = get<std::int64_t>(r + 16);
-    if (rec.seq <= last_seq) { torn("sequence " + std::to_string(rec.seq) + " does not increase"); break; }
-    rec.measurements.resize(n);
-    const std::byte* m = r + kRecordFixed;
-    for (std::uint32_t i = 0; i < n; ++i, m += kMeasurementSize) {
-      rec.measurements[i] = Measurement{{get<std::int32_t>(m), get<std::int32_t>(m + 4), get<std::int32_t>(m + 8)},
-                                        get<std::int8_t>(m + 12)};
-    }
-    last_seq = rec.seq;
-    out.records.push_back(std::move(rec));
-    off += len;
+  out.header_damage = headerDamage(data);
+  if (out.header_damage.empty()) {
+    out.map_id = get<std::int64_t>(data + 12);
+    out.base_seq = get<std::int64_t>(data + 20);
   }
+  // Records follow each other; a stretch that is not a whole record (or whose sequence does not increase)
+  // is skipped up to the next whole record, whose magic and checksum make a false match implausible.
+  std::int64_t last_seq = out.header_damage.empty() ? out.base_seq : std::numeric_limits<std::int64_t>::min();
+  std::size_t off = kHeaderSize;
+  while (off < size) {
+    RecordAt at = recordAt(data, size, off);
+    if (at.length != 0 && get<std::int64_t>(data + off + 8) <= last_seq)
+      at = {0, "sequence " + std::to_string(get<std::int64_t>(data + off + 8)) + " does not increase"};
+    if (at.length != 0) {
+      out.records.push_back(decodeRecord(data + off));
+      last_seq = out.records.back().seq;
+      off += at.length;
+      continue;
+    }
+    std::size_t next = off + 1;
+    for (; next < size; ++next) {
+      if (size - next < kRecordFixed + 4) {
+        next = size;
+        break;
+      }
+      if (get<std::uint32_t>(data + next) != kRecordMagic) continue;
+      const RecordAt candidate = recordAt(data, size, next);
+      if (candidate.length != 0 && get<std::int64_t>(data + next + 8) > last_seq) break;
+    }
+    if (next >= size) {
+      out.torn_tail_offset = off;
+      out.torn_tail_reason = at.why;
+      break;
+    }
+    out.damaged.push_back({off, next - off, at.why});
+    off = next;
+  }
+  if (!out.header_damage.empty() && out.records.empty())
+    return Error{path.string() + ": offset 0: " + out.header_damage + ", and no whole record follows"};
   return out;
 }
 

@@ -76,13 +76,30 @@ Result<RecoveredState> StateDirectory::read(const std::filesystem::path& dir, st
   return StateDirectory(dir).readState(new_map_id, resumable);
 }
 
-Result<RecoveredState> StateDirectory::recover(std::int64_t new_map_id) {
+Result<RecoveredState> StateDirectory::recover(std::int64_t new_map_id, std::int64_t wall_utime) {
   std::optional<JournalContents> resumable;
   auto state = readState(new_map_id, resumable);
   if (!state) return state.error();
   RecoveredState& out = *state;
   map_id_ = out.map_id;
   writer_.reset();
+  std::error_code ec;
+  if (!out.damaged_files.empty()) {
+    // Kept before anything here is rewritten; copies, so that a failure to keep them changes nothing.
+    const auto aside = dir_ / ("damaged-" + std::to_string(wall_utime));
+    std::filesystem::create_directories(aside, ec);
+    for (const auto& f : out.damaged_files) {
+      if (!ec) std::filesystem::copy_file(f, aside / f.filename(), std::filesystem::copy_options::overwrite_existing, ec);
+    }
+    if (ec) return Error{aside.string() + ": cannot keep the damaged files: " + ec.message()};
+    out.damage += "; the damaged files are kept in " + aside.string();
+    out.notes.push_back("the damaged files are kept in " + aside.string());
+  }
+  if (out.snapshot_fallback) {
+    // The previous snapshot is the newest good one now; the damaged one is kept aside.
+    std::filesystem::rename(previousSnapshotPath(), snapshotPath(), ec);
+    if (ec) return Error{snapshotPath().string() + ": cannot restore the previous snapshot: " + ec.message()};
+  }
   if (resumable) {
     // The journal continues the snapshot: keep appending to it.
     auto w = JournalWriter::resume(journalPath(), *resumable);
@@ -90,58 +107,144 @@ Result<RecoveredState> StateDirectory::recover(std::int64_t new_map_id) {
     writer_.emplace(std::move(*w));
   } else {
     // No journal to continue: write the replayed records into a fresh one after the snapshot, so the
-    // directory again holds snapshot + journal = the map.
-    auto w = JournalWriter::create(journalPath(), map_id_, out.snapshot_seq);
+    // directory again holds snapshot + journal = the map. Written beside it and renamed, since the journal
+    // may share its file with the previous generation's.
+    const std::filesystem::path fresh = journalPath().string() + ".new";
+    auto w = JournalWriter::create(fresh, map_id_, out.snapshot_seq);
     if (!w) return w.error();
-    writer_.emplace(std::move(*w));
     for (const auto& rec : out.replay)
-      if (auto st = writer_->append(rec.seq, rec.utime, rec.measurements); !st) return st.error();
-    if (auto st = writer_->flush(); !st) return st.error();
+      if (auto st = w->append(rec.seq, rec.utime, rec.measurements); !st) return st.error();
+    if (auto st = w->flush(); !st) return st.error();
+    std::filesystem::rename(fresh, journalPath(), ec);
+    if (ec) return Error{journalPath().string() + ": cannot replace the journal: " + ec.message()};
+    w->renamedTo(journalPath());
+    writer_.emplace(std::move(*w));
   }
   return state;
 }
 
+Result<std::filesystem::path> StateDirectory::setAside(std::int64_t wall_utime) const {
+  const auto aside = dir_ / ("damaged-" + std::to_string(wall_utime));
+  std::error_code ec;
+  std::filesystem::create_directories(aside, ec);
+  if (ec) return Error{aside.string() + ": " + ec.message()};
+  for (const auto& f : {snapshotPath(), journalPath(), previousSnapshotPath(), previousJournalPath()}) {
+    if (!std::filesystem::exists(f, ec)) continue;
+    std::filesystem::rename(f, aside / f.filename(), ec);
+    if (ec) return Error{f.string() + ": cannot move it to " + aside.string() + ": " + ec.message()};
+  }
+  return aside;
+}
+
+namespace {
+
+// The snapshot at `path`: nullopt when there is none, an error naming the file and offset when damaged.
+std::optional<Result<Snapshot>> loadSnapshot(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return std::nullopt;
+  std::ifstream in(path, std::ios::binary);
+  const std::vector<char> raw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return decodeSnapshot(std::span(reinterpret_cast<const std::byte*>(raw.data()), raw.size()), path.string());
+}
+
+void addDamage(RecoveredState& out, const std::string& what) {
+  out.damage += (out.damage.empty() ? "" : "; ") + what;
+}
+
+}  // namespace
+
 Result<RecoveredState> StateDirectory::readState(std::int64_t new_map_id,
                                                  std::optional<JournalContents>& resumable) const {
   RecoveredState out;
-  std::error_code ec;
-  if (std::filesystem::exists(snapshotPath(), ec)) {
-    std::ifstream in(snapshotPath(), std::ios::binary);
-    const std::vector<char> raw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    auto snap = decodeSnapshot(std::span(reinterpret_cast<const std::byte*>(raw.data()), raw.size()), snapshotPath().string());
-    if (!snap) return snap.error();
-    out.map_id = snap->map_id;
-    out.snapshot_seq = snap->seq;
-    out.snapshot_map = std::move(snap->map_bytes);
+  auto newest = loadSnapshot(snapshotPath());
+  std::optional<Snapshot> snapshot;
+  if (newest && *newest) {
+    snapshot = std::move(**newest);
+  } else {
+    // No newest snapshot, or a damaged one: the previous generation and both journals.
+    auto previous = loadSnapshot(previousSnapshotPath());
+    if (previous && !*previous) {
+      if (newest) return Error{newest->error().message + "; and " + previous->error().message};
+      return previous->error();
+    }
+    if (newest && !previous) return newest->error();
+    if (previous) {
+      snapshot = std::move(**previous);
+      out.snapshot_fallback = true;
+      if (newest) {
+        addDamage(out, newest->error().message + "; restored from the previous snapshot (seq " +
+                           std::to_string(snapshot->seq) + ") and the journals");
+        out.damaged_files.push_back(snapshotPath());
+      }
+      out.notes.push_back("restoring from " + previousSnapshotPath().string());
+    }
+  }
+  if (snapshot) {
+    out.map_id = snapshot->map_id;
+    out.snapshot_seq = snapshot->seq;
+    out.snapshot_map = std::move(snapshot->map_bytes);
   }
   out.last_seq = out.snapshot_seq;
 
-  if (std::filesystem::exists(journalPath(), ec)) {
-    auto contents = readJournal(journalPath());
+  std::vector<std::filesystem::path> journals;
+  if (out.snapshot_fallback) journals.push_back(previousJournalPath());
+  journals.push_back(journalPath());
+  std::error_code ec;
+  for (const auto& path : journals) {
+    if (!std::filesystem::exists(path, ec)) continue;
+    auto contents = readJournal(path);
     if (!contents) {
-      // A journal whose header is unreadable holds nothing recoverable: start a new one, say so.
+      // Nothing recoverable in it; kept aside all the same.
+      addDamage(out, contents.error().message);
+      out.damaged_files.push_back(path);
       out.notes.push_back(contents.error().message + "; the journal is started anew");
-    } else if (out.map_id != 0 && contents->map_id != out.map_id) {
-      out.notes.push_back(journalPath().string() + ": belongs to map " + std::to_string(contents->map_id) +
-                          ", the snapshot to map " + std::to_string(out.map_id) + "; the journal is ignored");
-    } else {
-      if (out.map_id == 0) out.map_id = contents->map_id;
-      if (contents->torn_tail_offset)
-        out.notes.push_back(journalPath().string() + ": offset " + std::to_string(*contents->torn_tail_offset) +
-                            ": " + contents->torn_tail_reason + "; the torn tail is cut");
-      std::size_t skipped = 0;
-      for (auto& rec : contents->records) {
-        if (rec.seq <= out.last_seq) {
-          ++skipped;
-          continue;
-        }
-        out.last_seq = rec.seq;
-        out.replay.push_back(std::move(rec));
-      }
-      if (skipped != 0)
-        out.notes.push_back(std::to_string(skipped) + " journal records already in the snapshot were skipped");
-      if (skipped == 0 && out.snapshot_seq == contents->base_seq) resumable = std::move(*contents);
+      continue;
     }
+    const bool header_ok = contents->header_damage.empty();
+    if (header_ok && out.map_id != 0 && contents->map_id != out.map_id) {
+      out.notes.push_back(path.string() + ": belongs to map " + std::to_string(contents->map_id) +
+                          ", the snapshot to map " + std::to_string(out.map_id) + "; the journal is ignored");
+      continue;
+    }
+    if (header_ok && out.map_id == 0) out.map_id = contents->map_id;
+    if (contents->torn_tail_offset)
+      out.notes.push_back(path.string() + ": offset " + std::to_string(*contents->torn_tail_offset) + ": " +
+                          contents->torn_tail_reason + "; the torn tail is cut");
+    bool damaged = false;
+    if (!header_ok) {
+      damaged = true;
+      addDamage(out, path.string() + ": offset 0: " + contents->header_damage);
+    }
+    for (const auto& d : contents->damaged) {
+      damaged = true;
+      addDamage(out, path.string() + ": offset " + std::to_string(d.offset) + ": " + d.reason + "; " +
+                         std::to_string(d.length) + " bytes skipped, the whole records after them recovered");
+    }
+    if (damaged) out.damaged_files.push_back(path);
+    if (header_ok && contents->base_seq > out.last_seq)
+      addDamage(out, path.string() + ": continues seq " + std::to_string(contents->base_seq) + ", the records after " +
+                         std::to_string(out.last_seq) + " before it are lost");
+    std::size_t skipped = 0;
+    bool first = true;
+    for (auto& rec : contents->records) {
+      if (rec.seq <= out.last_seq) {
+        ++skipped;
+        continue;
+      }
+      // Without its header a journal proves it continues this map only by its first new record.
+      if (first && !header_ok && rec.seq != out.last_seq + 1) {
+        addDamage(out, path.string() + ": its records from seq " + std::to_string(rec.seq) + " do not continue seq " +
+                           std::to_string(out.last_seq) + " and are not replayed");
+        break;
+      }
+      first = false;
+      out.last_seq = rec.seq;
+      out.replay.push_back(std::move(rec));
+    }
+    if (skipped != 0)
+      out.notes.push_back(std::to_string(skipped) + " journal records already in the snapshot were skipped");
+    if (!out.snapshot_fallback && !damaged && skipped == 0 && out.snapshot_seq == contents->base_seq)
+      resumable = std::move(*contents);
   }
   if (out.map_id == 0) out.map_id = new_map_id;
   return out;
@@ -153,14 +256,42 @@ Status StateDirectory::journal(std::int64_t seq, std::int64_t utime, std::span<c
   return writer_->flush();
 }
 
+namespace {
+
+// `to` names the file `from` names now (a hard link, or a copy where the file system has none), replacing
+// what `to` named, atomically.
+Status keepAs(const std::filesystem::path& from, const std::filesystem::path& to) {
+  const std::filesystem::path tmp = to.string() + ".tmp";
+  std::error_code ec;
+  std::filesystem::remove(tmp, ec);
+  if (::link(from.c_str(), tmp.c_str()) != 0) {
+    std::ifstream in(from, std::ios::binary);
+    if (!in) return Error{from.string() + ": cannot read: " + std::strerror(errno)};
+    const std::vector<char> raw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return writeFileAtomically(to, std::span(reinterpret_cast<const std::byte*>(raw.data()), raw.size()));
+  }
+  std::filesystem::rename(tmp, to, ec);
+  if (ec) return Error{to.string() + ": cannot replace: " + ec.message()};
+  return okStatus();
+}
+
+}  // namespace
+
 Status StateDirectory::snapshot(std::int64_t seq, std::span<const std::uint8_t> map_bytes) {
   const auto bytes = encodeSnapshot(map_id_, seq, map_bytes);
+  // The current generation becomes the previous one: a damaged new snapshot then falls back to it and
+  // the two journals. A crash in between leaves both names on the same files, which recovery reads alike;
+  // the snapshot goes first, so that the previous journal then still reaches it.
+  std::error_code ec;
+  if (std::filesystem::exists(snapshotPath(), ec) && std::filesystem::exists(journalPath(), ec)) {
+    if (auto st = keepAs(snapshotPath(), previousSnapshotPath()); !st) return st;
+    if (auto st = keepAs(journalPath(), previousJournalPath()); !st) return st;
+  }
   if (auto st = writeFileAtomically(snapshotPath(), bytes); !st) return st;
   const std::filesystem::path journal = journalPath();
   const std::filesystem::path fresh = journal.string() + ".new";
   auto w = JournalWriter::create(fresh, map_id_, seq);
   if (!w) return w.error();
-  std::error_code ec;
   std::filesystem::rename(fresh, journal, ec);
   if (ec) return Error{journal.string() + ": cannot replace the journal: " + ec.message()};
   w->renamedTo(journal);  // so a later write error names the file that is there

@@ -108,5 +108,30 @@ TEST(PendingScans, LateAndMalformedScansAreRefusedAndCounted) {
   EXPECT_EQ(pending.size(), 1U);
 }
 
+TEST(PendingScans, AScanSpanningAPoseJumpIsDroppedAndCountedAndTheNextIsMapped) {
+  PendingScans<int> pending(config());
+  PoseBuffer poses(PoseBufferConfig{});
+  for (std::int64_t t = 900'000; t <= 1'300'000; t += 10'000) {
+    const double x = t < 1'050'000 ? 0.0 : 1000.0;  // 1 km between 1.04 s and 1.05 s
+    ASSERT_TRUE(poses.insert({t, Eigen::Vector3d(x, 0, 0), Eigen::Quaterniond::Identity()}).accepted());
+  }
+  ASSERT_EQ(pending.push(scan(1'000'000), 1, 0), PushOutcome::kQueued);
+  ASSERT_EQ(pending.push(scan(1'100'000), 2, 0), PushOutcome::kQueued);
+  const auto ready = pending.popReady(poses, 0);
+  ASSERT_TRUE(ready);
+  EXPECT_EQ(ready->payload, 2);
+  EXPECT_EQ(pending.counts().scans_dropped_pose_jump, 1);
+  EXPECT_EQ(pending.counts().scans_dropped_no_pose, 0);
+}
+
+TEST(PendingScans, AfterAClockRestartAnEarlierScanIsNotLate) {
+  PendingScans<int> pending(config());
+  ASSERT_EQ(pending.push(scan(5'000'000), 1, 0), PushOutcome::kQueued);
+  EXPECT_EQ(pending.push(scan(1'000'000), 2, 0), PushOutcome::kLate);
+  pending.restartClock();
+  EXPECT_EQ(pending.push(scan(1'000'000), 3, 0), PushOutcome::kQueued);
+  EXPECT_EQ(pending.counts().scans_late, 1);
+}
+
 }  // namespace
 }  // namespace ogf::fusion

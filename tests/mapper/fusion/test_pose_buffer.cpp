@@ -139,5 +139,59 @@ TEST(PoseBuffer, FlagsJumpsButKeepsThePose) {
   EXPECT_EQ(buffer.size(), 4U);
 }
 
+TEST(PoseBuffer, AJumpSplitsTheTrajectoryAndNothingIsInterpolatedAcrossIt) {
+  PoseBuffer buffer(smallConfig());
+  for (std::int64_t t = 0; t <= 100; t += 10) ASSERT_TRUE(buffer.insert(pose(t, {0.01 * static_cast<double>(t), 0, 0}, yaw(0))).accepted());
+  const PoseInsertResult far = buffer.insert(pose(110, {1000.0, 0, 0}, yaw(0)));  // 1 km in 10 us
+  ASSERT_TRUE(far.accepted());
+  EXPECT_TRUE(far.jump);
+  for (std::int64_t t = 120; t <= 200; t += 10) ASSERT_TRUE(buffer.insert(pose(t, {1000.0, 0, 0}, yaw(0))).accepted());
+  // Each side of the split is whole; the split itself is never covered, waiting cannot change that.
+  EXPECT_EQ(buffer.coverage(0, 100), PoseCoverage::kCovered);
+  EXPECT_EQ(buffer.coverage(110, 200), PoseCoverage::kCovered);
+  EXPECT_EQ(buffer.coverage(50, 150), PoseCoverage::kBroken);
+  EXPECT_EQ(buffer.coverage(100, 110), PoseCoverage::kBroken);
+  EXPECT_EQ(buffer.coverage(105, 105), PoseCoverage::kBroken);
+  EXPECT_EQ(buffer.coverage(90, 500), PoseCoverage::kBroken) << "a span reaching past the newest pose is broken already";
+  EXPECT_FALSE(buffer.interpolate(105).ok());
+  EXPECT_EQ(buffer.interpolate(105).coverage, PoseCoverage::kBroken);
+  EXPECT_TRUE(buffer.interpolate(100).ok());
+  EXPECT_TRUE(buffer.interpolate(110).ok());
+  EXPECT_EQ(buffer.interpolate(110).pose.position.x(), 1000.0);
+  EXPECT_EQ(buffer.counts().jumps, 1);
+}
+
+TEST(PoseBuffer, ASplitLeavesWithTheOldestPose) {
+  PoseBuffer buffer(smallConfig(4));
+  ASSERT_TRUE(buffer.insert(pose(10, {0, 0, 0}, yaw(0))).accepted());
+  ASSERT_TRUE(buffer.insert(pose(20, {50, 0, 0}, yaw(0))).jump);
+  for (std::int64_t t = 30; t <= 60; t += 10) ASSERT_TRUE(buffer.insert(pose(t, {50, 0, 0}, yaw(0))).accepted());
+  EXPECT_EQ(buffer.oldest().utime, 30);
+  EXPECT_EQ(buffer.coverage(30, 60), PoseCoverage::kCovered);
+}
+
+TEST(PoseBuffer, RefusesAbsurdPositions) {
+  PoseBuffer buffer(smallConfig());
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(1e300, 0, 0), Eigen::Vector3d(0, -2e7, 0), Eigen::Vector3d(0, 0, 1.1e7)}) {
+    const PoseInsertResult r = buffer.insert(pose(10, p, yaw(0)));
+    EXPECT_EQ(r.rejection, PoseRejection::kAbsurdPosition) << p.transpose();
+  }
+  EXPECT_EQ(buffer.counts().rejected_absurd, 3);
+  EXPECT_EQ(buffer.counts().rejected(), 3);
+  EXPECT_TRUE(buffer.empty());
+  EXPECT_TRUE(buffer.insert(pose(10, {4.5e6, 5.8e6, 100}, yaw(0))).accepted()) << "UTM coordinates are not absurd";
+}
+
+TEST(PoseBuffer, ClearForgetsEveryPoseAndSplit) {
+  PoseBuffer buffer(smallConfig());
+  ASSERT_TRUE(buffer.insert(pose(1000, {0, 0, 0}, yaw(0))).accepted());
+  ASSERT_TRUE(buffer.insert(pose(2000, {10, 0, 0}, yaw(0))).jump);
+  buffer.clear();
+  EXPECT_TRUE(buffer.empty());
+  ASSERT_TRUE(buffer.insert(pose(10, {0, 0, 0}, yaw(0))).accepted()) << "an earlier time is accepted after clear()";
+  ASSERT_TRUE(buffer.insert(pose(20, {0.1, 0, 0}, yaw(0))).accepted());
+  EXPECT_EQ(buffer.coverage(10, 20), PoseCoverage::kCovered);
+}
+
 }  // namespace
 }  // namespace ogf::fusion

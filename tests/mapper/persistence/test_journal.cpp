@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 
 #include "ogf/persistence/journal.hpp"
@@ -98,10 +99,10 @@ TEST_F(JournalTest, TornTailAtEveryCutKeepsEveryWholeRecordBeforeIt) {
   }
 }
 
-TEST_F(JournalTest, CorruptByteStopsReadingAtThatRecord) {
+TEST_F(JournalTest, CorruptByteLosesOnlyThatRecord) {
   std::mt19937 rng(3);
   const auto path = dir_ / "journal";
-  std::uintmax_t second_record = 0;
+  std::uintmax_t second_record = 0, third_record = 0;
   {
     auto w = JournalWriter::create(path, 1, 0);
     ASSERT_TRUE(w.ok());
@@ -109,6 +110,7 @@ TEST_F(JournalTest, CorruptByteStopsReadingAtThatRecord) {
       ASSERT_TRUE(w->append(i, i, randomSet(rng, 10)).ok());
       ASSERT_TRUE(w->flush().ok());
       if (i == 1) second_record = fs::file_size(path);
+      if (i == 2) third_record = fs::file_size(path);
     }
   }
   {
@@ -118,10 +120,62 @@ TEST_F(JournalTest, CorruptByteStopsReadingAtThatRecord) {
   }
   const auto r = readJournal(path);
   ASSERT_TRUE(r.ok());
-  EXPECT_EQ(r->records.size(), 1u);
-  ASSERT_TRUE(r->torn_tail_offset.has_value());
-  EXPECT_EQ(*r->torn_tail_offset, second_record);
-  EXPECT_EQ(r->torn_tail_reason, "record checksum mismatch");
+  ASSERT_EQ(r->records.size(), 2u);
+  EXPECT_EQ(r->records[0].seq, 1);
+  EXPECT_EQ(r->records[1].seq, 3);
+  EXPECT_FALSE(r->torn_tail_offset.has_value());
+  ASSERT_EQ(r->damaged.size(), 1u);
+  EXPECT_EQ(r->damaged[0].offset, second_record);
+  EXPECT_EQ(r->damaged[0].length, third_record - second_record);
+  EXPECT_EQ(r->damaged[0].reason, "record checksum mismatch");
+}
+
+// Every byte of a small journal flipped in turn: the records read are all but the one the byte falls in
+// (all of them when it falls in the header, which is then reported damaged).
+TEST_F(JournalTest, FlippingAnyByteLosesAtMostTheRecordItFallsIn) {
+  std::mt19937 rng(5);
+  const auto path = dir_ / "journal";
+  std::vector<std::uintmax_t> ends;  // end of the header, then of each record
+  {
+    auto w = JournalWriter::create(path, 9, 0);
+    ASSERT_TRUE(w.ok());
+    ends.push_back(fs::file_size(path));
+    for (int i = 1; i <= 5; ++i) {
+      ASSERT_TRUE(w->append(i, i * 100, randomSet(rng, 4)).ok());
+      ASSERT_TRUE(w->flush().ok());
+      ends.push_back(fs::file_size(path));
+    }
+  }
+  std::ifstream in(path, std::ios::binary);
+  const std::vector<char> original((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto damaged = dir_ / "damaged";
+  for (std::size_t at = 0; at < original.size(); ++at) {
+    for (const char mask : {'\xff', '\x01'}) {
+      std::vector<char> bytes = original;
+      bytes[at] = static_cast<char>(bytes[at] ^ mask);
+      std::ofstream(damaged, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+      const auto r = readJournal(damaged);
+      ASSERT_TRUE(r.ok()) << "byte " << at << ": " << r.error().message;
+      int hit = 0;  // the record the byte falls in, 0 for the header
+      while (at >= ends[static_cast<std::size_t>(hit)]) ++hit;
+      std::vector<std::int64_t> want;
+      for (int i = 1; i <= 5; ++i)
+        if (i != hit) want.push_back(i);
+      std::vector<std::int64_t> got;
+      for (const auto& rec : r->records) got.push_back(rec.seq);
+      EXPECT_EQ(got, want) << "byte " << at << " mask " << int(mask);
+      EXPECT_EQ(!r->header_damage.empty(), hit == 0) << "byte " << at;
+      if (hit != 0 && hit != 5) {
+        ASSERT_EQ(r->damaged.size(), 1u) << "byte " << at;
+        EXPECT_EQ(r->damaged[0].offset, ends[static_cast<std::size_t>(hit - 1)]);
+      }
+      if (hit == 5) {
+        EXPECT_EQ(r->torn_tail_offset, ends[4]) << "damage in the last record is a torn tail";
+      }
+      for (const auto& rec : r->records)
+        EXPECT_EQ(rec.utime, rec.seq * 100) << "byte " << at;
+    }
+  }
 }
 
 TEST_F(JournalTest, ResumeCutsTheTornTailAndContinues) {

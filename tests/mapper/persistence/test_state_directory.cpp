@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "ogf/persistence/state_directory.hpp"
 
@@ -166,6 +167,121 @@ TEST_F(StateDirectoryTest, ReadGivesWhatRecoverWouldAndWritesNothing) {
   ASSERT_TRUE(none.ok());
   EXPECT_EQ(none->map_id, 5);
   EXPECT_FALSE(fs::exists(dir_ / "absent"));
+}
+
+// Every byte of the journal after a snapshot flipped in turn: recovery gives the snapshot and every record
+// but the damaged one, keeps the damaged journal in damaged-<time>/, says so, and leaves a directory that
+// recovers the same map cleanly.
+TEST_F(StateDirectoryTest, FlippingAnyJournalByteLosesAtMostTheDamagedRecord) {
+  const fs::path clean = dir_.string() + "-clean";
+  fs::remove_all(clean);
+  std::vector<std::uintmax_t> ends;
+  {
+    auto sd = StateDirectory::open(clean);
+    ASSERT_TRUE(sd->recover(7).ok());
+    ASSERT_TRUE(sd->journal(1, 0, set(1)).ok());
+    ASSERT_TRUE(sd->snapshot(1, std::vector<std::uint8_t>(50, 1)).ok());
+    ends.push_back(fs::file_size(clean / "journal.ogfj"));
+    for (int i = 2; i <= 5; ++i) {
+      ASSERT_TRUE(sd->journal(i, i, set(i)).ok());
+      ends.push_back(fs::file_size(clean / "journal.ogfj"));
+    }
+  }
+  std::ifstream in(clean / "journal.ogfj", std::ios::binary);
+  const std::vector<char> original((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (std::size_t at = 0; at < original.size(); ++at) {
+    fs::remove_all(dir_);
+    fs::copy(clean, dir_, fs::copy_options::recursive);
+    std::vector<char> bytes = original;
+    bytes[at] = static_cast<char>(bytes[at] ^ 0x20);
+    std::ofstream(dir_ / "journal.ogfj", std::ios::binary | std::ios::trunc)
+        .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    int hit = 0;  // 0: the header; i: the record of seq i + 1
+    while (at >= ends[static_cast<std::size_t>(hit)]) ++hit;
+    std::vector<std::int64_t> want;
+    for (int seq = 2; seq <= 5; ++seq)
+      if (seq != hit + 1) want.push_back(seq);
+    for (int round = 0; round < 2; ++round) {  // the damaged directory, then the one recovery left
+      auto r = StateDirectory::open(dir_)->recover(1, 1000 + round);
+      ASSERT_TRUE(r.ok()) << "byte " << at << ": " << r.error().message;
+      EXPECT_EQ(r->map_id, 7);
+      EXPECT_EQ(r->snapshot_seq, 1);
+      std::vector<std::int64_t> got;
+      for (const auto& rec : r->replay) got.push_back(rec.seq);
+      EXPECT_EQ(got, want) << "byte " << at << " round " << round;
+      const bool reported = round == 0 && hit != 4;  // damage in the last record is a torn tail
+      EXPECT_EQ(!r->damage.empty(), reported) << "byte " << at << " round " << round << ": " << r->damage;
+      if (reported) {
+        EXPECT_TRUE(fs::exists(dir_ / "damaged-1000" / "journal.ogfj")) << "byte " << at;
+        EXPECT_NE(r->damage.find("journal.ogfj: offset"), std::string::npos) << r->damage;
+      }
+    }
+  }
+  fs::remove_all(clean);
+}
+
+TEST_F(StateDirectoryTest, DamagedNewestSnapshotFallsBackToThePreviousOneAndBothJournals) {
+  const std::vector<std::uint8_t> first(80, 1), second(90, 2);
+  {
+    auto sd = StateDirectory::open(dir_);
+    ASSERT_TRUE(sd->recover(7).ok());
+    for (int i = 1; i <= 2; ++i) ASSERT_TRUE(sd->journal(i, i, set(i)).ok());
+    ASSERT_TRUE(sd->snapshot(2, first).ok());
+    for (int i = 3; i <= 4; ++i) ASSERT_TRUE(sd->journal(i, i, set(i)).ok());
+    ASSERT_TRUE(sd->snapshot(4, second).ok());
+    ASSERT_TRUE(sd->journal(5, 5, set(5)).ok());
+  }
+  const auto size = fs::file_size(dir_ / "snapshot.ogfs");
+  fs::resize_file(dir_ / "snapshot.ogfs", size / 2);
+  auto r = StateDirectory::open(dir_)->recover(1, 2000);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r->map_id, 7);
+  EXPECT_EQ(r->snapshot_seq, 2);
+  EXPECT_EQ(r->snapshot_map, first);
+  std::vector<std::int64_t> got;
+  for (const auto& rec : r->replay) got.push_back(rec.seq);
+  EXPECT_EQ(got, (std::vector<std::int64_t>{3, 4, 5}));
+  EXPECT_EQ(r->last_seq, 5);
+  EXPECT_NE(r->damage.find("snapshot.ogfs"), std::string::npos) << r->damage;
+  EXPECT_EQ(fs::file_size(dir_ / "damaged-2000" / "snapshot.ogfs"), size / 2) << "the damaged snapshot is kept";
+  // What recovery left recovers the same map without damage, and goes on.
+  auto sd = StateDirectory::open(dir_);
+  auto again = sd->recover(1, 3000);
+  ASSERT_TRUE(again.ok()) << again.error().message;
+  EXPECT_TRUE(again->damage.empty()) << again->damage;
+  EXPECT_EQ(again->snapshot_map, first);
+  EXPECT_EQ(again->last_seq, 5);
+  ASSERT_TRUE(sd->journal(6, 6, set(6)).ok());
+  ASSERT_TRUE(sd->snapshot(6, second).ok());
+  auto third = StateDirectory::open(dir_)->recover(1);
+  ASSERT_TRUE(third.ok());
+  EXPECT_EQ(third->snapshot_seq, 6);
+  EXPECT_TRUE(third->replay.empty());
+}
+
+TEST_F(StateDirectoryTest, BothSnapshotGenerationsDamagedIsAnErrorAndEverythingCanBeSetAside) {
+  {
+    auto sd = StateDirectory::open(dir_);
+    ASSERT_TRUE(sd->recover(7).ok());
+    ASSERT_TRUE(sd->journal(1, 1, set(1)).ok());
+    ASSERT_TRUE(sd->snapshot(1, std::vector<std::uint8_t>(80, 1)).ok());
+    ASSERT_TRUE(sd->journal(2, 2, set(2)).ok());
+    ASSERT_TRUE(sd->snapshot(2, std::vector<std::uint8_t>(80, 2)).ok());
+  }
+  fs::resize_file(dir_ / "snapshot.ogfs", 40);
+  fs::resize_file(dir_ / "snapshot.prev.ogfs", 40);
+  auto sd = StateDirectory::open(dir_);
+  auto r = sd->recover(1);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("snapshot.ogfs"), std::string::npos);
+  EXPECT_NE(r.error().message.find("snapshot.prev.ogfs"), std::string::npos);
+  const auto aside = sd->setAside(4000);
+  ASSERT_TRUE(aside.ok()) << aside.error().message;
+  for (const char* f : {"snapshot.ogfs", "journal.ogfj", "snapshot.prev.ogfs", "journal.prev.ogfj"})
+    EXPECT_TRUE(fs::exists(*aside / f)) << f;
+  auto fresh = sd->recover(9);
+  ASSERT_TRUE(fresh.ok());
+  EXPECT_EQ(fresh->map_id, 9);
 }
 
 }  // namespace

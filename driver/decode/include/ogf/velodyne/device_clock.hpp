@@ -27,8 +27,14 @@ class DeviceClock {
   // An NMEA time older than this (host clock) no longer anchors the hour.
   static constexpr std::int64_t kNmeaValidityUs = 10'000'000;
 
-  // Remembers the GPS time when the packet's PPS is locked and its sentence is a valid fix.
-  void onPositionPacket(const PositionPacket& packet, std::int64_t host_utime);
+  // A GPS time further than this ahead of the host clock is refused: a forged or broken receiver, not a
+  // clock to follow (a day allows a host clock set by hand). Earlier times are plausible: a capture
+  // replayed later carries the date it was recorded on.
+  static constexpr std::int64_t kMaxNmeaAheadUs = 86'400'000'000LL;
+
+  // Remembers the GPS time when the packet's PPS is locked and its sentence is a valid fix. False when
+  // that time is refused (more than kMaxNmeaAheadUs ahead of host_utime): the hour stays as it was.
+  bool onPositionPacket(const PositionPacket& packet, std::int64_t host_utime);
   DeviceTime toAbsolute(std::uint32_t toh_us, std::int64_t host_utime) const;
 
  private:

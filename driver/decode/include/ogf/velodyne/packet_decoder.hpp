@@ -43,7 +43,13 @@ struct Point {
   double timeOffsetUs() const { return time_offset_ns * 1e-3; }
 };
 
-enum class PacketStatus : std::uint8_t { Ok, WrongSize, BadBlockFlag, BadAzimuth };
+// BadTimeOfHour: the timestamp is past the hour. UnknownReturnMode / UnknownProduct: byte 1204 / 1205 is
+// none the manuals define (0 stands for "not reported" on old firmware).
+enum class PacketStatus : std::uint8_t { Ok, WrongSize, BadBlockFlag, BadAzimuth, BadTimeOfHour, UnknownReturnMode, UnknownProduct };
+
+// The checks of the factory bytes and the timestamp (1200..1205), which do not depend on the model: for a
+// packet that waits for the model to be known.
+PacketStatus checkPacketTrailer(std::span<const std::uint8_t> payload);
 
 struct DecodedPacket {
   static constexpr int kMaxPoints = wire::kBlocksPerPacket * wire::kChannelsPerBlock;

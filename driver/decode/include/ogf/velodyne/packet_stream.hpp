@@ -39,7 +39,12 @@ struct StreamCounters {
   std::int64_t position_packets = 0;  // parsed
   std::int64_t bad_size = 0;
   std::int64_t bad_block_flag = 0;
-  std::int64_t bad_other = 0;  // bad azimuth, bad position packet, model never known
+  std::int64_t bad_other = 0;  // bad azimuth, model never known
+  std::int64_t bad_time_of_hour = 0;     // data or position packet timestamp past the hour
+  std::int64_t unknown_return_mode = 0;  // data packet byte 1204
+  std::int64_t unknown_model = 0;        // data packet byte 1205
+  std::int64_t bad_position = 0;         // position packet failing its structure checks
+  std::int64_t nmea_time_refused = 0;    // position packets accepted, their NMEA time too far from the host's
   std::int64_t points = 0;
   std::int64_t scans = 0;
 };
@@ -53,7 +58,8 @@ class PacketStream {
 
   // A payload from the data port. Returns how it was taken.
   PacketStatus addDataPacket(std::span<const std::uint8_t> payload, std::int64_t host_utime);
-  // A payload from the position port; false when it was rejected (counted in bad_size or bad_other).
+  // A payload from the position port; false when it was rejected (counted in bad_size, bad_time_of_hour
+  // or bad_position).
   bool addPositionPacket(std::span<const std::uint8_t> payload, std::int64_t host_utime);
   // End of input: decodes what waited for the model and emits the scan in progress.
   void finish();
@@ -69,6 +75,7 @@ class PacketStream {
  private:
   explicit PacketStream(const StreamConfig& config);
   bool ensureDecoder();
+  void count(PacketStatus status);  // the trailer's rejections
   PacketStatus decodeAndAssemble(std::span<const std::uint8_t> payload, std::int64_t host_utime);
   void holdPacket(std::span<const std::uint8_t> payload, std::int64_t host_utime);
   void decodeHeldPackets();

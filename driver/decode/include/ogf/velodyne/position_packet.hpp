@@ -27,8 +27,9 @@ struct PositionPacket {
   bool gpsFixValid() const { return fix && fix->fix_valid; }
 };
 
-// Fails on a wrong size or a PPS byte above 3. A missing, unknown or corrupt sentence is not an error:
-// the packet is returned without `fix`.
+// Fails on a wrong size, a timestamp past the hour, a PPS byte above 3, or an NMEA field that starts with
+// neither '$' nor NUL. A missing, unknown or corrupt sentence is not an error: the packet is returned
+// without `fix`.
 Result<PositionPacket> parsePositionPacket(std::span<const std::uint8_t> payload);
 
 }  // namespace ogf::velodyne

@@ -11,6 +11,8 @@ namespace ogf::velodyne::wire {
 
 inline constexpr std::size_t kDataPacketSize = 1206;     // 12 x 100 + 4 + 2 (ros rawdata.h:62-65)
 inline constexpr std::size_t kPositionPacketSize = 512;  // VLP-16 manual Table 9-3
+// The timestamp counts microseconds past the top of the hour: 0 to 3 599 999 999 (VLP-16 manual §9.3.1.3).
+inline constexpr std::uint32_t kMicrosecondsPerHour = 3'600'000'000U;
 inline constexpr int kBlocksPerPacket = 12;
 inline constexpr int kChannelsPerBlock = 32;
 // Bytes FF EE on the wire, read little-endian (ros rawdata.h:71, vd types.h:120-125).
@@ -18,6 +20,8 @@ inline constexpr std::uint16_t kUpperBankFlag = 0xEEFF;
 inline constexpr std::uint16_t kAzimuthUnitsPerTurn = 36000;  // 0.01 degree units
 
 // Byte 1204 (vd types.h:104-108; manual Table 9-2).
+// Byte 1204 of firmware that does not report its return mode (HDL-32E before 2.2.20).
+inline constexpr std::uint8_t kReturnModeUnreported = 0x00;
 inline constexpr std::uint8_t kReturnModeStrongest = 0x37;
 inline constexpr std::uint8_t kReturnModeLast = 0x38;
 inline constexpr std::uint8_t kReturnModeDual = 0x39;

@@ -9,6 +9,7 @@
 #include <lcm/lcm-cpp.hpp>
 #include <ogf/fusion/pending_scans.hpp>
 #include <ogf/fusion/pose_buffer.hpp>
+#include <ogf/fusion/time_sanity.hpp>
 #include <ogf/lidar_scan_t.hpp>
 #include <ogf/map_command_t.hpp>
 #include <ogf/map_query_t.hpp>
@@ -110,6 +111,7 @@ class MapperDaemon {
   std::condition_variable cv_;
   fusion::PoseBuffer poses_;
   fusion::PendingScans<ScanPtr> pending_;
+  fusion::TimeSanity pose_clock_, scan_clock_;
   bool keyframe_requested_ = false;
   bool work_ = false;
   bool stop_ = false;
@@ -131,7 +133,8 @@ class MapperDaemon {
   std::unique_ptr<transport::Subscriber<ogf::map_command_t>> command_sub_;
   lcm::Subscription* pose_sub_ = nullptr;
   boost::asio::steady_timer status_timer_;
-  transport::LogRateLimiter bad_scan_log_, bad_pose_log_, bad_request_log_, jump_log_, drop_log_, service_log_;
+  transport::LogRateLimiter bad_scan_log_, bad_pose_log_, bad_request_log_, jump_log_, drop_log_, bad_time_log_,
+      service_log_;
   std::thread worker_;
   bool started_ = false;
   bool stopped_ = false;

@@ -8,6 +8,8 @@
 
 #include <Eigen/Geometry>
 
+#include <ogf/fusion/time_sanity.hpp>
+
 #include <cstddef>
 #include <optional>
 
@@ -43,9 +45,14 @@ struct PoseBufferConfig {
   std::size_t capacity = 4000;  // poses kept: 40 s of 100 Hz odometry
   // Largest |‖q‖ − 1| accepted (the quaternion is then normalised); beyond it the pose is rejected.
   double quaternion_tolerance = 1e-3;
-  // A step between consecutive poses larger than these is accepted but flagged as a jump for the log.
+  // max_pose_jump: a step between consecutive poses larger than either splits the trajectory there (the
+  // pose is kept; scans spanning the step are dropped, never interpolated across it).
   double jump_translation_m = 1.0;
   double jump_rotation_rad = 0.5;
+  // A coordinate farther from the odometry origin than this is absurd and the pose is refused. 10^7 m holds
+  // UTM and Earth-centred coordinates; with 2^20 cells of range on top it keeps every cell key within
+  // int32 down to 0.005 m cells.
+  double max_abs_position_m = 1e7;
 
   Status validate() const;
 };
@@ -64,6 +71,7 @@ struct FusionConfig {
   ExtrinsicConfig extrinsic;
   PoseBufferConfig pose_buffer;
   PendingScansConfig pending;
+  TimeSanityConfig time_sanity;  // the same bounds for the odometry and the scans
 
   // The first wrong field, named with its path ("measurement.max_range_m: ...").
   Status validate() const;

@@ -3,8 +3,9 @@
 // extrapolate silently"). Pure: the caller passes the time in. Bounded in scans and in points: when a new
 // scan does not fit, the oldest whole scans are dropped (the mapper fell behind), so memory never grows
 // without bound. A scan leaves by popReady() once the PoseBuffer covers its whole span, in arrival order;
-// it is dropped when it has waited longer than max_pose_wait_s or when its span starts before the oldest
-// pose kept (it can never be covered). Payload is whatever the daemon needs to map the scan later
+// it is dropped when it has waited longer than max_pose_wait_s, when its span starts before the oldest
+// pose kept (it can never be covered), or when it spans a split of the trajectory (an odometry jump beyond
+// max_pose_jump: never interpolated across). Payload is whatever the daemon needs to map the scan later
 // (a shared_ptr to the decoded message, an index); it is moved in and out.
 #pragma once
 
@@ -34,6 +35,7 @@ struct PendingScansCounts {
   std::int64_t scans_dropped_no_pose = 0;  // waited too long, or older than the oldest pose kept
   std::int64_t scans_late = 0;             // arrived after a newer scan (span begins no later)
   std::int64_t scans_rejected = 0;         // malformed span (end before begin)
+  std::int64_t scans_dropped_pose_jump = 0;  // spans a split of the trajectory
 };
 
 enum class PushOutcome { kQueued, kLate, kRejected, kTooLarge };
@@ -89,6 +91,10 @@ class PendingScans {
         queue_.pop_front();
         return ready;
       }
+      if (c == PoseCoverage::kBroken) {
+        dropFront(counts_.scans_dropped_pose_jump);
+        continue;
+      }
       if (c == PoseCoverage::kTooOld || now_utime - front.arrived_utime > max_wait_us_) {
         dropFront(counts_.scans_dropped_no_pose);
         continue;
@@ -97,6 +103,9 @@ class PendingScans {
     }
     return std::nullopt;
   }
+
+  // The scans' clock jumped (TimeSanity followed it): a scan is late only against scans on the new clock.
+  void restartClock() { last_begin_utime_.reset(); }
 
   std::size_t size() const { return queue_.size(); }
   std::size_t points() const { return points_; }

@@ -2,9 +2,11 @@
 // linear interpolation of position and slerp of orientation between the two poses around that instant.
 // It never extrapolates: an instant after the newest pose is "not yet covered" (wait for odometry), one
 // before the oldest pose kept is "too old" (it will never be covered). Poses are rejected and counted when
-// out of order, at a duplicate time, NaN/Inf, or with a quaternion whose norm is off by more than the
-// tolerance (within it they are normalised); a step larger than the jump thresholds is accepted but flagged
-// so the daemon can log it. Capacity is fixed; the oldest pose is evicted.
+// out of order, at a duplicate time, NaN/Inf, farther from the origin than any place a map can hold, or
+// with a quaternion whose norm is off by more than the tolerance (within it they are normalised). A step
+// larger than max_pose_jump splits the trajectory: the pose is kept, but nothing is interpolated across the
+// step (an instant or a span crossing it is "broken"), since the odometry did not say where the robot was
+// in between. Capacity is fixed; the oldest pose is evicted.
 #pragma once
 
 #include <ogf/fusion/fusion_config.hpp>
@@ -16,12 +18,12 @@
 
 namespace ogf::fusion {
 
-enum class PoseRejection { kNone, kOutOfOrder, kDuplicateTime, kNonFinite, kNotUnitQuaternion };
+enum class PoseRejection { kNone, kOutOfOrder, kDuplicateTime, kNonFinite, kNotUnitQuaternion, kAbsurdPosition };
 
 struct PoseInsertResult {
   PoseRejection rejection = PoseRejection::kNone;
   bool normalised = false;  // accepted after normalising a quaternion within tolerance
-  bool jump = false;        // accepted, but the step from the previous pose exceeds a jump threshold
+  bool jump = false;        // accepted, but the step from the previous pose exceeds max_pose_jump: a split
   double step_translation_m = 0.0;  // step from the previous pose (0 for the first)
   double step_rotation_rad = 0.0;
 
@@ -34,12 +36,14 @@ struct PoseBufferCounts {
   std::int64_t rejected_duplicate_time = 0;
   std::int64_t rejected_non_finite = 0;
   std::int64_t rejected_not_unit = 0;
+  std::int64_t rejected_absurd = 0;
   std::int64_t normalised = 0;
   std::int64_t jumps = 0;
   std::int64_t evicted = 0;
 
   std::int64_t rejected() const {
-    return rejected_out_of_order + rejected_duplicate_time + rejected_non_finite + rejected_not_unit;
+    return rejected_out_of_order + rejected_duplicate_time + rejected_non_finite + rejected_not_unit +
+           rejected_absurd;
   }
 };
 
@@ -47,6 +51,7 @@ enum class PoseCoverage {
   kCovered,     // between the oldest and the newest pose kept (inclusive)
   kNotYet,      // after the newest pose, or no pose yet: wait for odometry
   kTooOld,      // before the oldest pose kept: will never be covered
+  kBroken,      // crosses a split of the trajectory (a step beyond max_pose_jump): will never be covered
 };
 
 struct PoseLookup {
@@ -62,6 +67,11 @@ class PoseBuffer {
   explicit PoseBuffer(const PoseBufferConfig& config);
 
   PoseInsertResult insert(const Pose& pose);
+  // What insert() would refuse in the pose itself, whatever its time (non-finite, absurd, not a unit
+  // quaternion), or kNone; counts nothing.
+  PoseRejection contentRejection(const Pose& pose) const;
+  // Forgets every pose (the odometry's clock jumped: the times kept are on another clock).
+  void clear();
 
   // The pose at utime: exact at a stored pose, interpolated between two, never extrapolated.
   PoseLookup interpolate(std::int64_t utime) const;
@@ -81,11 +91,19 @@ class PoseBuffer {
     return ring_[j >= ring_.size() ? j - ring_.size() : j];
   }
   PoseCoverage coverageAt(std::int64_t utime) const;
+  bool crossesSplit(std::int64_t begin_utime, std::int64_t end_utime) const;
+
+  // The time of the last pose before a split and of the first after it.
+  struct Split {
+    std::int64_t before_utime;
+    std::int64_t after_utime;
+  };
 
   PoseBufferConfig config_;
   std::vector<Pose> ring_;  // capacity slots, [head_, head_ + size_) in use, oldest first
   std::size_t head_ = 0;
   std::size_t size_ = 0;
+  std::vector<Split> splits_;  // oldest first; those before the oldest pose kept are dropped
   PoseBufferCounts counts_;
 };
 

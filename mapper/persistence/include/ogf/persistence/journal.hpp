@@ -1,7 +1,9 @@
 // The journal: every measurement set the mapper applied since its last snapshot, appended and flushed
 // scan by scan, so that snapshot + journal replayed through the (deterministic) filter gives back exactly
 // the map the mapper had at its last flush. A crash can tear only the record being written; the reader
-// keeps every whole record before it and says where the tail was cut.
+// keeps every whole record before it and says where the tail was cut. Damage elsewhere (a flipped or
+// overwritten stretch) loses only the records it touches: every record is framed by its magic and its
+// checksum, so the reader resynchronises on the next record that is whole, and reports what it skipped.
 //
 // Format (little-endian):
 //   header  "OGFJRNL1" | u32 version=1 | i64 map_id | i64 base_seq | u32 crc32(previous 28 bytes)
@@ -29,18 +31,29 @@ struct JournalRecord {
   std::vector<Measurement> measurements;
 };
 
+// A stretch of the file skipped between two whole records (or between the header and the first).
+struct JournalDamage {
+  std::uint64_t offset = 0;
+  std::uint64_t length = 0;
+  std::string reason;
+};
+
 struct JournalContents {
-  std::int64_t map_id = 0;
-  std::int64_t base_seq = 0;
+  std::int64_t map_id = 0;    // 0 when the header is damaged
+  std::int64_t base_seq = 0;  // 0 when the header is damaged
+  // Why the header failed its checks ("" when it is whole); the records after it were still read.
+  std::string header_damage;
   std::vector<JournalRecord> records;
+  std::vector<JournalDamage> damaged;  // skipped stretches with whole records after them
   // Where an incomplete or corrupt tail began (a torn write at a crash), with the reason; nullopt when
   // the file ended on a record boundary.
   std::optional<std::uint64_t> torn_tail_offset;
   std::string torn_tail_reason;
 };
 
-// Reads a journal. Fails (with the path and offset) only when the header itself is unreadable or the
-// file does not exist; a damaged tail is reported in the contents, not as a failure.
+// Reads a journal. Fails (with the path and offset) only when the file does not exist or holds neither a
+// whole header nor a whole record; a damaged header, damaged records and a torn tail are reported in the
+// contents, not as a failure.
 Result<JournalContents> readJournal(const std::filesystem::path& path);
 
 // Appends records to a journal file.

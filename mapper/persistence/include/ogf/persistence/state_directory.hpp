@@ -1,15 +1,22 @@
-// The mapper's state directory: the latest snapshot of the map and the journal of what was applied since.
-// Recovery = the snapshot's map plus the journal's records after it, replayed in order; because every
-// scan's measurements are journalled and flushed before the map changes (write-ahead), a crash at any
-// instant loses nothing that was flushed.
+// The mapper's state directory: the latest snapshot of the map and the journal of what was applied since,
+// and the generation before them. Recovery = the snapshot's map plus the journal's records after it,
+// replayed in order; because every scan's measurements are journalled and flushed before the map changes
+// (write-ahead), a crash at any instant loses nothing that was flushed.
 //
-//   <dir>/snapshot.ogfs   "OGFSNAP1" | u32 version=1 | i64 map_id | i64 seq | u64 n | n bytes (the filter's
-//                         map file) | u32 crc32(everything before), written atomically
-//   <dir>/journal.ogfj    see journal.hpp; its base_seq is the seq of the snapshot it continues
+//   <dir>/snapshot.ogfs        "OGFSNAP1" | u32 version=1 | i64 map_id | i64 seq | u64 n | n bytes (the
+//                              filter's map file) | u32 crc32(everything before), written atomically
+//   <dir>/journal.ogfj         see journal.hpp; its base_seq is the seq of the snapshot it continues
+//   <dir>/snapshot.prev.ogfs   the snapshot before, and the journal that continued it up to the newest
+//   <dir>/journal.prev.ogfj    snapshot (hard links, or copies where the file system has none)
+//   <dir>/damaged-<utime>/     damaged files set aside, never deleted
 //
-// Snapshot then journal: a new snapshot at seq s is renamed into place first, then a fresh journal with
-// base_seq s replaces the old one. A crash between the two leaves an old journal whose records up to s are
-// already in the snapshot; recovery skips them.
+// Snapshot then journal: the current pair becomes the previous generation, a new snapshot at seq s is
+// renamed into place, then a fresh journal with base_seq s replaces the old one. A crash between the two
+// leaves an old journal whose records up to s are already in the snapshot; recovery skips them.
+//
+// Damage: a damaged newest snapshot falls back to the previous one, replayed through both journals; a
+// journal with damaged records gives every whole record (journal.hpp). Either way the damaged file is kept
+// in damaged-<utime>/ and `damage` says what happened, so the daemon can report it.
 #pragma once
 
 #include <cstdint>
@@ -31,6 +38,11 @@ struct RecoveredState {
   std::vector<JournalRecord> replay;       // records after the snapshot, in order
   std::int64_t last_seq = 0;       // snapshot_seq or the last record's seq
   std::vector<std::string> notes;  // what recovery skipped or cut, for the log
+  // What was damaged and lost or fallen back from ("" when nothing): for persistence_ok = false. The
+  // damaged files are listed in damaged_files; recover() sets them aside.
+  std::string damage;
+  std::vector<std::filesystem::path> damaged_files;
+  bool snapshot_fallback = false;  // restored from the previous snapshot generation
 };
 
 class StateDirectory {
@@ -43,9 +55,15 @@ class StateDirectory {
   // written (read-only), so the saved map is still used, and not replaced by a new one once it can be.
   static Result<RecoveredState> read(const std::filesystem::path& dir, std::int64_t new_map_id);
 
-  // Reads the snapshot and the journal. A damaged snapshot is an error (never half-load a map); a torn
-  // journal tail is cut (noted). Then opens the journal for appending after the last record.
-  Result<RecoveredState> recover(std::int64_t new_map_id);
+  // Reads the snapshot and the journal. A damaged snapshot falls back to the previous generation; when
+  // both are damaged it is an error (never half-load a map). A torn journal tail is cut (noted); damaged
+  // files are copied to damaged-<wall_utime>/ first. Then opens the journal for appending after the last
+  // record.
+  Result<RecoveredState> recover(std::int64_t new_map_id, std::int64_t wall_utime = 0);
+
+  // Moves every state file into damaged-<wall_utime>/ (a map that cannot be restored: kept, never
+  // deleted); returns that directory.
+  Result<std::filesystem::path> setAside(std::int64_t wall_utime) const;
 
   // Appends one applied measurement set (write-ahead: call before the filter sees it) and flushes.
   Status journal(std::int64_t seq, std::int64_t utime, std::span<const Measurement> measurements);
@@ -58,6 +76,8 @@ class StateDirectory {
   const std::filesystem::path& dir() const { return dir_; }
   std::filesystem::path snapshotPath() const { return dir_ / "snapshot.ogfs"; }
   std::filesystem::path journalPath() const { return dir_ / "journal.ogfj"; }
+  std::filesystem::path previousSnapshotPath() const { return dir_ / "snapshot.prev.ogfs"; }
+  std::filesystem::path previousJournalPath() const { return dir_ / "journal.prev.ogfj"; }
 
  private:
   explicit StateDirectory(std::filesystem::path dir) : dir_(std::move(dir)) {}
