@@ -63,8 +63,8 @@ Result<SimulationReport> runSimulation(const Scene& scene, const TrajectorySpec&
   report.path_length_m = trajectory->length();
 
   World world = scene.world;
-  for (const MovingSolidSpec& spec : config.movers) {
-    auto mover = MovingSolid::build(spec);
+  for (const MovingSolidSpec& moverSpec : config.movers) {
+    auto mover = MovingSolid::build(moverSpec);
     if (!mover) return Error{"moving solid: " + mover.error().message};
     world.movers.push_back(std::move(*mover));
   }
