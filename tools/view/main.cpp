@@ -81,6 +81,7 @@ int main(int argc, char** argv) {
   std::string mapper_status_channel = "OGF_MAPPER_STATUS";
   std::string driver_status_channel = "VELODYNE_STATUS";
   double rate_hz = 4.0;
+  std::size_t max_boxes = 300000;
   double keyframe_retry_s = 1.0;
   std::string three_dir = "/usr/share/javascript/three";
   std::string log_level = "info";
@@ -98,6 +99,9 @@ int main(int argc, char** argv) {
   app.add_option("--driver-status-channel", driver_status_channel, "Driver status channel")->capture_default_str();
   app.add_option("--rate", rate_hz, "Updates sent to the browsers per second")
       ->check(CLI::Range(0.2, 30.0))->capture_default_str();
+  app.add_option("--max-boxes", max_boxes,
+                 "Most boxes drawn: beyond, a box stands for 2x2x2 cells (4x4x4, ...), the level of detail")
+      ->check(CLI::Range(std::size_t{1000}, std::size_t{50000000}))->capture_default_str();
   app.add_option("--keyframe-retry", keyframe_retry_s, "Seconds between keyframe requests while one is needed")
       ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--three-dir", three_dir,
@@ -139,13 +143,14 @@ int main(int argc, char** argv) {
       return kExitFailure;
     }
     const auto cells = ogf::pipeline::publishedCellsOf(loaded->map);
-    slots.reset(cells);
+    slots.reset(cells, ogf::view::chooseLod(cells, max_boxes));
     stream.source = map_path;
     stream.seq = loaded->seq;
     stream.cells = cells.size();
     stream.consistent = true;
     stream.resolution = loaded->map.config().resolution;
-    spdlog::info("{} ({}): {} cells, {} occupied", map_path, loaded->kind, cells.size(), slots.occupied());
+    spdlog::info("{} ({}): {} cells, {} occupied, drawn as {} boxes of {} cells a side", map_path, loaded->kind,
+                 cells.size(), slots.occupiedCells(), slots.occupied(), slots.lod());
   } else {
     stream.source = "live";
   }
@@ -154,12 +159,14 @@ int main(int argc, char** argv) {
   const auto textFrame = [](std::string s) { return Frame{std::make_shared<const std::string>(std::move(s)), false}; };
   const auto cellFrames = [&](std::span<const std::uint32_t> which, bool full) {
     std::vector<Frame> out;
-    for (auto& bytes : ogf::view::encodeCellFrames(slots, which, full, stream.resolution))
+    for (auto& bytes : ogf::view::encodeCellFrames(slots, which, full, stream.resolution * slots.lod()))
       out.push_back(Frame{std::make_shared<const std::string>(bytes.begin(), bytes.end()), true});
     return out;
   };
   const auto refreshStream = [&] {
-    stream.occupied = slots.occupied();
+    stream.occupied = slots.occupiedCells();
+    stream.boxes = slots.occupied();
+    stream.lod = slots.lod();
     if (map_path.empty()) {
       stream.seq = receiver.appliedSeq();
       stream.cells = receiver.map().size();
@@ -224,9 +231,11 @@ int main(int argc, char** argv) {
             spdlog::warn("gap in the delta stream after seq {}: asking for a keyframe", receiver.appliedSeq());
           if (receiver.keyframesApplied() != keyframes_seen) {
             keyframes_seen = receiver.keyframesApplied();
-            slots.reset(receiver.map().sortedCells());
-            spdlog::info("keyframe applied: map {} seq {} cells {} occupied {}", receiver.mapId().value_or(-1),
-                         receiver.appliedSeq(), receiver.map().size(), slots.occupied());
+            const auto cells = receiver.map().sortedCells();
+            slots.reset(cells, ogf::view::chooseLod(cells, max_boxes));
+            spdlog::info("keyframe applied: map {} seq {} cells {} occupied {} boxes {} of {} cells a side",
+                         receiver.mapId().value_or(-1), receiver.appliedSeq(), receiver.map().size(),
+                         slots.occupiedCells(), slots.occupied(), slots.lod());
           }
           if (receiver.needsKeyframe() && !needed_before) requestKeyframe();
         },
@@ -256,6 +265,12 @@ int main(int argc, char** argv) {
     if (lcm && receiver.needsKeyframe() &&
         std::chrono::steady_clock::now() - last_request > std::chrono::duration<double>(keyframe_retry_s))
       requestKeyframe();
+    if (lcm && slots.occupied() > max_boxes) {  // the map outgrew the box budget: a coarser level of detail
+      const auto cells = receiver.map().sortedCells();
+      slots.reset(cells, ogf::view::chooseLod(cells, max_boxes));
+      spdlog::info("{} occupied cells: drawn as {} boxes of {} cells a side", slots.occupiedCells(), slots.occupied(),
+                   slots.lod());
+    }
     refreshStream();
     const bool full = slots.takeFullPending();
     const auto changed = slots.takeChanged();

@@ -68,8 +68,11 @@ TEST(OccupiedSlots, FollowsAnyStreamOfChangesExactly) {
     for (const auto i : s.takeChanged()) mirror[i] = s.slot(i);
   }
   std::set<ogf::CellKey> drawn;
-  for (const auto& m : mirror)
-    if (m.probability != kEmptySlot) EXPECT_TRUE(drawn.insert(m.key).second) << "a cell in two slots";
+  for (const auto& m : mirror) {
+    if (m.probability != kEmptySlot) {
+      EXPECT_TRUE(drawn.insert(m.key).second) << "a cell in two slots";
+    }
+  }
   std::set<ogf::CellKey> occupied;
   for (const auto& [k, occ] : truth)
     if (occ) occupied.insert(k);
@@ -89,6 +92,46 @@ TEST(OccupiedSlots, ResetNumbersFromZeroAndAsksForAFullFrame) {
   EXPECT_EQ(s.slotCount(), 2u);
   EXPECT_EQ(s.filledSlots(), (std::vector<std::uint32_t>{0, 1}));
   EXPECT_TRUE(s.takeChanged().empty());  // the full frame carries them
+}
+
+TEST(OccupiedSlots, AtACoarserLevelABoxStaysWhileAnyOfItsCellsIsOccupied) {
+  OccupiedSlots s;
+  s.reset({}, 2);
+  for (int x = 0; x < 2; ++x)
+    for (int y = 0; y < 2; ++y)
+      for (int z = 0; z < 2; ++z) s.set(cell(x, y, z, kOcc));
+  s.set(cell(-1, 0, 0, kOcc));  // the box below 0 is another box: -1 / 2 rounds down to -1
+  EXPECT_EQ(s.occupiedCells(), 9u);
+  EXPECT_EQ(s.occupied(), 2u);
+  EXPECT_EQ(s.slot(0).key, (ogf::CellKey{0, 0, 0}));
+  EXPECT_EQ(s.slot(1).key, (ogf::CellKey{-1, 0, 0}));
+  for (int x = 0; x < 2; ++x)
+    for (int y = 0; y < 2; ++y) s.set(cell(x, y, 0, kFree));
+  s.set(cell(1, 1, 1, kUnknown));
+  EXPECT_EQ(s.slot(0).probability, 9000);  // three cells still hold the box
+  s.set(cell(0, 0, 1, kFree));
+  s.set(cell(0, 1, 1, kFree));
+  EXPECT_EQ(s.slot(0).probability, 9000);
+  s.set(cell(1, 0, 1, kFree));  // the last one
+  EXPECT_EQ(s.slot(0).probability, kEmptySlot);
+  EXPECT_EQ(s.occupied(), 1u);
+  EXPECT_EQ(s.occupiedCells(), 1u);
+}
+
+TEST(OccupiedSlots, LevelOfDetailIsTheFinestWithinTheBudget) {
+  std::vector<PublishedCell> cells;
+  for (int x = 0; x < 40; ++x)
+    for (int y = 0; y < 40; ++y) cells.push_back(cell(x, y, 0, kOcc));  // 1600 cells in one layer
+  cells.push_back(cell(100, 100, 0, kFree));                           // free cells take no box
+  EXPECT_EQ(ogf::view::chooseLod(cells, 1600), 1);
+  EXPECT_EQ(ogf::view::chooseLod(cells, 1599), 2);  // 20 x 20 boxes
+  EXPECT_EQ(ogf::view::chooseLod(cells, 400), 2);
+  EXPECT_EQ(ogf::view::chooseLod(cells, 399), 4);
+  OccupiedSlots s;
+  s.reset(cells, ogf::view::chooseLod(cells, 400));
+  EXPECT_EQ(s.lod(), 2);
+  EXPECT_EQ(s.occupied(), 400u);
+  EXPECT_EQ(s.occupiedCells(), 1600u);
 }
 
 }  // namespace

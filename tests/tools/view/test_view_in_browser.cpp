@@ -144,7 +144,7 @@ TEST(ViewInBrowser, SavedMapIsDrawn) {
   const std::string url = view.url();
   ASSERT_FALSE(url.empty());
   ASSERT_TRUE(browser.open(url));
-  const std::string want = "drawn " + std::to_string(occupied) + " cells";
+  const std::string want = "drawn " + std::to_string(occupied) + " boxes";
   const std::string title = browser.waitForTitle(want, std::chrono::seconds(30));
   fs::remove(map_path);
   if (title.find("no WebGL") != std::string::npos) GTEST_SKIP() << "chromium has no WebGL here: " << title;
@@ -183,7 +183,7 @@ TEST(ViewInBrowser, LiveDeltasChangeThePicture) {
   ASSERT_TRUE(browser.open(url));
   // ogf-view asks for a keyframe at start; answering every half second covers a request sent before
   // this side listened.
-  const std::string want1 = "drawn " + std::to_string(wall_cells) + " cells, seq 1";
+  const std::string want1 = "drawn " + std::to_string(wall_cells) + " boxes, seq 1";
   std::string title;
   for (int i = 0; i < 60 && title.find(want1) == std::string::npos; ++i) {
     publish(stream.keyframe(2));
@@ -208,7 +208,7 @@ TEST(ViewInBrowser, LiveDeltasChangeThePicture) {
     lcm.publish("POSE", &pose);
     ++pose.utime;
   }
-  const std::string want2 = "drawn " + std::to_string(wall_cells + block.size()) + " cells, seq 2";
+  const std::string want2 = "drawn " + std::to_string(wall_cells + block.size()) + " boxes, seq 2";
   title = browser.waitForTitle(want2, std::chrono::seconds(5));
   if (title.find(want2) == std::string::npos) {  // a datagram lost on loopback: the keyframe holds it too
     publish(stream.keyframe(4));

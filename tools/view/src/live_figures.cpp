@@ -54,8 +54,8 @@ void LiveFigures::driverStatus(const ogf::driver_status_t& s) { driver_ = s; }
 
 std::string LiveFigures::json(const StreamFigures& st, std::size_t raw_from, std::size_t corrected_from) const {
   const std::string stream = fmt::format(
-      R"({{"source":{},"seq":{},"cells":{},"occupied":{},"gaps":{},"keyframes":{},"malformed":{},"messages":{},"consistent":{},"waiting_for_keyframe":{},"resolution":{}}})",
-      quoted(st.source), st.seq, st.cells, st.occupied, st.gaps, st.keyframes, st.malformed, st.messages,
+      R"({{"source":{},"seq":{},"cells":{},"occupied":{},"boxes":{},"lod":{},"gaps":{},"keyframes":{},"malformed":{},"messages":{},"consistent":{},"waiting_for_keyframe":{},"resolution":{}}})",
+      quoted(st.source), st.seq, st.cells, st.occupied, st.boxes, st.lod, st.gaps, st.keyframes, st.malformed, st.messages,
       st.consistent, st.waiting_for_keyframe, number(st.resolution));
   std::string mapper = "null";
   if (mapper_) {

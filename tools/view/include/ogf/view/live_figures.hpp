@@ -18,7 +18,9 @@ struct StreamFigures {
   std::string source;             // "live" or the map file's path
   std::int64_t seq = -1;          // last update applied
   std::size_t cells = 0;          // cells in the map
-  std::size_t occupied = 0;       // of which occupied (drawn)
+  std::size_t occupied = 0;       // of which occupied
+  std::size_t boxes = 0;          // boxes drawn for them
+  std::int32_t lod = 1;           // cells a box spans along each axis
   std::uint64_t gaps = 0;
   std::uint64_t keyframes = 0;
   std::uint64_t malformed = 0;

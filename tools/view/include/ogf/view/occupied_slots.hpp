@@ -3,6 +3,9 @@
 // its slot for the next one. Every browser shares the numbering, so an update is "slot i now holds this
 // cell" or "slot i is empty", applied by the page with no lookup. The slots that changed since the last
 // takeChanged() are what the next WebSocket frame carries.
+//
+// Level of detail: with lod() = f > 1 a slot holds a box of f × f × f cells (key = the cells' key / f,
+// rounded down), drawn while any of its cells is occupied, with the figures of the one that changed last.
 #pragma once
 
 #include <cstdint>
@@ -27,10 +30,14 @@ class OccupiedSlots {
  public:
   // Follows one published cell: an occupied cell takes (or keeps) a slot, any other class frees its slot.
   void set(const delta::PublishedCell& cell);
-  // Replaces everything with `cells` (a keyframe or a map file), numbering from 0 without holes. The next
-  // frame must then be a full one (fullPending()).
-  void reset(std::span<const delta::PublishedCell> cells);
+  // Replaces everything with `cells` (a keyframe or a map file) at level of detail `lod` (a power of 2),
+  // numbering from 0 without holes. The next frame must then be a full one (takeFullPending()).
+  void reset(std::span<const delta::PublishedCell> cells, std::int32_t lod = 1);
+  std::int32_t lod() const { return lod_; }
+  // Occupied cells (each counted once, whatever the level of detail).
+  std::size_t occupiedCells() const { return fine_.size(); }
 
+  // Boxes drawn (occupied cells at level of detail 1).
   std::size_t occupied() const { return index_.size(); }
   // Slots in use or freed: a page needs this many boxes.
   std::size_t slotCount() const { return slots_.size(); }
@@ -45,6 +52,11 @@ class OccupiedSlots {
 
  private:
   void mark(std::uint32_t i);
+  CellKey boxOf(const CellKey& k) const;
+
+  std::int32_t lod_ = 1;
+  std::unordered_map<CellKey, std::uint8_t, CellKeyHash> fine_;  // occupied cells (value unused)
+  std::unordered_map<CellKey, std::uint32_t, CellKeyHash> count_;  // occupied cells per box, lod > 1
 
   std::vector<SlotCell> slots_;
   std::unordered_map<CellKey, std::uint32_t, CellKeyHash> index_;
@@ -53,5 +65,9 @@ class OccupiedSlots {
   std::vector<std::uint32_t> changed_;
   bool full_pending_ = false;
 };
+
+// The finest level of detail (1, 2, 4, ... 64) at which the occupied `cells` make at most `max_boxes`
+// boxes (64 when none does).
+std::int32_t chooseLod(std::span<const delta::PublishedCell> cells, std::size_t max_boxes);
 
 }  // namespace ogf::view
