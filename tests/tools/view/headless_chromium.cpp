@@ -212,11 +212,18 @@ bool HeadlessChromium::open(const std::string& url) {
   return call("Page.navigate", "{\"url\":\"" + url + "\"}").has_value();
 }
 
-std::string HeadlessChromium::title() {
-  const auto r = call("Runtime.evaluate", R"({"expression":"document.title","returnByValue":true})");
+std::string HeadlessChromium::evaluate(const std::string& expression) {
+  std::string quoted;
+  for (const char c : expression) {
+    if (c == '"' || c == '\\') quoted += '\\';
+    quoted += c;
+  }
+  const auto r = call("Runtime.evaluate", "{\"expression\":\"String(" + quoted + ")\",\"returnByValue\":true}");
   if (!r) return "";
   return jsonString(*r, "value").value_or("");
 }
+
+std::string HeadlessChromium::title() { return evaluate("document.title"); }
 
 std::string HeadlessChromium::waitForTitle(const std::string& text, std::chrono::milliseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;

@@ -25,6 +25,8 @@ class HeadlessChromium {
   std::optional<std::string> start(int width, int height);
   // Loads `url` in the page; false when the browser does not answer.
   bool open(const std::string& url);
+  // The value of a JavaScript expression in the page, as a string ("" when the browser does not answer).
+  std::string evaluate(const std::string& expression);
   // The page's title ("" when the browser does not answer).
   std::string title();
   // Polls the title until it contains `text` or `timeout` passes; the last title seen.
