@@ -135,6 +135,7 @@ int main(int argc, char** argv) {
   ogf::view::LiveFigures figures;
   ogf::view::StreamFigures stream;
   ogf::delta::MapReceiver receiver;
+  std::uint64_t decode_errors = 0;  // messages on the subscribed channels that did not decode
 
   if (!map_path.empty()) {
     auto loaded = ogf::map_io::loadOgfMap(map_path);
@@ -172,6 +173,7 @@ int main(int argc, char** argv) {
       stream.cells = receiver.map().size();
       stream.gaps = receiver.gaps();
       stream.keyframes = receiver.keyframesApplied();
+      stream.malformed = receiver.malformed() + decode_errors;
       stream.consistent = receiver.consistent();
       stream.waiting_for_keyframe = receiver.needsKeyframe();
       stream.resolution = receiver.resolution();
@@ -218,7 +220,7 @@ int main(int argc, char** argv) {
     std::uint64_t keyframes_seen = 0;
     ogf::transport::LogRateLimiter malformed_log;
     const auto on_error = [&](const std::string& channel, std::size_t size, std::string_view why) {
-      ++stream.malformed;
+      ++decode_errors;
       if (auto n = malformed_log.allow()) spdlog::warn("message on {} ({} bytes) {} ({} more)", channel, size, why, *n);
     };
     subscriptions.push_back(std::make_shared<ogf::transport::Subscriber<ogf::map_delta_t>>(
