@@ -43,7 +43,9 @@ them with the Occupancy Grid Filter and keeps it across restarts. Both run
 as hardened systemd services (ogf.target, not enabled on install). Also
 ships the replay, simulation, decoding, map and evaluation tools, and
 lcmtypes_ogf.jar for lcm-spy.")
-# Depends from the ELF programs' DT_NEEDED, through dpkg-shlibdeps and the shlibs of installed packages.
+# Depends from the ELF programs' DT_NEEDED, through dpkg-shlibdeps and the shlibs of installed packages,
+# after libjs-three: ogf-view serves its /usr/share/javascript/three/three.min.js.
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "libjs-three")
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 # lcm-logger records the bus on the robot; lcm-spy (a Java GUI, usually on a laptop) needs the rest.
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "liblcm-bin")

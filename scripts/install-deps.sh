@@ -10,8 +10,12 @@ PACKAGES=(
   liblcm-dev liblcm-bin liblcm-java default-jdk-headless default-jre libjchart2d-java
   # libraries the code uses
   zlib1g-dev libpcap-dev libeigen3-dev libboost-dev libspdlog-dev libyaml-cpp-dev libcli11-dev
+  # ogf-view's page: three.js, served from /usr/share/javascript/three (Boost.Beast is in libboost-dev)
+  libjs-three
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev liboctomap-dev
+  # ogf-view's browser test: headless Chromium (WebGL on SwiftShader)
+  chromium
   # fuzzing (clang's libFuzzer runtime) and tooling used by the tests (wireshark-common: editcap writes
   # the pcapng copy of a real capture that the capture reader's pcapng test reads)
   clang libclang-rt-14-dev iproute2 unzip python3 wireshark-common

@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # The README's main job: installs what is missing, builds, then drives ogf end to end on this host.
 #   scripts/run.sh [--out DIR] [--speed X] [--duration S] [--world PRESET|FILE] [--lcm-url URL]
+#                  [--view-port PORT] [--view-wait S]
 #     simulates a VLP-16 on a robot in a known world (ogf-sim), starts ogf-mapper and ogf-driver as real
-#     processes on LCM udpm over loopback, follows the map with ogf-map-client, replays the capture onto UDP
+#     processes on LCM udpm over loopback, follows the map with ogf-map-client and ogf-view (the map in a
+#     browser at http://127.0.0.1:PORT/, 8765; --view-wait S waits S seconds after printing the address
+#     so a browser can be opened before the drive starts), replays the capture onto UDP
 #     and the odometry onto LCM with ogf-replay, stops the daemons with SIGTERM (the mapper writes its final
 #     snapshot), and scores the map against the ground truth and an OctoMap from the same rays (ogf-eval).
 #   scripts/run.sh --pcap FILE [--out DIR]
@@ -20,6 +23,8 @@ pcap=
 url="udpm://239.255.76.67:7689?ttl=0"
 data_port=12368      # not 2368: a real sensor on this host keeps its port
 position_port=18308
+view_port=8765
+view_wait=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --out) out=$2; shift 2 ;;
@@ -28,7 +33,9 @@ while [ $# -gt 0 ]; do
     --world) world=$2; shift 2 ;;
     --pcap) pcap=$2; shift 2 ;;
     --lcm-url) url=$2; shift 2 ;;
-    -h|--help) sed -n '2,13p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --view-port) view_port=$2; shift 2 ;;
+    --view-wait) view_wait=$2; shift 2 ;;
+    -h|--help) sed -n '2,15p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "run.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -75,6 +82,15 @@ mapper=$!; pids+=("$mapper")
 driver=$!; pids+=("$driver")
 "$bin/ogf-map-client" --lcm-url "$url" --progress >"$out/logs/map-client.log" 2>&1 &
 client=$!; pids+=("$client")
+"$bin/ogf-view" --lcm-url "$url" --port "$view_port" >"$out/logs/view.log" 2>&1 &
+view=$!; pids+=("$view")
+for _ in $(seq 1 50); do grep -q '^ogf-view: http' "$out/logs/view.log" && break; sleep 0.1; done
+if view_url=$(grep -m1 -o 'http://[^ ]*' "$out/logs/view.log"); then
+  echo "== watch the map grow in a browser: $view_url"
+  sleep "$view_wait"
+else
+  echo "run.sh: ogf-view did not start (see $out/logs/view.log); going on without it" >&2
+fi
 
 echo "== replaying the capture and the odometry at ${speed}x"
 "$bin/ogf-replay" --pcap "$out/sim/capture.pcap" --dest 127.0.0.1 --data-port "$data_port" \
@@ -94,6 +110,7 @@ for _ in $(seq 1 120); do
   if [ "$same" -ge 3 ]; then break; fi
 done
 kill -TERM "$client"; client_rc=0; wait "$client" || client_rc=$?
+kill -TERM "$view" 2>/dev/null || true; wait "$view" 2>/dev/null || true
 kill -TERM "$mapper"; mapper_rc=0; wait "$mapper" || mapper_rc=$?
 pids=()
 echo "driver exit $driver_rc, mapper exit $mapper_rc, map client exit $client_rc"
@@ -111,4 +128,5 @@ echo "PLY:        $out/map_occupied.ply (occupied cells)"
 echo "PNG:        $out/png/ (truth, ogf/octomap classes and errors, occupancy, entropy; walls above the floor)"
 echo "accuracy:   $out/accuracy.txt"
 echo "OctoMap:    $out/octomap.bt"
-echo "logs:       $out/logs/ (sim, mapper, driver, map-client); replay summary $out/replay.txt"
+echo "logs:       $out/logs/ (sim, mapper, driver, map-client, view); replay summary $out/replay.txt"
+echo "browser:    $bin/ogf-view --map $out/map.ogfs   (then open http://127.0.0.1:$view_port/)"

@@ -69,6 +69,7 @@ done
 out=$(in_root ogf-decode --help 2>&1) || bad "ogf-decode --help: $out"
 echo "  ogf-decode --help: $(head -1 <<<"$out")"
 out=$(in_root ogf-driver --help 2>&1) || bad "ogf-driver --help: $out"
+in_root test -f /usr/share/javascript/three/three.min.js || bad "libjs-three (ogf-view's three.js) not installed"
 out=$(in_root ogf-mapper --print-config 2>&1) || bad "ogf-mapper --print-config: $out"
 echo "  ogf-mapper --print-config: $(wc -l <<<"$out") lines"
 out=$(in_root ogf-mapper --config /etc/ogf/mapper.yaml --print-config 2>&1) ||

@@ -8,7 +8,6 @@
 #include <CLI/CLI.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <lcm/lcm-cpp.hpp>
-#include <unistd.h>
 
 #include <ogf/map_delta_t.hpp>
 #include <ogf/map_request_t.hpp>
@@ -18,6 +17,7 @@
 #include <functional>
 #include <string>
 
+#include "ogf/delta/keyframe_request.hpp"
 #include "ogf/delta/map_receiver.hpp"
 #include "ogf/transport/daemon_loop.hpp"
 #include "ogf/transport/lcm_asio_bridge.hpp"
@@ -66,18 +66,10 @@ int main(int argc, char** argv) {
   std::uint64_t decode_errors = 0;
   auto last_delta = std::chrono::steady_clock::now();
   auto last_request = std::chrono::steady_clock::time_point{};
-  const std::string requester = [] {
-    char host[256] = {};
-    ::gethostname(host, sizeof(host) - 1);
-    return std::string(host) + ":" + std::to_string(::getpid());
-  }();
+  const std::string requester = ogf::delta::requesterName();
 
   const auto requestKeyframe = [&] {
-    ogf::map_request_t req{};
-    req.utime = std::chrono::duration_cast<std::chrono::microseconds>(
-                    std::chrono::system_clock::now().time_since_epoch()).count();
-    req.requester = requester;
-    req.last_seq = receiver.appliedSeq();
+    const ogf::map_request_t req = ogf::delta::keyframeRequest(receiver, requester);
     lcm.publish(request_channel, &req);
     last_request = std::chrono::steady_clock::now();
     spdlog::debug("asked for a keyframe (last applied seq {})", req.last_seq);

@@ -65,7 +65,10 @@ MapReceiver::Outcome MapReceiver::drain() {
     auto next = deltas_.find(applied_seq_ + 1);
     if (next != deltas_.end() && next->second.complete()) {
       for (const auto& [index, part] : next->second.parts)
-        for (const PublishedCell& c : part) map_.set(c);
+        for (const PublishedCell& c : part) {
+          map_.set(c);
+          if (cell_sink_) cell_sink_(c);
+        }
       server_checksum_ = next->second.checksum;
       applied_seq_ = next->first;
       deltas_.erase(next);

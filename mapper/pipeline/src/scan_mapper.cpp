@@ -1,7 +1,8 @@
 #include "ogf/pipeline/scan_mapper.hpp"
 
+#include "ogf/pipeline/published_cells.hpp"
+
 #include <ogf/filter/map_file.hpp>
-#include <ogf/filter/occupancy.hpp>
 
 #include <cmath>
 
@@ -111,16 +112,6 @@ Status ScanMapper::restoreFilter(std::span<const std::uint8_t> map_bytes, const 
   return okStatus();
 }
 
-std::vector<delta::PublishedCell> ScanMapper::publishedCells() const {
-  std::vector<delta::PublishedCell> out;
-  out.reserve(filter_.allocatedCells());
-  const auto& cfg = filter_.config();
-  filter_.forEachCell([&](const CellKey& key, float mean, float variance) {
-    const double p = filter::predictiveProbability(mean, variance);
-    out.push_back({key, static_cast<std::int16_t>(filter::quantiseProbability(p)),
-                   filter::occupancyClass(mean, cfg.occupiedThreshold, cfg.freeThreshold), variance});
-  });
-  return out;
-}
+std::vector<delta::PublishedCell> ScanMapper::publishedCells() const { return publishedCellsOf(filter_); }
 
 }  // namespace ogf::pipeline

@@ -7,6 +7,7 @@
 #include <ogf/map_delta_t.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -32,6 +33,12 @@ class MapReceiver {
   explicit MapReceiver(std::size_t max_buffered_updates = 256) : max_buffered_(max_buffered_updates) {}
 
   Outcome accept(const ogf::map_delta_t& msg);
+
+  // Called with every cell a delta sets, in the order it goes into map(), when the update is applied (a
+  // viewer follows the map without diffing it). Keyframes replace the map without calling it: a
+  // follower rebuilds from map() when keyframesApplied() grows.
+  using CellSink = std::function<void(const PublishedCell&)>;
+  void onDeltaCell(CellSink sink) { cell_sink_ = std::move(sink); }
 
   bool needsKeyframe() const { return need_keyframe_; }
   // The last update applied, -1 before the first keyframe.
@@ -72,6 +79,7 @@ class MapReceiver {
   void trim();
 
   std::size_t max_buffered_;
+  CellSink cell_sink_;
   PublishedMap map_;
   std::optional<std::int64_t> map_id_;
   double resolution_ = 0.0;

@@ -1,0 +1,241 @@
+// ogf-view in a real browser (Debian's Chromium, headless, WebGL on SwiftShader): a saved map is drawn, and
+// on a live bus the picture follows the deltas. Pixels of the screenshots decide, not the page's word:
+// cells are drawn in saturated colours the background, the grid and the panel never have. The screenshots
+// stay in build/tests/view-screenshots/ for a person to look at. Skips, saying why, when Chromium cannot
+// run here or udpm has no loopback route.
+#include <gtest/gtest.h>
+#include <lcm/lcm-cpp.hpp>
+#include <unistd.h>
+
+#include <ogf/filter/map_file.hpp>
+#include <ogf/map_delta_t.hpp>
+#include <ogf/odometry_t.hpp>
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <thread>
+
+#include "headless_chromium.hpp"
+#include "ogf/delta/delta_stream.hpp"
+#include "ogf/pipeline/published_cells.hpp"
+#include "png_image.hpp"
+#include "support/child_process.hpp"
+#include "support/multicast.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using ogf::testing::ChildProcess;
+using ogf::testing::HeadlessChromium;
+using ogf::testing::RgbImage;
+
+constexpr int kWidth = 1000;
+constexpr int kHeight = 700;
+constexpr int kPanelRight = 280;  // the figures panel covers x < 280
+
+fs::path screenshotDir() {
+  fs::path d = fs::path(OGF_SCREENSHOT_DIR);
+  fs::create_directories(d);
+  return d;
+}
+
+// Pixels right of the panel whose colour is saturated: boxes (the grid, the background and the text are grey).
+std::size_t cellPixels(const RgbImage& img) {
+  std::size_t n = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = kPanelRight; x < img.width; ++x) {
+      const auto* p = img.at(x, y);
+      if (std::max({p[0], p[1], p[2]}) - std::min({p[0], p[1], p[2]}) > 60) ++n;
+    }
+  return n;
+}
+
+std::size_t changedPixels(const RgbImage& a, const RgbImage& b) {
+  std::size_t n = 0;
+  for (int y = 0; y < std::min(a.height, b.height); ++y)
+    for (int x = kPanelRight; x < std::min(a.width, b.width); ++x)
+      for (int c = 0; c < 3; ++c)
+        if (std::abs(int{a.at(x, y)[c]} - int{b.at(x, y)[c]}) > 40) {
+          ++n;
+          break;
+        }
+  return n;
+}
+
+RgbImage screenshot(HeadlessChromium& browser, const std::string& name) {
+  const auto png = browser.screenshotPng();
+  EXPECT_FALSE(png.empty()) << "no screenshot";
+  const fs::path path = screenshotDir() / name;
+  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+  std::string error;
+  auto img = ogf::testing::decodePng(png, error);
+  EXPECT_TRUE(img.has_value()) << path << ": " << error;
+  return img.value_or(RgbImage{});
+}
+
+// ogf-view as a process; url() once it printed where it serves.
+class View {
+ public:
+  explicit View(std::vector<std::string> args, const std::string& name)
+      : log_path_((fs::temp_directory_path() / ("ogf-view-" + std::to_string(::getpid()) + "-" + name + ".log")).string()) {
+    args.insert(args.begin(), std::string(OGF_BIN_DIR) + "/ogf-view");
+    process_ = std::make_unique<ChildProcess>(args, log_path_);
+  }
+  ~View() {
+    process_->signal(SIGTERM);
+    const auto rc = process_->wait(std::chrono::seconds(10));
+    EXPECT_EQ(rc, 0) << process_->log();
+    fs::remove(log_path_);
+  }
+  std::string url() {
+    const std::regex serving(R"(ogf-view: (http://[0-9.]+:[0-9]+/))");
+    std::smatch m;
+    for (int i = 0; i < 200; ++i) {
+      const std::string text = process_->log();
+      if (std::regex_search(text, m, serving)) return m[1];
+      if (process_->wait(std::chrono::milliseconds(100))) break;
+    }
+    ADD_FAILURE() << "ogf-view did not start serving:\n" << process_->log();
+    return "";
+  }
+  std::string log() const { return process_->log(); }
+
+ private:
+  std::string log_path_;
+  std::unique_ptr<ChildProcess> process_;
+};
+
+// A 3 m × 3 m room with 1 m walls at 0.2 m: the walls' cells measured occupied, the inside free.
+std::vector<ogf::Measurement> room() {
+  std::vector<ogf::Measurement> m;
+  for (int x = 0; x < 15; ++x)
+    for (int y = 0; y < 15; ++y)
+      for (int z = 0; z < 5; ++z) {
+        const bool wall = x == 0 || y == 0 || x == 14 || y == 14;
+        m.push_back({{x, y, z}, wall ? ogf::Measurement::kOccupied : ogf::Measurement::kFree});
+      }
+  return m;
+}
+
+std::size_t occupiedCount(const std::vector<ogf::delta::PublishedCell>& cells) {
+  return static_cast<std::size_t>(std::count_if(cells.begin(), cells.end(), [](const auto& c) {
+    return c.cell_class == ogf::map_delta_t::CLASS_OCCUPIED;
+  }));
+}
+
+TEST(ViewInBrowser, SavedMapIsDrawn) {
+  HeadlessChromium browser;
+  if (auto why = browser.start(kWidth, kHeight)) GTEST_SKIP() << "chromium cannot run here: " << *why;
+
+  ogf::filter::FilterConfig cfg;
+  cfg.resolution = 0.2;
+  auto map = ogf::filter::BandedOgf::create(cfg);
+  ASSERT_TRUE(map.ok());
+  const auto batch = room();
+  for (int i = 0; i < 3; ++i) map->update(batch);
+  const std::size_t occupied = occupiedCount(ogf::pipeline::publishedCellsOf(*map));
+  ASSERT_GT(occupied, 100u);
+  const fs::path map_path = fs::temp_directory_path() / ("ogf-view-room-" + std::to_string(::getpid()) + ".ogfm");
+  ASSERT_TRUE(ogf::filter::saveMapFile(*map, map_path).ok());
+
+  View view({"--map", map_path.string(), "--port", "0"}, "saved");
+  const std::string url = view.url();
+  ASSERT_FALSE(url.empty());
+  ASSERT_TRUE(browser.open(url));
+  const std::string want = "drawn " + std::to_string(occupied) + " boxes";
+  const std::string title = browser.waitForTitle(want, std::chrono::seconds(30));
+  fs::remove(map_path);
+  if (title.find("no WebGL") != std::string::npos) GTEST_SKIP() << "chromium has no WebGL here: " << title;
+  ASSERT_NE(title.find(want), std::string::npos) << "title: " << title << "\n" << view.log();
+
+  const RgbImage img = screenshot(browser, "saved-map.png");
+  EXPECT_EQ(img.width, kWidth);
+  EXPECT_GT(cellPixels(img), 5000u) << "the room's walls are not on the screen (" << screenshotDir() / "saved-map.png" << ")";
+}
+
+TEST(ViewInBrowser, LiveDeltasChangeThePicture) {
+  if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << *why;
+  HeadlessChromium browser;
+  if (auto why = browser.start(kWidth, kHeight)) GTEST_SKIP() << "chromium cannot run here: " << *why;
+
+  const std::string bus = ogf::testing::loopbackUdpmUrl(23);
+  lcm::LCM lcm(bus);
+  ASSERT_TRUE(lcm.good());
+  View view({"--lcm-url", bus, "--port", "0", "--rate", "5"}, "live");
+  const std::string url = view.url();
+  ASSERT_FALSE(url.empty());
+
+  // The mapper's side: the room as update 1, then a block of cells in the middle of it as update 2.
+  ogf::delta::DeltaStream stream({0.2, 23, ogf::messages::kMaxDeltaCellsPerMessage});
+  std::vector<ogf::delta::PublishedCell> walls;
+  for (const auto& m : room())
+    walls.push_back({m.key, static_cast<std::int16_t>(m.y == ogf::Measurement::kOccupied ? 9000 : 1000),
+                     m.y == ogf::Measurement::kOccupied ? ogf::map_delta_t::CLASS_OCCUPIED : ogf::map_delta_t::CLASS_FREE,
+                     0.3f});
+  stream.update(1, walls);
+  const std::size_t wall_cells = stream.map().size() - 13 * 13 * 5;
+  const auto publish = [&](const std::vector<ogf::map_delta_t>& msgs) {
+    for (const auto& m : msgs) lcm.publish("OGF_MAP_DELTA", &m);
+  };
+
+  ASSERT_TRUE(browser.open(url));
+  // ogf-view asks for a keyframe at start; answering every half second covers a request sent before
+  // this side listened.
+  const std::string want1 = "drawn " + std::to_string(wall_cells) + " boxes, seq 1";
+  std::string title;
+  for (int i = 0; i < 60 && title.find(want1) == std::string::npos; ++i) {
+    publish(stream.keyframe(2));
+    title = browser.waitForTitle(want1, std::chrono::milliseconds(500));
+  }
+  if (title.find("no WebGL") != std::string::npos) GTEST_SKIP() << "chromium has no WebGL here: " << title;
+  ASSERT_NE(title.find(want1), std::string::npos) << "title: " << title << "\n" << view.log();
+  const RgbImage before = screenshot(browser, "live-before.png");
+  ASSERT_GT(cellPixels(before), 5000u);
+
+  std::vector<ogf::delta::PublishedCell> block;
+  for (int x = 5; x < 10; ++x)
+    for (int y = 5; y < 10; ++y)
+      for (int z = 0; z < 8; ++z) block.push_back({{x, y, z}, 9500, ogf::map_delta_t::CLASS_OCCUPIED, 0.05f});
+  publish(stream.update(3, block));
+  ogf::odometry_t pose{};
+  pose.utime = 3;
+  pose.orientation[0] = 1.0;
+  for (int i = 0; i < 20; ++i) {
+    pose.position[0] = 0.5 + 0.1 * i;
+    pose.position[1] = 1.5;
+    lcm.publish("POSE", &pose);
+    ++pose.utime;
+  }
+  const std::string want2 = "drawn " + std::to_string(wall_cells + block.size()) + " boxes, seq 2";
+  title = browser.waitForTitle(want2, std::chrono::seconds(5));
+  if (title.find(want2) == std::string::npos) {  // a datagram lost on loopback: the keyframe holds it too
+    publish(stream.keyframe(4));
+    title = browser.waitForTitle(want2, std::chrono::seconds(20));
+  }
+  ASSERT_NE(title.find(want2), std::string::npos) << "title: " << title << "\n" << view.log();
+  const RgbImage after = screenshot(browser, "live-after.png");
+  EXPECT_GT(changedPixels(before, after), 2000u) << "the block did not change the picture";
+  EXPECT_GT(cellPixels(after), cellPixels(before));
+}
+
+TEST(ViewProgram, ExitCodesSayUsageOrFailure) {
+  const std::string exe = std::string(OGF_BIN_DIR) + "/ogf-view";
+  const auto run = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), exe);
+    const std::string log = (fs::temp_directory_path() / ("ogf-view-rc-" + std::to_string(::getpid()))).string();
+    ChildProcess p(args, log);
+    const auto rc = p.wait(std::chrono::seconds(20));
+    fs::remove(log);
+    return rc.value_or(-1000);
+  };
+  EXPECT_EQ(run({"--help"}), 0);
+  EXPECT_EQ(run({"--no-such-flag"}), 2);
+  EXPECT_EQ(run({"--port", "70000"}), 2);
+  EXPECT_EQ(run({"--map", "/nonexistent.ogfm"}), 2);
+  EXPECT_EQ(run({"--three-dir", "/nonexistent", "--port", "0"}), 1);
+  EXPECT_EQ(run({"--bind", "not-an-address", "--port", "0", "--lcm-url", "memq://"}), 1);
+}
+
+}  // namespace

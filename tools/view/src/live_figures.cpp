@@ -1,0 +1,81 @@
+#include "ogf/view/live_figures.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace ogf::view {
+namespace {
+
+std::string number(double v) { return std::isfinite(v) ? fmt::format("{:.6g}", v) : "null"; }
+
+std::string quoted(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      out += fmt::format("\\u{:04x}", static_cast<unsigned>(static_cast<unsigned char>(c)));
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+std::string poseJson(const PoseTrail& trail, std::size_t from) {
+  if (!trail.latest()) return "null";
+  const fusion::Pose& p = *trail.latest();
+  std::string points;
+  const auto& pts = trail.points();
+  for (std::size_t i = from; i < pts.size(); ++i) {
+    if (!points.empty()) points += ',';
+    points += fmt::format("{:.3f},{:.3f},{:.3f}", pts[i][0], pts[i][1], pts[i][2]);
+  }
+  return fmt::format(
+      R"({{"utime":{},"position":[{},{},{}],"orientation":[{},{},{},{}],"poses":{},"trail_from":{},"trail_size":{},"trail":[{}]}})",
+      p.utime, number(p.position.x()), number(p.position.y()), number(p.position.z()), number(p.orientation.w()),
+      number(p.orientation.x()), number(p.orientation.y()), number(p.orientation.z()), trail.posesSeen(),
+      std::min(from, pts.size()), pts.size(), points);
+}
+
+}  // namespace
+
+void LiveFigures::mapperStatus(const ogf::mapper_status_t& s) {
+  if (mapper_ && s.utime > mapper_->utime && s.scans_mapped >= mapper_->scans_mapped) {
+    mapper_scan_rate_hz_ =
+        static_cast<double>(s.scans_mapped - mapper_->scans_mapped) / (static_cast<double>(s.utime - mapper_->utime) * 1e-6);
+  }
+  mapper_ = s;
+}
+
+void LiveFigures::driverStatus(const ogf::driver_status_t& s) { driver_ = s; }
+
+std::string LiveFigures::json(const StreamFigures& st, std::size_t raw_from, std::size_t corrected_from) const {
+  const std::string stream = fmt::format(
+      R"({{"source":{},"seq":{},"cells":{},"occupied":{},"boxes":{},"lod":{},"gaps":{},"keyframes":{},"malformed":{},"messages":{},"consistent":{},"waiting_for_keyframe":{},"resolution":{}}})",
+      quoted(st.source), st.seq, st.cells, st.occupied, st.boxes, st.lod, st.gaps, st.keyframes, st.malformed, st.messages,
+      st.consistent, st.waiting_for_keyframe, number(st.resolution));
+  std::string mapper = "null";
+  if (mapper_) {
+    const auto& m = *mapper_;
+    mapper = fmt::format(
+        R"({{"utime":{},"scans_in":{},"scans_mapped":{},"scan_rate_hz":{},"dropped_behind":{},"dropped_no_pose":{},"late":{},"rejected":{},"lag_ms":{},"update_ms_mean":{},"cells":{},"memory_bytes":{},"delta_seq":{},"persistence_ok":{}}})",
+        m.utime, m.scans_in, m.scans_mapped, mapper_scan_rate_hz_ < 0 ? "null" : number(mapper_scan_rate_hz_),
+        m.scans_dropped_behind, m.scans_dropped_no_pose, m.scans_late, m.scans_rejected, number(m.lag_ms),
+        number(m.update_ms_mean), m.cells, m.memory_bytes, m.delta_seq, m.persistence_ok);
+  }
+  std::string driver = "null";
+  if (driver_) {
+    const auto& d = *driver_;
+    driver = fmt::format(
+        R"({{"utime":{},"source":{},"rpm":{},"packet_rate_hz":{},"scan_rate_hz":{},"packets_lost":{},"kernel_drops":{},"bad":{},"pps_state":{}}})",
+        d.utime, quoted(d.source), number(d.rpm), number(d.packet_rate_hz), number(d.scan_rate_hz), d.packets_lost,
+        d.kernel_drops, d.bad_size + d.bad_block_flag + d.foreign_sender + d.bad_other, static_cast<int>(d.pps_state));
+  }
+  return fmt::format(R"({{"type":"status","stream":{},"mapper":{},"driver":{},"pose":{},"corrected":{}}})", stream,
+                     mapper, driver, poseJson(raw_, raw_from), poseJson(corrected_, corrected_from));
+}
+
+}  // namespace ogf::view
