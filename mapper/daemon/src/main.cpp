@@ -35,7 +35,8 @@ int main(int argc, char** argv) {
   app.add_option("--min-range", min_range, "Returns closer than this are ignored, metres")->check(CLI::NonNegativeNumber);
   app.add_option("--max-range", max_range, "Returns beyond are cut here (free cells only), metres")->check(CLI::PositiveNumber);
   app.add_option("--threads", threads, "Filter update threads (the map is identical for any count)")->check(CLI::PositiveNumber);
-  app.add_option("--time-base", time_base, "Scan clock the odometry shares: device or host")->check(CLI::IsMember({"device", "host"}));
+  app.add_option("--time-base", time_base, "Scan clock the odometry shares: auto (device with PPS locked, else host), device or host")
+      ->check(CLI::IsMember({"auto", "device", "host"}));
   app.add_option("--snapshot-interval", snapshot_s, "Seconds between snapshots")->check(CLI::PositiveNumber);
   app.add_option("--keyframe-interval", keyframe_s, "Seconds between unsolicited keyframes")->check(CLI::PositiveNumber);
   app.add_option("--scan-channel", scan_ch, "Scan channel (default VELODYNE_SCAN)");
@@ -73,7 +74,9 @@ int main(int argc, char** argv) {
   if (max_range) options.map.fusion.measurement.max_range_m = *max_range;
   if (threads) options.map.filter.threads = *threads;
   if (!time_base.empty())
-    options.time_base = time_base == "host" ? ogf::mapper_daemon::ScanTimeBase::kHost : ogf::mapper_daemon::ScanTimeBase::kDevice;
+    options.time_base = time_base == "host"     ? ogf::mapper_daemon::ScanTimeBase::kHost
+                        : time_base == "device" ? ogf::mapper_daemon::ScanTimeBase::kDevice
+                                                : ogf::mapper_daemon::ScanTimeBase::kAuto;
   if (snapshot_s) options.snapshot_interval_s = *snapshot_s;
   if (keyframe_s) options.keyframe_interval_s = *keyframe_s;
   if (scan_ch) options.scan_channel = *scan_ch;

@@ -124,7 +124,8 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
     const auto v = tb.as<std::string>();
     if (v == "device") o.time_base = ScanTimeBase::kDevice;
     else if (v == "host") o.time_base = ScanTimeBase::kHost;
-    else return Error{where(path, tb, "time_base") + ": 'device' or 'host', got '" + v + "'"};
+    else if (v == "auto") o.time_base = ScanTimeBase::kAuto;
+    else return Error{where(path, tb, "time_base") + ": 'auto', 'device' or 'host', got '" + v + "'"};
   }
   if (const auto ch = root["channels"]) {
     OGF_TRY(checkKeys(path, ch, "channels",
@@ -228,7 +229,8 @@ std::string exampleMapperConfig() {
     << ", corrected_pose: " << d.corrected_pose_channel << ",\n"
     << "           query: " << d.query_channel << ", command: " << d.command_channel
     << "}   # map services answer on <channel>_REPLY\n"
-    << "time_base: device          # the scan clock odometry utime shares: device or host\n"
+    << "time_base: auto            # the scan clock odometry utime shares: device, host, or auto (device when\n"
+    << "                           # the driver reports PPS locked, host otherwise)\n"
     << "state_dir: \"\"              # snapshots + journal; empty keeps the map in memory only\n"
     << "snapshot_interval_s: " << d.snapshot_interval_s << "\n"
     << "keyframe_interval_s: " << d.keyframe_interval_s << "\n"
