@@ -10,6 +10,7 @@
 
 #include "ogf/mapper_daemon/mapper_daemon.hpp"
 #include "ogf/mapper_daemon/mapper_options.hpp"
+#include "ogf/persistence/directory_lock.hpp"
 #include "ogf/transport/daemon_loop.hpp"
 #include "ogf/transport/lcm_asio_bridge.hpp"
 #include "ogf/transport/lcm_url.hpp"
@@ -88,6 +89,18 @@ int main(int argc, char** argv) {
   if (auto st = options.validate(); !st) {
     spdlog::critical("configuration: {}", st.error().message);
     return 2;
+  }
+
+  // One mapper per state directory, for this process's whole life (the kernel releases it at exit).
+  std::optional<ogf::persistence::DirectoryLock> lock;
+  if (!options.state_dir.empty()) {
+    auto l = ogf::persistence::DirectoryLock::acquire(options.state_dir);
+    if (l.in_use) {
+      spdlog::critical("state directory: {}", l.message);
+      return 1;
+    }
+    if (!l.lock) spdlog::warn("state directory: {}", l.message);
+    lock = std::move(l.lock);
   }
 
   const std::string resolved = ogf::transport::withReceiveBuffer(ogf::transport::resolveLcmUrl(options.lcm_url));
