@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "ogf/common/command_line.hpp"
 #include "ogf/driver_sources/pcap_file_reader.hpp"
 #include "ogf/velodyne/calibration.hpp"
 #include "ogf/velodyne/packet_stream.hpp"
@@ -42,17 +43,19 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"strongest", "last", "dual"}));
   app.add_option("--min-range", min_range,
                  "Drop returns closer than this, metres (0 keeps every non-zero return)")
-      ->capture_default_str();
-  app.add_option("--max-range", max_range, "Drop returns farther than this, metres")->capture_default_str();
+      ->capture_default_str()->check(ogf::cli::nonNegative());
+  app.add_option("--max-range", max_range, "Drop returns farther than this, metres")->capture_default_str()
+      ->check(ogf::cli::positive());
   app.add_option("--cut-angle", cut_angle, "Azimuth where scans are cut, degrees clockwise from x")
-      ->capture_default_str();
+      ->capture_default_str()->check(ogf::cli::between(-360, 360));
   app.add_option("--csv", csv_path, "Write every point to this CSV file");
   app.add_option("--ply", ply_path, "Write every point to this binary PLY file");
-  app.add_option("--data-port", data_port, "UDP destination port of data packets")->capture_default_str();
+  app.add_option("--data-port", data_port, "UDP destination port of data packets")->capture_default_str()
+      ->check(ogf::cli::between(1, 65535));
   app.add_option("--position-port", position_port, "UDP destination port of position packets")
-      ->capture_default_str();
+      ->capture_default_str()->check(ogf::cli::between(1, 65535));
   app.add_flag("--quiet", quiet, "Print only the totals line");
-  CLI11_PARSE(app, argc, argv);
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
 
   ov::StreamConfig config;
   if (!model_name.empty()) {

@@ -17,6 +17,7 @@
 #include <string>
 #include <thread>
 
+#include "ogf/common/command_line.hpp"
 #include "ogf/driver_sources/pcap_file_reader.hpp"
 #include "ogf/replay/destination_ports.hpp"
 #include "ogf/replay/pose_events.hpp"
@@ -29,9 +30,9 @@ namespace {
 namespace ds = ogf::driver_sources;
 using Clock = std::chrono::steady_clock;
 
-constexpr int kExitOk = 0;
+using ogf::cli::kExitOk;
 constexpr int kExitNothingSent = 1;
-constexpr int kExitUsage = 2;
+using ogf::cli::kExitUsage;  // bad flags or configuration
 
 struct Counts {
   std::int64_t data = 0;
@@ -68,40 +69,34 @@ int main(int argc, char** argv) {
       "utime (capture clock).\n"
       "At the end one line on stdout:\n"
       "  packets N data N position N other N skipped N send_errors N poses N loops N seconds S rate R\n"
-      "Exit 0 when packets were sent, 1 when none could be, 2 on bad flags or unreadable inputs."};
+      "Exit 0 when packets were sent, 1 when none could be (an input missing or unreadable), 2 on bad flags."};
   std::string pcap, dest = "127.0.0.1", odometry, lcm_url, pose_channel = "POSE", log_level = "info";
   int data_port = 2368, position_port = 8308, loops = 1;
   double speed = 1.0, max_rate = 0.0, start_delay = 0.0, loop_gap = 0.0;
   bool fast = false;
-  app.add_option("--pcap", pcap, "Capture file (pcap or pcapng)")->required()->check(CLI::ExistingFile);
+  app.add_option("--pcap", pcap, "Capture file (pcap or pcapng)")->required();
   app.add_option("--dest", dest, "Destination IPv4 address")->capture_default_str();
   app.add_option("--data-port", data_port, "Port for data packets (captured to 2368)")
-      ->capture_default_str()->check(CLI::Range(1, 65535));
+      ->capture_default_str()->check(ogf::cli::between(1, 65535));
   app.add_option("--position-port", position_port, "Port for position packets (captured to 8308)")
-      ->capture_default_str()->check(CLI::Range(1, 65535));
+      ->capture_default_str()->check(ogf::cli::between(1, 65535));
   auto* speed_opt = app.add_option("--speed", speed, "Pacing factor: capture time / speed")
-                        ->capture_default_str()->check(CLI::PositiveNumber);
+                        ->capture_default_str()->check(ogf::cli::positive());
   app.add_flag("--fast", fast, "As fast as possible (no pacing by the capture clock)")->excludes(speed_opt);
-  app.add_option("--loop", loops, "Play the capture this many times")->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--loop-gap", loop_gap, "Seconds between loops")->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_option("--loop", loops, "Play the capture this many times")->capture_default_str()->check(ogf::cli::positive());
+  app.add_option("--loop-gap", loop_gap, "Seconds between loops")->capture_default_str()->check(ogf::cli::nonNegative());
   app.add_option("--max-rate", max_rate, "At most this many packets per second (0: no limit)")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(ogf::cli::nonNegative());
   auto* odo_opt = app.add_option("--odometry", odometry,
                                  "Odometry to publish: CSV utime,x,y,z,qw,qx,qy,qz (as ogf.odometry_t) or an LCM log "
-                                 "(events on --pose-channel, republished as they are)")
-                      ->check(CLI::ExistingFile);
+                                 "(events on --pose-channel, republished as they are)");
   app.add_option("--lcm-url", lcm_url, "LCM URL for the odometry (default $LCM_DEFAULT_URL, else LCM's default)")
       ->needs(odo_opt);
   app.add_option("--pose-channel", pose_channel, "Odometry channel")->capture_default_str();
   app.add_option("--start-delay", start_delay, "Seconds to wait before the first packet (let listeners start)")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(ogf::cli::nonNegative());
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error")->capture_default_str();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int cli_rc = app.exit(e);  // prints the help or the error
-    return cli_rc == 0 ? kExitOk : kExitUsage;
-  }
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
 
   if (!ogf::transport::setupLoggingAt("ogf-replay", "--log-level", log_level)) return kExitUsage;
 
@@ -119,7 +114,7 @@ int main(int argc, char** argv) {
     auto loaded = ogf::replay::loadPoseEvents(odometry, pose_channel);
     if (!loaded) {
       spdlog::error("--odometry: {}", loaded.error().message);
-      return kExitUsage;
+      return kExitNothingSent;
     }
     for (const auto& p : loaded->problems) spdlog::warn("{}; skipped", p);
     if (loaded->skipped > static_cast<std::int64_t>(loaded->problems.size()))
@@ -130,7 +125,7 @@ int main(int argc, char** argv) {
     lcm = std::make_unique<lcm::LCM>(url);
     if (!lcm->good()) {
       spdlog::error("cannot join the LCM bus {} (udpm needs a multicast route: scripts/multicast-loopback.sh)", url);
-      return kExitUsage;
+      return kExitNothingSent;
     }
     spdlog::info("{}: {} poses to publish on {} ({})", odometry, poses->events.size(), pose_channel, url);
   }
@@ -167,7 +162,7 @@ int main(int argc, char** argv) {
     auto reader = ds::PcapFileReader::open(pcap);
     if (!reader) {
       spdlog::error("--pcap: {}", reader.error().message);
-      return loop == 0 ? kExitUsage : kExitNothingSent;
+      return kExitNothingSent;
     }
     if (loop > 0) clock.nextLoop(static_cast<std::int64_t>(loop_gap * 1e6));
     std::size_t next_pose = 0;

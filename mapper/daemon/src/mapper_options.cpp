@@ -48,6 +48,16 @@ Status readOptional(const std::filesystem::path& path, const YAML::Node& parent,
   return okStatus();
 }
 
+// A number the map cannot do without: > 0 (or >= 0 with `zero_ok`), reported at the value's line with
+// the key as written.
+Status requireRange(const std::filesystem::path& path, const YAML::Node& parent, const std::string& section,
+                    const char* key, double value, bool zero_ok) {
+  const YAML::Node n = parent[key];
+  if (!n || value > 0 || (zero_ok && value == 0)) return okStatus();
+  return Error{where(path, n, section + "." + key) + ": must be " + (zero_ok ? "0 or more" : "greater than 0") +
+               ", got " + n.Scalar()};
+}
+
 Status readVector3(const std::filesystem::path& path, const YAML::Node& parent, const std::string& section,
                    const char* key, Eigen::Vector3d& out) {
   const YAML::Node n = parent[key];
@@ -157,9 +167,12 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
     OGF_TRY(checkKeys(path, map, "map", {"resolution", "min_range", "max_range", "free_space_for_no_return", "extrinsic"}));
     double res = m.resolution_m;
     OGF_TRY(read(path, map, "map", "resolution", res));
+    OGF_TRY(requireRange(path, map, "map", "resolution", res, false));
     o.map.setResolution(res);
     OGF_TRY(read(path, map, "map", "min_range", m.min_range_m));
+    OGF_TRY(requireRange(path, map, "map", "min_range", m.min_range_m, true));
     OGF_TRY(read(path, map, "map", "max_range", m.max_range_m));
+    OGF_TRY(requireRange(path, map, "map", "max_range", m.max_range_m, false));
     OGF_TRY(read(path, map, "map", "free_space_for_no_return", m.free_space_for_no_return));
     if (const auto ex = map["extrinsic"]) {
       OGF_TRY(checkKeys(path, ex, "map.extrinsic", {"translation", "rpy", "quaternion"}));
