@@ -77,7 +77,7 @@ class ProgressBar {
 
 struct Options {
   std::string out, config_path, pcap, calib, odometry, lcm_log, time_base = "device";
-  std::string scan_channel = "VELODYNE_SCAN", pose_channel = "POSE";
+  std::string scan_channel = "VELODYNE_SCAN", pose_channel = "POSE", packets_channel = "VELODYNE_PACKETS";
   std::vector<std::string> pcd;
   bool is_static = false;
   double resolution = 0.2, max_range = 30.0, min_range = 0.4;
@@ -209,12 +209,15 @@ int main(int argc, char** argv) {
   app.add_option("--calib", o.calib, "Calibration for --pcap: VeloView XML or ROS YAML")->needs(pcap_opt);
   auto* odo_opt = app.add_option("--odometry", o.odometry, "Odometry: CSV or LCM log (POSE)");
   auto* static_opt = app.add_flag("--static", o.is_static, "The sensor does not move (a tripod): body at the origin");
-  auto* lcm_opt = app.add_option("--lcm-log", o.lcm_log, "LCM log with scans (VELODYNE_SCAN) and poses (POSE)");
+  auto* lcm_opt = app.add_option("--lcm-log", o.lcm_log, "LCM log with scans (VELODYNE_SCAN, else the raw packets on VELODYNE_PACKETS) and poses (POSE)");
   auto* pcd_opt = app.add_option("--pcd", o.pcd, "PCD files, one scan each");
   app.add_option("--time", o.time_base, "Clock the odometry is on: device (scan device time) or host (receive time)")
       ->check(CLI::IsMember({"device", "host"}))
       ->capture_default_str();
   app.add_option("--scan-channel", o.scan_channel, "Scan channel in --lcm-log")->capture_default_str();
+  app.add_option("--packets-channel", o.packets_channel,
+                 "Raw packet channel in --lcm-log, decoded when the log has no scans")
+      ->capture_default_str();
   app.add_option("--pose-channel", o.pose_channel, "Pose channel in LCM logs")->capture_default_str();
   app.add_option("--export-csv", o.export_csv, "Every allocated cell: x,y,z,p,class,variance (cell centres, metres)");
   app.add_option("--export-ply", o.export_ply, "Occupied cells as binary PLY (x, y, z, p, variance)");
@@ -378,7 +381,25 @@ int main(int argc, char** argv) {
         input_failed = true;
       } else {
         logProblems(counts->problems, counts->skipped);
+        if (!counts->gaps.empty()) spdlog::warn("{}", counts->gaps);
         spdlog::info("{}: {} events, {} scans on {}", o.lcm_log, counts->events, counts->scans, o.scan_channel);
+      }
+      if (counts && counts->scans == 0) {
+        // A log of the raw packets only: decode them as the driver did live.
+        mio::PcapScanConfig pc;
+        if (!o.calib.empty()) pc.calibration = o.calib;
+        pc.min_range_m = m.min_range_m;
+        auto decoded = mio::readLcmLogPacketScans(o.lcm_log, o.packets_channel, pc, addScan, progress);
+        if (!decoded) {
+          spdlog::error("{}", decoded.error().message);
+          input_failed = true;
+        } else {
+          if (!decoded->warning.empty()) spdlog::warn("{}", decoded->warning);
+          if (!decoded->gaps.empty()) spdlog::warn("{}", decoded->gaps);
+          spdlog::info("{}: no scans on {}; {} scans decoded from the packets on {} ({} data packets, {} lost, {} bad)",
+                       o.lcm_log, o.scan_channel, decoded->scans, o.packets_channel, decoded->data_packets,
+                       decoded->packets_lost, decoded->bad_packets);
+        }
       }
     }
   } else {
@@ -427,7 +448,8 @@ int main(int argc, char** argv) {
     }
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  std::printf("scans %lld measurements %lld cells %zu seconds %.2f\n", static_cast<long long>(c.scans_mapped),
-              static_cast<long long>(c.measurements), filter.allocatedCells(), seconds);
+  std::printf("scans %lld measurements %lld cells %zu seconds %.2f checksum %016llx\n",
+              static_cast<long long>(c.scans_mapped), static_cast<long long>(c.measurements), filter.allocatedCells(),
+              seconds, static_cast<unsigned long long>(filter.checksum()));
   return rc;
 }

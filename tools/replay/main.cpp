@@ -14,10 +14,12 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <thread>
 
 #include "ogf/common/command_line.hpp"
+#include "ogf/log_io/packet_log.hpp"
 #include "ogf/driver_sources/pcap_file_reader.hpp"
 #include "ogf/replay/destination_ports.hpp"
 #include "ogf/replay/pose_events.hpp"
@@ -61,7 +63,7 @@ const char* kindName(ds::FrameKind k) {
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "Replays a capture's UDP payloads onto the network (no root needed), optionally with the robot's odometry "
+      "Replays a capture's UDP payloads (or the raw packet batches of an LCM log) onto the network (no root needed), optionally with the robot's odometry "
       "on LCM on the same clock.\n"
       "Data packets (captured to 2368) go to --data-port, position packets (8308) to --position-port, others to "
       "their captured port. Pacing: capture time / --speed, on a steady clock; --fast sends as fast as possible; "
@@ -70,11 +72,18 @@ int main(int argc, char** argv) {
       "At the end one line on stdout:\n"
       "  packets N data N position N other N skipped N send_errors N poses N loops N seconds S rate R\n"
       "Exit 0 when packets were sent, 1 when none could be (an input missing or unreadable), 2 on bad flags."};
-  std::string pcap, dest = "127.0.0.1", odometry, lcm_url, pose_channel = "POSE", log_level = "info";
+  std::string pcap, lcm_log, packets_channel = "VELODYNE_PACKETS", dest = "127.0.0.1", odometry, lcm_url,
+      pose_channel = "POSE", log_level = "info";
   int data_port = 2368, position_port = 8308, loops = 1;
   double speed = 1.0, max_rate = 0.0, start_delay = 0.0, loop_gap = 0.0;
   bool fast = false;
-  app.add_option("--pcap", pcap, "Capture file (pcap or pcapng)")->required();
+  auto* pcap_opt = app.add_option("--pcap", pcap, "Capture file (pcap or pcapng)");
+  auto* log_opt = app.add_option("--lcm-log", lcm_log,
+                                 "LCM log whose raw packet batches (--packets-channel) are sent as the sensor sent "
+                                 "them, paced by their host receive times");
+  pcap_opt->excludes(log_opt);
+  app.add_option("--packets-channel", packets_channel, "Channel of the raw packet batches in --lcm-log")
+      ->capture_default_str();
   app.add_option("--dest", dest, "Destination IPv4 address")->capture_default_str();
   app.add_option("--data-port", data_port, "Port for data packets (captured to 2368)")
       ->capture_default_str()->check(ogf::cli::between(1, 65535));
@@ -97,6 +106,11 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(ogf::cli::nonNegative());
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error")->capture_default_str();
   OGF_PARSE_COMMAND_LINE(app, argc, argv);
+  if (pcap.empty() && lcm_log.empty()) {
+    std::fprintf(stderr, "ogf-replay: give --pcap FILE or --lcm-log FILE\n");
+    return kExitUsage;
+  }
+  const std::string input = pcap.empty() ? lcm_log : pcap;
 
   if (!ogf::transport::setupLoggingAt("ogf-replay", "--log-level", log_level)) return kExitUsage;
 
@@ -157,52 +171,72 @@ int main(int argc, char** argv) {
     else ++counts.pose_errors;
   };
 
+  std::size_t next_pose = 0;
+  // One datagram as captured (its time and destination port), sent when the replay clock reaches it.
+  const auto sendDatagram = [&](std::int64_t utime, int captured_port, std::span<const std::uint8_t> payload) {
+    if (!origin_set) {
+      std::int64_t origin = utime;
+      if (poses && !poses->events.empty()) origin = std::min(origin, poses->events.front().utime);
+      clock.setOrigin(origin);
+      origin_set = true;
+    }
+    // Poses due before this packet go first, each at its own time.
+    while (poses && next_pose < poses->events.size() && poses->events[next_pose].utime <= utime) {
+      waitUntil(clock.dueEvent(poses->events[next_pose].utime));
+      publishPose(poses->events[next_pose++]);
+    }
+    waitUntil(clock.duePacket(utime));
+    const std::uint16_t port = ports.forCaptured(static_cast<std::uint16_t>(captured_port));
+    socket.send_to(boost::asio::buffer(payload.data(), payload.size()), boost::asio::ip::udp::endpoint(address, port), 0, ec);
+    if (ec) {
+      ++counts.send_errors;
+      spdlog::debug("send to {}:{} failed: {}", dest, port, ec.message());
+      return;
+    }
+    if (captured_port == ports.kCapturedData) ++counts.data;
+    else if (captured_port == ports.kCapturedPosition) ++counts.position;
+    else ++counts.other;
+  };
+
   int loop = 0;
   for (; loop < loops; ++loop) {
-    auto reader = ds::PcapFileReader::open(pcap);
-    if (!reader) {
-      spdlog::error("--pcap: {}", reader.error().message);
-      return kExitNothingSent;
-    }
     if (loop > 0) clock.nextLoop(static_cast<std::int64_t>(loop_gap * 1e6));
-    std::size_t next_pose = 0;
-    ds::PcapRecord record;
-    bool ended = false;
-    while (!ended) {
-      const ds::ReadStatus st = (*reader)->next(record);
-      if (st == ds::ReadStatus::End) break;
-      if (st == ds::ReadStatus::Error) {
-        damage = (*reader)->error();
-        break;
+    next_pose = 0;
+    if (!lcm_log.empty()) {
+      auto read = ogf::log_io::readPacketLog(lcm_log, packets_channel, [&](const ogf::log_io::LoggedPacket& p) {
+        sendDatagram(p.host_utime, p.port, p.payload);
+      });
+      if (!read) {
+        spdlog::error("--lcm-log: {}", read.error().message);
+        return kExitNothingSent;
       }
-      if (st == ds::ReadStatus::Skipped || record.kind != ds::FrameKind::Udp) {
-        ++counts.skipped;
-        spdlog::debug("record {} skipped: {}", record.index, kindName(record.kind));
-        continue;
+      if (loop == 0) {
+        for (const auto& problem : read->problems) spdlog::warn("{}", problem);
+        if (const auto gaps = read->gaps.summary(lcm_log + ": " + packets_channel + " batches"); !gaps.empty())
+          spdlog::warn("{}", gaps);
+        if (read->batches == 0) spdlog::warn("{}: no packet batches on {}", lcm_log, packets_channel);
       }
-      const ds::UdpDatagram& d = record.datagram;
-      if (!origin_set) {
-        std::int64_t origin = d.utime;
-        if (poses && !poses->events.empty()) origin = std::min(origin, poses->events.front().utime);
-        clock.setOrigin(origin);
-        origin_set = true;
+    } else {
+      auto reader = ds::PcapFileReader::open(pcap);
+      if (!reader) {
+        spdlog::error("--pcap: {}", reader.error().message);
+        return kExitNothingSent;
       }
-      // Poses due before this packet go first, each at its own time.
-      while (poses && next_pose < poses->events.size() && poses->events[next_pose].utime <= d.utime) {
-        waitUntil(clock.dueEvent(poses->events[next_pose].utime));
-        publishPose(poses->events[next_pose++]);
+      ds::PcapRecord record;
+      while (true) {
+        const ds::ReadStatus st = (*reader)->next(record);
+        if (st == ds::ReadStatus::End) break;
+        if (st == ds::ReadStatus::Error) {
+          damage = (*reader)->error();
+          break;
+        }
+        if (st == ds::ReadStatus::Skipped || record.kind != ds::FrameKind::Udp) {
+          ++counts.skipped;
+          spdlog::debug("record {} skipped: {}", record.index, kindName(record.kind));
+          continue;
+        }
+        sendDatagram(record.datagram.utime, record.datagram.destination_port, record.datagram.payload);
       }
-      waitUntil(clock.duePacket(d.utime));
-      const std::uint16_t port = ports.forCaptured(d.destination_port);
-      socket.send_to(boost::asio::buffer(d.payload.data(), d.payload.size()), boost::asio::ip::udp::endpoint(address, port), 0, ec);
-      if (ec) {
-        ++counts.send_errors;
-        spdlog::debug("send to {}:{} failed: {}", dest, port, ec.message());
-        continue;
-      }
-      if (d.destination_port == ports.kCapturedData) ++counts.data;
-      else if (d.destination_port == ports.kCapturedPosition) ++counts.position;
-      else ++counts.other;
     }
     // Poses after the last packet: the mapper needs the pose after a scan's end to place its last points.
     while (poses && next_pose < poses->events.size()) {
@@ -213,7 +247,7 @@ int main(int argc, char** argv) {
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
 
-  if (!damage.empty()) spdlog::warn("{}: reading stopped at damage: {}; the records before it were sent", pcap, damage);
+  if (!damage.empty()) spdlog::warn("{}: reading stopped at damage: {}; the records before it were sent", input, damage);
   if (counts.skipped > 0) spdlog::warn("{} records skipped (not a whole IPv4/UDP datagram)", counts.skipped);
   if (counts.send_errors > 0) spdlog::warn("{} datagrams could not be sent", counts.send_errors);
   if (counts.pose_errors > 0) spdlog::warn("{} poses could not be published", counts.pose_errors);

@@ -25,11 +25,6 @@ using ogf::testing::ChildProcess;
 
 const std::string kBin = OGF_BIN_DIR;
 
-struct Outcome {
-  int rc = -1000;
-  std::string output;
-};
-
 class CommandLineErrors : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -40,13 +35,9 @@ class CommandLineErrors : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  Outcome run(const std::string& program, std::vector<std::string> args) {
+  ogf::testing::Finished run(const std::string& program, std::vector<std::string> args) {
     args.insert(args.begin(), kBin + "/" + program);
-    ChildProcess p(args, (dir_ / (program + ".log")).string());
-    Outcome o;
-    if (const auto rc = p.wait(30s)) o.rc = *rc;
-    o.output = p.log();
-    return o;
+    return ogf::testing::runToEnd(args, (dir_ / (program + ".log")).string(), 30s);
   }
   fs::path dir_;
 };
