@@ -48,8 +48,12 @@ case "$url" in
 esac
 
 echo "record.sh: recording '$channels' from $url into $out"
-# -l is broken in Debian's LCM 1.3.1: the long option only.
-lcm-logger --lcm-url="$url" -c "$channels" -f -q "$out" &
+# A logger starved of CPU drops what its buffer cannot hold: run it at the normal priority even when this
+# script was started niced (root only may lower the niceness). -l is broken in Debian's LCM 1.3.1: the
+# long option only.
+niceness=$(nice)
+if [ "$(id -u)" = 0 ] && [ "$niceness" -gt 0 ]; then boost=(nice -n "-$niceness"); else boost=(); fi
+"${boost[@]}" lcm-logger --lcm-url="$url" -c "$channels" -f -q "$out" &
 logger=$!
 stop() { kill -INT "$logger" 2>/dev/null || true; }
 trap stop INT TERM

@@ -75,7 +75,9 @@ TEST(RecordScript, RecordingDuringAReplayHoldsEveryPublishedMessage) {
   ASSERT_EQ(rc, 0) << out;
   EXPECT_NE(out.find("complete"), std::string::npos) << out;
   EXPECT_EQ(recorded(out, "VELODYNE_SCAN"), final_status->scans_published) << out;
-  EXPECT_GE(recorded(out, "VELODYNE_PACKETS"), final_status->scans_published) << out;
+  // A batch goes out with each scan that has packets of its own: one fewer than the scans here, as when the
+  // driver writes straight to a log file.
+  EXPECT_GE(recorded(out, "VELODYNE_PACKETS"), final_status->scans_published - 1) << out;
   EXPECT_EQ(recorded(out, "POSE"), poses) << out;
   EXPECT_GE(final_status->scans_published, 40);
   fs::remove_all(dir);
