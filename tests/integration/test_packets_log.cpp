@@ -21,7 +21,7 @@ namespace fs = std::filesystem;
 const std::string kBin = OGF_BIN_DIR;
 
 ogf::testing::Finished run(const std::vector<std::string>& args, const fs::path& log) {
-  return ogf::testing::runToEnd(args, log.string());
+  return ogf::testing::runAndCapture(args, log.string());
 }
 
 std::string match(const std::string& text, const std::string& pattern) {

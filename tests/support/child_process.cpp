@@ -60,7 +60,7 @@ std::string ChildProcess::log() const {
   return s.str();
 }
 
-Finished runToEnd(const std::vector<std::string>& argv, const std::string& log_path, std::chrono::milliseconds limit) {
+Finished runAndCapture(const std::vector<std::string>& argv, const std::string& log_path, std::chrono::milliseconds limit) {
   ChildProcess p(argv, log_path);
   Finished f;
   if (const auto rc = p.wait(limit)) {

@@ -39,7 +39,7 @@ struct Finished {
   int rc = -1000;
   std::string output;
 };
-Finished runToEnd(const std::vector<std::string>& argv, const std::string& log_path,
+Finished runAndCapture(const std::vector<std::string>& argv, const std::string& log_path,
                   std::chrono::milliseconds limit = std::chrono::seconds(120));
 
 }  // namespace ogf::testing

@@ -37,7 +37,7 @@ class CommandLineErrors : public ::testing::Test {
 
   ogf::testing::Finished run(const std::string& program, std::vector<std::string> args) {
     args.insert(args.begin(), kBin + "/" + program);
-    return ogf::testing::runToEnd(args, (dir_ / (program + ".log")).string(), 30s);
+    return ogf::testing::runAndCapture(args, (dir_ / (program + ".log")).string(), 30s);
   }
   fs::path dir_;
 };
@@ -104,12 +104,12 @@ TEST_F(CommandLineErrors, ConfigurationValuesNameFileLineAndKeyAsWritten) {
             std::string::npos)
       << o.output;
   // ogf-map reads the daemon's file the same way, and its own map file.
-  o = run("ogf-map", {"--config", daemon_yaml.string(), "--pcd", "x.pcd"});
+  o = run("ogf-map", {"--config", daemon_yaml.string(), "--pcd", "x.pcd", "--out", (dir_ / "m").string()});
   EXPECT_EQ(o.rc, 2) << o.output;
   EXPECT_NE(o.output.find(daemon_yaml.string() + ":3: map.resolution"), std::string::npos) << o.output;
   const auto map_yaml = dir_ / "map.yaml";
   std::ofstream(map_yaml) << "max_range: 30\nresolution: -1\n";
-  o = run("ogf-map", {"--config", map_yaml.string(), "--pcd", "x.pcd"});
+  o = run("ogf-map", {"--config", map_yaml.string(), "--pcd", "x.pcd", "--out", (dir_ / "m").string()});
   EXPECT_EQ(o.rc, 2) << o.output;
   EXPECT_NE(o.output.find(map_yaml.string() + ":2: resolution: must be greater than 0, got -1"), std::string::npos)
       << o.output;
