@@ -94,15 +94,16 @@ TEST(ClocksOnTheRealCapture, DefaultMapsEveryScanAndDeviceTimeBaseSaysWhyNone) {
     EXPECT_LT(std::llabs(done->clock_offset_us), 1'000'000);
     // time_base: device: nothing can be placed, and the status and the log say so.
     // Scans wait for poses up to max_pose_wait_s; at this capture's 19 scans/s the 10-scan queue fills
-    // first, so some leave it as "behind" rather than "no pose": none is mapped either way.
+    // first, so some leave it as "behind" rather than "no pose", and the time checks may refuse a device
+    // time this far from the host's: none is mapped either way.
     const auto none = device_status.waitFor(
         [&](const ogf::mapper_status_t& s) {
-          return s.scans_in == published && s.scans_dropped_no_pose + s.scans_dropped_behind == published;
+          return s.scans_in == published &&
+                 s.scans_dropped_no_pose + s.scans_dropped_behind + s.scans_refused_time == published;
         },
         30s);
     ASSERT_TRUE(none.has_value()) << device_mapper.log();
     EXPECT_EQ(none->scans_mapped, 0);
-    EXPECT_GT(none->scans_dropped_no_pose, 0);
     EXPECT_EQ(none->clocks, ogf::mapper_status_t::CLOCKS_DISAGREE);
     EXPECT_EQ(none->scan_clock, ogf::mapper_status_t::SCAN_CLOCK_DEVICE);
     EXPECT_GT(std::llabs(none->clock_offset_us), 60'000'000);

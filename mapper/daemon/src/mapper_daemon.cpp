@@ -250,10 +250,10 @@ void MapperDaemon::onScan(const ogf::lidar_scan_t& scan, const lcm::ReceiveBuffe
   auto owned = std::make_shared<const ogf::lidar_scan_t>(scan);
   const fusion::ScanTimeSpan span = fusion::timeSpanOf(scanPointsOf(*owned, options_.time_base));
   std::lock_guard lk(mu_);
+  watchClocks(scan);  // before the time checks: a scan on another clock than the odometry is told apart
   const auto verdict = scan_clock_.check(span.end_utime, wallUtime(), steadyUtime());
   if (!timePlausible("scan", verdict, scan_clock_, span.end_utime, wallUtime(), bad_time_log_)) return;
   if (verdict == fusion::TimeVerdict::kFollowJump) pending_.restartClock();
-  watchClocks(scan);
   const auto outcome = pending_.push({span.begin_utime, span.end_utime, static_cast<std::size_t>(scan.num_points)},
                                      std::move(owned), steadyUtime());
   if (outcome == fusion::PushOutcome::kLate) {
