@@ -39,12 +39,12 @@ std::optional<velodyne::Error> DriverApp::start() {
       if (!position) return position.error();
       data_socket_ = std::move(*data);
       position_socket_ = std::move(*position);
-      // Linux grants at most net.core.rmem_max and reports twice what it grants (socket(7)).
-      if (data_socket_->grantedReceiveBuffer() < 2 * static_cast<std::int64_t>(config_.receive_buffer_bytes))
+      // Linux grants at most net.core.rmem_max.
+      if (data_socket_->grantedReceiveBuffer() < static_cast<std::int64_t>(config_.receive_buffer_bytes))
         spdlog::warn(
             "the kernel granted a {} byte receive buffer, less than the {} asked for; raise "
             "net.core.rmem_max (sysctl -w net.core.rmem_max={}) or bursts may be dropped",
-            data_socket_->grantedReceiveBuffer() / 2, config_.receive_buffer_bytes,
+            data_socket_->grantedReceiveBuffer(), config_.receive_buffer_bytes,
             config_.receive_buffer_bytes);
       source_description_ = "udp " + config_.bind_address + ":" + std::to_string(data_socket_->port());
       break;

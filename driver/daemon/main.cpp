@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <lcm/lcm-cpp.hpp>
 
+#include "ogf/common/command_line.hpp"
 #include "driver_app.hpp"
 #include "driver_config.hpp"
 #include "ogf/transport/daemon_loop.hpp"
@@ -61,7 +62,8 @@ int main(int argc, char** argv) {
       app.add_option("--max-range", defaults.max_range_m, "Maximum range, metres")->capture_default_str();
   auto* cut =
       app.add_option("--cut-angle", defaults.cut_angle_deg, "Scan cut azimuth, degrees clockwise from x")
-          ->capture_default_str();
+          ->capture_default_str()
+          ->check(ogf::cli::between(-360, 360));
   auto* frame =
       app.add_option("--frame-id", defaults.frame_id, "Frame name in lidar_scan_t")->capture_default_str();
   auto* url =
@@ -78,7 +80,7 @@ int main(int argc, char** argv) {
   app.add_flag("--no-packets", no_packets, "Do not publish raw packet batches");
   auto* level = app.add_option("--log-level", defaults.log_level, "trace, debug, info, warn, error")
                     ->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
 
   DriverConfig config;
   if (!config_path.empty()) {

@@ -5,29 +5,17 @@ lcm/eventlog.c), as `key value` lines. The fields are read at their offsets in m
 8-byte fingerprint, mapper_status_t holds 10 int64 (utime .. measurements), 3 floats, then int64 cells,
 memory_bytes, delta_seq, keyframes_sent, filter_checksum; driver_status_t starts utime, string source, model,
 return_mode, 3 floats, then int64 counters."""
+import os
 import struct
 import sys
 
-SYNC = 0xEDA1DA01
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
+from lcm_log_check import events  # noqa: E402  (the log reader record.sh checks with)
+
 MAPPER = ["utime", "scans_in", "scans_dropped_behind", "scans_dropped_no_pose", "scans_late", "scans_rejected",
           "poses_in", "poses_rejected", "scans_mapped", "measurements"]
 DRIVER = ["data_packets", "position_packets", "packets_lost", "bad_size", "bad_block_flag", "foreign_sender",
           "bad_other", "scans_published", "publish_errors"]
-
-
-def events(path):
-    with open(path, "rb") as f:
-        data = f.read()
-    at = 0
-    while at + 28 <= len(data):
-        sync, _, _, clen, dlen = struct.unpack_from(">IqqII", data, at)
-        if sync != SYNC:
-            raise SystemExit(f"{path}: no sync word at byte {at}")
-        at += 28
-        channel = data[at:at + clen].decode()
-        at += clen
-        yield channel, data[at:at + dlen]
-        at += dlen
 
 
 def mapper_status(b):
@@ -44,7 +32,7 @@ def driver_status(b):
 
 
 last = {}
-for channel, payload in events(sys.argv[1]):
+for channel, _, payload in events(sys.argv[1]):
     if channel == "OGF_MAPPER_STATUS":
         last["mapper"] = mapper_status(payload)
     elif channel == "VELODYNE_STATUS":

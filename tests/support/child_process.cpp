@@ -60,4 +60,17 @@ std::string ChildProcess::log() const {
   return s.str();
 }
 
+Finished runAndCapture(const std::vector<std::string>& argv, const std::string& log_path, std::chrono::milliseconds limit) {
+  ChildProcess p(argv, log_path);
+  Finished f;
+  if (const auto rc = p.wait(limit)) {
+    f.rc = *rc;
+  } else {
+    p.signal(SIGKILL);
+    p.wait(std::chrono::seconds(5));
+  }
+  f.output = p.log();
+  return f;
+}
+
 }  // namespace ogf::testing

@@ -33,4 +33,13 @@ class ChildProcess {
   std::string log_path_;
 };
 
+// A program run to its end: its exit status (-1000 when it did not end within the limit, then killed)
+// and everything it printed.
+struct Finished {
+  int rc = -1000;
+  std::string output;
+};
+Finished runAndCapture(const std::vector<std::string>& argv, const std::string& log_path,
+                  std::chrono::milliseconds limit = std::chrono::seconds(120));
+
 }  // namespace ogf::testing

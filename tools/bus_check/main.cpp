@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "ogf/common/command_line.hpp"
 #include "ogf/transport/daemon_loop.hpp"
 #include "ogf/transport/lcm_asio_bridge.hpp"
 #include "ogf/transport/lcm_url.hpp"
@@ -70,9 +71,9 @@ int main(int argc, char** argv) {
   double timeout_s = 3.0;
   std::string prefix = "OGF_BUS_CHECK_";
   app.add_option("--lcm-url", url, "LCM URL (default: $LCM_DEFAULT_URL, else LCM's default)");
-  app.add_option("--timeout", timeout_s, "Seconds to wait for the round trip")->check(CLI::PositiveNumber);
+  app.add_option("--timeout", timeout_s, "Seconds to wait for the round trip")->check(ogf::cli::positive());
   app.add_option("--channel-prefix", prefix, "Prefix of the channels used, so live channels are untouched");
-  CLI11_PARSE(app, argc, argv);
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
 
   ogf::transport::setupLogging("ogf-bus-check");
   const std::string resolved = ogf::transport::withReceiveBuffer(ogf::transport::resolveLcmUrl(url));

@@ -7,6 +7,8 @@
 #include <optional>
 #include <string>
 
+#include "ogf/common/command_line.hpp"
+#include "ogf/log_io/packet_log.hpp"
 #include "ogf/driver_sources/pcap_file_reader.hpp"
 #include "ogf/velodyne/calibration.hpp"
 #include "ogf/velodyne/packet_stream.hpp"
@@ -28,11 +30,17 @@ int main(int argc, char** argv) {
       "  distance_m is the raw distance (count x resolution), azimuth_deg the interpolated azimuth of the\n"
       "  firing, time_s the firing time in seconds RELATIVE TO THE SCAN START (device time of its first\n"
       "  firing), return_type one of strongest, last, both."};
-  std::string pcap_path, calib_path, model_name, return_mode_name, csv_path, ply_path;
+  std::string pcap_path, lcm_log_path, packets_channel = "VELODYNE_PACKETS", calib_path, model_name, return_mode_name,
+      csv_path, ply_path;
   double min_range = 0.4, max_range = 250.0, cut_angle = 0.0;
   int data_port = 2368, position_port = 8308;
   bool quiet = false;
-  app.add_option("--pcap", pcap_path, "Capture file to decode")->required();
+  auto* pcap_opt = app.add_option("--pcap", pcap_path, "Capture file to decode");
+  auto* log_opt = app.add_option("--lcm-log", lcm_log_path,
+                                 "LCM log to decode: the raw packet batches ogf-driver published (--packets-channel)");
+  pcap_opt->excludes(log_opt);
+  app.add_option("--packets-channel", packets_channel, "Channel of the raw packet batches in --lcm-log")
+      ->capture_default_str();
   app.add_option("--calib", calib_path,
                  "Calibration: VeloView XML or ROS YAML (default: the model's nominal table)");
   app.add_option("--model", model_name, "VLP-16, VLP-16-HiRes, VLP-32C or HDL-32E (default: detected)");
@@ -42,17 +50,23 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"strongest", "last", "dual"}));
   app.add_option("--min-range", min_range,
                  "Drop returns closer than this, metres (0 keeps every non-zero return)")
-      ->capture_default_str();
-  app.add_option("--max-range", max_range, "Drop returns farther than this, metres")->capture_default_str();
+      ->capture_default_str()->check(ogf::cli::nonNegative());
+  app.add_option("--max-range", max_range, "Drop returns farther than this, metres")->capture_default_str()
+      ->check(ogf::cli::positive());
   app.add_option("--cut-angle", cut_angle, "Azimuth where scans are cut, degrees clockwise from x")
-      ->capture_default_str();
+      ->capture_default_str()->check(ogf::cli::between(-360, 360));
   app.add_option("--csv", csv_path, "Write every point to this CSV file");
   app.add_option("--ply", ply_path, "Write every point to this binary PLY file");
-  app.add_option("--data-port", data_port, "UDP destination port of data packets")->capture_default_str();
+  app.add_option("--data-port", data_port, "UDP destination port of data packets")->capture_default_str()
+      ->check(ogf::cli::between(1, 65535));
   app.add_option("--position-port", position_port, "UDP destination port of position packets")
-      ->capture_default_str();
+      ->capture_default_str()->check(ogf::cli::between(1, 65535));
   app.add_flag("--quiet", quiet, "Print only the totals line");
-  CLI11_PARSE(app, argc, argv);
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
+  if (pcap_path.empty() && lcm_log_path.empty()) {
+    std::fprintf(stderr, "ogf-decode: give --pcap FILE or --lcm-log FILE\n");
+    return ogf::cli::kExitUsage;
+  }
 
   ov::StreamConfig config;
   if (!model_name.empty()) {
@@ -81,11 +95,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ogf-decode: %s\n", stream.error().message.c_str());
     return 2;
   }
-  auto reader = os::PcapFileReader::open(pcap_path);
-  if (!reader) {
-    std::fprintf(stderr, "ogf-decode: %s\n", reader.error().message.c_str());
-    return 1;
-  }
   std::optional<ogf::tools::CsvPointWriter> csv;
   if (!csv_path.empty()) {
     csv.emplace(csv_path);
@@ -110,30 +119,57 @@ int main(int argc, char** argv) {
   });
 
   std::int64_t other_records = 0, fragments = 0, cut_short = 0, other_ports = 0;
-  os::PcapRecord record;
-  os::ReadStatus status;
-  while ((status = (*reader)->next(record)) != os::ReadStatus::End && status != os::ReadStatus::Error) {
-    if (status == os::ReadStatus::Skipped) {
-      if (record.kind == os::FrameKind::Fragment)
-        ++fragments;
-      else if (record.kind == os::FrameKind::Truncated)
-        ++cut_short;
+  if (!lcm_log_path.empty()) {
+    auto counts = ogf::log_io::readPacketLog(lcm_log_path, packets_channel, [&](const ogf::log_io::LoggedPacket& p) {
+      if (p.port == data_port)
+        stream->addDataPacket(p.payload, p.host_utime);
+      else if (p.port == position_port)
+        stream->addPositionPacket(p.payload, p.host_utime);
       else
-        ++other_records;
-      continue;
+        ++other_ports;
+    });
+    if (!counts) {
+      std::fprintf(stderr, "ogf-decode: %s\n", counts.error().message.c_str());
+      return ogf::cli::kExitFailure;
     }
-    const os::UdpDatagram& d = record.datagram;
-    if (d.destination_port == data_port)
-      stream->addDataPacket(d.payload, d.utime);
-    else if (d.destination_port == position_port)
-      stream->addPositionPacket(d.payload, d.utime);
-    else
-      ++other_ports;
+    stream->finish();
+    for (const auto& p : counts->problems) std::fprintf(stderr, "ogf-decode: warning: %s\n", p.c_str());
+    if (counts->batches == 0)
+      std::fprintf(stderr, "ogf-decode: warning: %s: no packet batches on %s\n", lcm_log_path.c_str(),
+                   packets_channel.c_str());
+    if (const auto gaps = counts->gaps.summary(lcm_log_path + ": " + packets_channel + " batches"); !gaps.empty())
+      std::fprintf(stderr, "ogf-decode: warning: %s\n", gaps.c_str());
+  } else {
+    auto reader = os::PcapFileReader::open(pcap_path);
+    if (!reader) {
+      std::fprintf(stderr, "ogf-decode: %s\n", reader.error().message.c_str());
+      return ogf::cli::kExitFailure;
+    }
+    os::PcapRecord record;
+    os::ReadStatus status;
+    while ((status = (*reader)->next(record)) != os::ReadStatus::End && status != os::ReadStatus::Error) {
+      if (status == os::ReadStatus::Skipped) {
+        if (record.kind == os::FrameKind::Fragment)
+          ++fragments;
+        else if (record.kind == os::FrameKind::Truncated)
+          ++cut_short;
+        else
+          ++other_records;
+        continue;
+      }
+      const os::UdpDatagram& d = record.datagram;
+      if (d.destination_port == data_port)
+        stream->addDataPacket(d.payload, d.utime);
+      else if (d.destination_port == position_port)
+        stream->addPositionPacket(d.payload, d.utime);
+      else
+        ++other_ports;
+    }
+    stream->finish();
+    if (status == os::ReadStatus::Error)
+      std::fprintf(stderr, "ogf-decode: warning: %s; kept the %lld records before it\n",
+                   (*reader)->error().c_str(), static_cast<long long>((*reader)->records()));
   }
-  stream->finish();
-  if (status == os::ReadStatus::Error)
-    std::fprintf(stderr, "ogf-decode: warning: %s; kept the %lld records before it\n",
-                 (*reader)->error().c_str(), static_cast<long long>((*reader)->records()));
   const ov::StreamCounters& c = stream->counters();
   const auto model = stream->model();
   const auto mode = stream->returnMode();

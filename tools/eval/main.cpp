@@ -28,6 +28,7 @@
 #include <ogf/sim/pose_files.hpp>
 #include <ogf/transport/logging.hpp>
 
+#include "ogf/common/command_line.hpp"
 #include "ogf/eval/held_out.hpp"
 #include "ogf/eval/map_scores.hpp"
 #include "ogf/eval/octomap_baseline.hpp"
@@ -47,9 +48,9 @@ namespace {
 namespace fs = std::filesystem;
 namespace ev = ogf::eval;
 
-constexpr int kExitOk = 0;
+using ogf::cli::kExitOk;
 constexpr int kExitFailed = 1;  // an input could not be read, or an output not written
-constexpr int kExitUsage = 2;
+using ogf::cli::kExitUsage;  // bad flags or configuration
 
 struct Column {
   std::string name;
@@ -425,7 +426,7 @@ int main(int argc, char** argv) {
                       ->capture_default_str();
   app.add_flag("--held-out", held_out, "Also score both maps on rays held out of them (see above)");
   app.add_option("--held-out-share", held_out_share, "Share of every scan's rays held out")
-      ->capture_default_str()->check(CLI::Range(0.01, 0.5));
+      ->capture_default_str()->check(ogf::cli::between(0.01, 0.5));
   app.add_option("--seed", seed, "Seed of the held-out split")->capture_default_str();
   app.add_option("--png", png_dir, "Folder for truth.png, ogf_/octomap_classes.png, ogf_/octomap_errors.png and the "
                                    "map's occupancy.png/entropy.png");
@@ -433,7 +434,7 @@ int main(int argc, char** argv) {
   app.add_option("--png-zmax", png_zmax, "Top of the PNGs' height band, metres (default: 2 m above the floor)");
   app.add_option("--png-scale", scale, "Least pixels per cell in the truth/class/error PNGs (they are at least 800 px wide or high)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 32));
+      ->check(ogf::cli::between(1, 32));
   auto* oin = app.add_option("--octomap", octomap_in, "Score this OctoMap (.bt) instead of building one")->check(CLI::ExistingFile);
   app.add_flag("--no-octomap", no_octomap, "Score the OGF only")->excludes(oin);
   app.add_option("--write-octomap", octomap_out, "Write the OctoMap built from the run as .bt");
@@ -445,12 +446,7 @@ int main(int argc, char** argv) {
   app.add_option("--corrected", corrected_path, "Corrected poses to score (CSV utime,x,y,z,qw,qx,qy,qz)")
       ->check(CLI::ExistingFile);
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error")->capture_default_str();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int cli_rc = app.exit(e);  // prints the help or the error
-    return cli_rc == 0 ? kExitOk : kExitUsage;
-  }
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
 
   if (!ogf::transport::setupLoggingAt("ogf-eval", "--log-level", log_level)) return kExitUsage;
 

@@ -22,6 +22,7 @@
 #include <ogf/mapper_daemon/mapper_options.hpp>
 #include <ogf/transport/logging.hpp>
 
+#include "ogf/common/command_line.hpp"
 #include "ogf/map_io/cell_csv.hpp"
 #include "ogf/map_io/cell_pcd.hpp"
 #include "ogf/map_io/cell_ply.hpp"
@@ -41,9 +42,9 @@ namespace {
 namespace mio = ogf::map_io;
 using Clock = std::chrono::steady_clock;
 
-constexpr int kExitOk = 0;
+using ogf::cli::kExitOk;
 constexpr int kExitNothingMapped = 1;  // also: an output could not be written
-constexpr int kExitUsage = 2;          // bad flags or configuration
+using ogf::cli::kExitUsage;  // bad flags or configuration
 constexpr int kUncoveredWarnings = 5;  // scans described one by one; the rest only counted
 
 // A one-line bar on stderr, redrawn at most 10 times a second, only when stderr is a terminal.
@@ -76,7 +77,7 @@ class ProgressBar {
 
 struct Options {
   std::string out, config_path, pcap, calib, odometry, lcm_log, time_base = "device";
-  std::string scan_channel = "VELODYNE_SCAN", pose_channel = "POSE";
+  std::string scan_channel = "VELODYNE_SCAN", pose_channel = "POSE", packets_channel = "VELODYNE_PACKETS";
   std::vector<std::string> pcd;
   bool is_static = false;
   double resolution = 0.2, max_range = 30.0, min_range = 0.4;
@@ -198,21 +199,25 @@ int main(int argc, char** argv) {
                  "YAML settings (resolution, min_range, max_range, extrinsic, filter), or ogf-mapper's own "
                  "configuration file (its map, filter and fusion sections); flags override it")
       ->check(CLI::ExistingFile);
-  auto* res_opt = app.add_option("--resolution", o.resolution, "Cell size, metres")->capture_default_str();
+  auto* res_opt = app.add_option("--resolution", o.resolution, "Cell size, metres")
+                      ->capture_default_str()->check(ogf::cli::positive());
   auto* max_opt = app.add_option("--max-range", o.max_range, "Rays are cut here (free cells only beyond), metres")
-                      ->capture_default_str();
+                      ->capture_default_str()->check(ogf::cli::positive());
   auto* min_opt = app.add_option("--min-range", o.min_range, "Returns closer than this are ignored, metres")
-                      ->capture_default_str();
+                      ->capture_default_str()->check(ogf::cli::nonNegative());
   auto* pcap_opt = app.add_option("--pcap", o.pcap, "Velodyne capture (pcap or pcapng)");
   app.add_option("--calib", o.calib, "Calibration for --pcap: VeloView XML or ROS YAML")->needs(pcap_opt);
   auto* odo_opt = app.add_option("--odometry", o.odometry, "Odometry: CSV or LCM log (POSE)");
   auto* static_opt = app.add_flag("--static", o.is_static, "The sensor does not move (a tripod): body at the origin");
-  auto* lcm_opt = app.add_option("--lcm-log", o.lcm_log, "LCM log with scans (VELODYNE_SCAN) and poses (POSE)");
+  auto* lcm_opt = app.add_option("--lcm-log", o.lcm_log, "LCM log with scans (VELODYNE_SCAN, else the raw packets on VELODYNE_PACKETS) and poses (POSE)");
   auto* pcd_opt = app.add_option("--pcd", o.pcd, "PCD files, one scan each");
   app.add_option("--time", o.time_base, "Clock the odometry is on: device (scan device time) or host (receive time)")
       ->check(CLI::IsMember({"device", "host"}))
       ->capture_default_str();
   app.add_option("--scan-channel", o.scan_channel, "Scan channel in --lcm-log")->capture_default_str();
+  app.add_option("--packets-channel", o.packets_channel,
+                 "Raw packet channel in --lcm-log, decoded when the log has no scans")
+      ->capture_default_str();
   app.add_option("--pose-channel", o.pose_channel, "Pose channel in LCM logs")->capture_default_str();
   app.add_option("--export-csv", o.export_csv, "Every allocated cell: x,y,z,p,class,variance (cell centres, metres)");
   app.add_option("--export-ply", o.export_ply, "Occupied cells as binary PLY (x, y, z, p, variance)");
@@ -226,14 +231,14 @@ int main(int argc, char** argv) {
       ->needs(png_opt);
   auto* threads_opt = app.add_option("--threads", o.threads, "Filter threads (the map is the same for any count)")
                           ->capture_default_str()
-                          ->check(CLI::Range(1, 256));
+                          ->check(ogf::cli::between(1, 256));
   app.add_option("--pose-correction", o.pose_correction,
                  "Correct odometry drift before mapping: none, scan-match or rbpf (2-D SLAM on a planar cut of "
                  "each scan)")
       ->capture_default_str();
   app.add_option("--particles", o.particles, "Particles of --pose-correction rbpf")
       ->capture_default_str()
-      ->check(CLI::Range(1, 1000));
+      ->check(ogf::cli::between(1, 1000));
   app.add_option("--corrected-out", o.corrected_out,
                  "CSV of the corrected body pose of every mapped scan (utime,x,y,z,qw,qx,qy,qz)");
   app.add_option("--log-level", o.log_level, "trace|debug|info|warn|error")->capture_default_str();
@@ -243,7 +248,7 @@ int main(int argc, char** argv) {
                        ->check(CLI::ExistingFile);
   from_opt->excludes(pcap_opt)->excludes(lcm_opt)->excludes(pcd_opt);
   lcm_opt->excludes(pcap_opt);
-  CLI11_PARSE(app, argc, argv);
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
 
   if (!ogf::transport::setupLoggingAt("ogf-map", "--log-level", o.log_level)) return kExitUsage;
   if (!o.from_map.empty()) return exportMapFile(o);
@@ -317,6 +322,15 @@ int main(int argc, char** argv) {
     spdlog::error("--corrected-out needs --pose-correction scan-match or rbpf");
     return kExitUsage;
   }
+  // Inputs that are not there are said so by the flag that named them, before anything is read.
+  for (const auto& [flag, path] : {std::pair<const char*, const std::string&>{"--pcap", o.pcap},
+                                   {"--lcm-log", o.lcm_log}, {"--odometry", o.odometry}}) {
+    if (!path.empty() && !std::filesystem::is_regular_file(path)) {
+      spdlog::error("{}: {}: no such file", flag, path);
+      return kExitNothingMapped;
+    }
+  }
+
   const auto& m = config.fusion.measurement;
   spdlog::info("resolution {} m, range {} .. {} m, filter threads {}", m.resolution_m, m.min_range_m, m.max_range_m,
                run.mapper().filter().config().threads);
@@ -367,7 +381,25 @@ int main(int argc, char** argv) {
         input_failed = true;
       } else {
         logProblems(counts->problems, counts->skipped);
+        if (!counts->gaps.empty()) spdlog::warn("{}", counts->gaps);
         spdlog::info("{}: {} events, {} scans on {}", o.lcm_log, counts->events, counts->scans, o.scan_channel);
+      }
+      if (counts && counts->scans == 0) {
+        // A log of the raw packets only: decode them as the driver did live.
+        mio::PcapScanConfig pc;
+        if (!o.calib.empty()) pc.calibration = o.calib;
+        pc.min_range_m = m.min_range_m;
+        auto decoded = mio::readLcmLogPacketScans(o.lcm_log, o.packets_channel, pc, addScan, progress);
+        if (!decoded) {
+          spdlog::error("{}", decoded.error().message);
+          input_failed = true;
+        } else {
+          if (!decoded->warning.empty()) spdlog::warn("{}", decoded->warning);
+          if (!decoded->gaps.empty()) spdlog::warn("{}", decoded->gaps);
+          spdlog::info("{}: no scans on {}; {} scans decoded from the packets on {} ({} data packets, {} lost, {} bad)",
+                       o.lcm_log, o.scan_channel, decoded->scans, o.packets_channel, decoded->data_packets,
+                       decoded->packets_lost, decoded->bad_packets);
+        }
       }
     }
   } else {
@@ -416,7 +448,8 @@ int main(int argc, char** argv) {
     }
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  std::printf("scans %lld measurements %lld cells %zu seconds %.2f\n", static_cast<long long>(c.scans_mapped),
-              static_cast<long long>(c.measurements), filter.allocatedCells(), seconds);
+  std::printf("scans %lld measurements %lld cells %zu seconds %.2f checksum %016llx\n",
+              static_cast<long long>(c.scans_mapped), static_cast<long long>(c.measurements), filter.allocatedCells(),
+              seconds, static_cast<unsigned long long>(filter.checksum()));
   return rc;
 }

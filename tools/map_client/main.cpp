@@ -17,6 +17,7 @@
 #include <functional>
 #include <string>
 
+#include "ogf/common/command_line.hpp"
 #include "ogf/delta/keyframe_request.hpp"
 #include "ogf/delta/map_receiver.hpp"
 #include "ogf/transport/daemon_loop.hpp"
@@ -41,16 +42,16 @@ int main(int argc, char** argv) {
   app.add_option("--channel", delta_channel, "Delta channel")->capture_default_str();
   app.add_option("--request-channel", request_channel, "Keyframe request channel")->capture_default_str();
   app.add_option("--duration", duration_s, "Stop after this many seconds (0: run until SIGINT/SIGTERM)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(ogf::cli::nonNegative());
   app.add_option("--until-seq", until_seq, "Stop once the map is consistent at this update sequence or later");
   app.add_option("--idle-exit", idle_exit_s,
                  "Stop after this many seconds without a delta once the map is consistent (0: never)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(ogf::cli::nonNegative());
   app.add_option("--keyframe-retry", keyframe_retry_s, "Seconds between keyframe requests while one is needed")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(ogf::cli::positive())->capture_default_str();
   app.add_flag("--progress", progress, "Print a status line every second");
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
 
   if (!ogf::transport::setupLoggingAt("ogf-map-client", "--log-level", log_level)) return 2;
   const std::string resolved = ogf::transport::withReceiveBuffer(ogf::transport::resolveLcmUrl(url));

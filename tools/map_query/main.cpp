@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "ogf/common/command_line.hpp"
 #include "ogf/transport/lcm_url.hpp"
 #include "ogf/transport/logging.hpp"
 #include "ogf/transport/subscriber.hpp"
@@ -74,7 +75,7 @@ int main(int argc, char** argv) {
   app.add_option("--lcm-url", url, "LCM URL (default: $LCM_DEFAULT_URL, else LCM's default)");
   app.add_option("--query-channel", query_channel, "Query channel")->capture_default_str();
   app.add_option("--command-channel", command_channel, "Command channel")->capture_default_str();
-  app.add_option("--timeout", timeout_s, "Seconds to wait for the reply")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--timeout", timeout_s, "Seconds to wait for the reply")->capture_default_str()->check(ogf::cli::positive());
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
   std::vector<double> cell_xyz, box;
   auto* cell = app.add_subcommand("cell", "Probability, class, mean, variance and entropy of the cells holding points");
@@ -87,7 +88,7 @@ int main(int argc, char** argv) {
   auto* exp = app.add_subcommand("export", "Write the map on the mapper's machine");
   exp->add_option("format", format, "ogfm, ply, pcd, csv or bt")->required();
   exp->add_option("path", path, "Absolute path on the mapper's machine")->required();
-  CLI11_PARSE(app, argc, argv);
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
   if (cell->parsed() && cell_xyz.size() % 3 != 0) {
     std::fprintf(stderr, "cell: give X Y Z triples (%zu numbers given)\n", cell_xyz.size());
     return kExitUsage;

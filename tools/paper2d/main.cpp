@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "ogf/common/command_line.hpp"
 #include "experiment.hpp"
 #include "figures.hpp"
 #include "ground_truth.hpp"
@@ -19,7 +20,7 @@
 
 namespace {
 
-constexpr int kClaimsFailed = 2;
+constexpr int kClaimsFailed = ogf::cli::kExitFailure;
 
 bool writeMeans(const std::string& path, const ogf::paper2d::GroundTruth& truth,
                 const ogf::paper2d::ExperimentRun& run) {
@@ -66,11 +67,11 @@ int main(int argc, char** argv) {
   double bandedRadius = 0.0;
   app.add_option("--banded-radius", bandedRadius,
                  "stencil radius R of the banded OGF columns, cells (default: the library's choice from sigma)");
-  app.add_flag("--strict", strict, "exit with status 2 when a claim of the paper does not hold");
+  app.add_flag("--strict", strict, "exit with status 1 when a claim of the paper does not hold");
   app.add_option("--log-level", logLevel, "trace, debug, info, warn, error")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
 
-  if (!ogf::transport::setupLoggingAt("ogf-paper2d", "--log-level", logLevel)) return 1;
+  if (!ogf::transport::setupLoggingAt("ogf-paper2d", "--log-level", logLevel)) return ogf::cli::kExitUsage;
 
   ogf::paper2d::GroundTruth truth = ogf::paper2d::builtInGroundTruth();
   std::string error;

@@ -14,9 +14,12 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <thread>
 
+#include "ogf/common/command_line.hpp"
+#include "ogf/log_io/packet_log.hpp"
 #include "ogf/driver_sources/pcap_file_reader.hpp"
 #include "ogf/replay/destination_ports.hpp"
 #include "ogf/replay/pose_events.hpp"
@@ -29,9 +32,9 @@ namespace {
 namespace ds = ogf::driver_sources;
 using Clock = std::chrono::steady_clock;
 
-constexpr int kExitOk = 0;
+using ogf::cli::kExitOk;
 constexpr int kExitNothingSent = 1;
-constexpr int kExitUsage = 2;
+using ogf::cli::kExitUsage;  // bad flags or configuration
 
 struct Counts {
   std::int64_t data = 0;
@@ -60,7 +63,7 @@ const char* kindName(ds::FrameKind k) {
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "Replays a capture's UDP payloads onto the network (no root needed), optionally with the robot's odometry "
+      "Replays a capture's UDP payloads (or the raw packet batches of an LCM log) onto the network (no root needed), optionally with the robot's odometry "
       "on LCM on the same clock.\n"
       "Data packets (captured to 2368) go to --data-port, position packets (8308) to --position-port, others to "
       "their captured port. Pacing: capture time / --speed, on a steady clock; --fast sends as fast as possible; "
@@ -68,40 +71,46 @@ int main(int argc, char** argv) {
       "utime (capture clock).\n"
       "At the end one line on stdout:\n"
       "  packets N data N position N other N skipped N send_errors N poses N loops N seconds S rate R\n"
-      "Exit 0 when packets were sent, 1 when none could be, 2 on bad flags or unreadable inputs."};
-  std::string pcap, dest = "127.0.0.1", odometry, lcm_url, pose_channel = "POSE", log_level = "info";
+      "Exit 0 when packets were sent, 1 when none could be (an input missing or unreadable), 2 on bad flags."};
+  std::string pcap, lcm_log, packets_channel = "VELODYNE_PACKETS", dest = "127.0.0.1", odometry, lcm_url,
+      pose_channel = "POSE", log_level = "info";
   int data_port = 2368, position_port = 8308, loops = 1;
   double speed = 1.0, max_rate = 0.0, start_delay = 0.0, loop_gap = 0.0;
   bool fast = false;
-  app.add_option("--pcap", pcap, "Capture file (pcap or pcapng)")->required()->check(CLI::ExistingFile);
+  auto* pcap_opt = app.add_option("--pcap", pcap, "Capture file (pcap or pcapng)");
+  auto* log_opt = app.add_option("--lcm-log", lcm_log,
+                                 "LCM log whose raw packet batches (--packets-channel) are sent as the sensor sent "
+                                 "them, paced by their host receive times");
+  pcap_opt->excludes(log_opt);
+  app.add_option("--packets-channel", packets_channel, "Channel of the raw packet batches in --lcm-log")
+      ->capture_default_str();
   app.add_option("--dest", dest, "Destination IPv4 address")->capture_default_str();
   app.add_option("--data-port", data_port, "Port for data packets (captured to 2368)")
-      ->capture_default_str()->check(CLI::Range(1, 65535));
+      ->capture_default_str()->check(ogf::cli::between(1, 65535));
   app.add_option("--position-port", position_port, "Port for position packets (captured to 8308)")
-      ->capture_default_str()->check(CLI::Range(1, 65535));
+      ->capture_default_str()->check(ogf::cli::between(1, 65535));
   auto* speed_opt = app.add_option("--speed", speed, "Pacing factor: capture time / speed")
-                        ->capture_default_str()->check(CLI::PositiveNumber);
+                        ->capture_default_str()->check(ogf::cli::positive());
   app.add_flag("--fast", fast, "As fast as possible (no pacing by the capture clock)")->excludes(speed_opt);
-  app.add_option("--loop", loops, "Play the capture this many times")->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--loop-gap", loop_gap, "Seconds between loops")->capture_default_str()->check(CLI::NonNegativeNumber);
+  app.add_option("--loop", loops, "Play the capture this many times")->capture_default_str()->check(ogf::cli::positive());
+  app.add_option("--loop-gap", loop_gap, "Seconds between loops")->capture_default_str()->check(ogf::cli::nonNegative());
   app.add_option("--max-rate", max_rate, "At most this many packets per second (0: no limit)")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(ogf::cli::nonNegative());
   auto* odo_opt = app.add_option("--odometry", odometry,
                                  "Odometry to publish: CSV utime,x,y,z,qw,qx,qy,qz (as ogf.odometry_t) or an LCM log "
-                                 "(events on --pose-channel, republished as they are)")
-                      ->check(CLI::ExistingFile);
+                                 "(events on --pose-channel, republished as they are)");
   app.add_option("--lcm-url", lcm_url, "LCM URL for the odometry (default $LCM_DEFAULT_URL, else LCM's default)")
       ->needs(odo_opt);
   app.add_option("--pose-channel", pose_channel, "Odometry channel")->capture_default_str();
   app.add_option("--start-delay", start_delay, "Seconds to wait before the first packet (let listeners start)")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(ogf::cli::nonNegative());
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error")->capture_default_str();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int cli_rc = app.exit(e);  // prints the help or the error
-    return cli_rc == 0 ? kExitOk : kExitUsage;
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
+  if (pcap.empty() && lcm_log.empty()) {
+    std::fprintf(stderr, "ogf-replay: give --pcap FILE or --lcm-log FILE\n");
+    return kExitUsage;
   }
+  const std::string input = pcap.empty() ? lcm_log : pcap;
 
   if (!ogf::transport::setupLoggingAt("ogf-replay", "--log-level", log_level)) return kExitUsage;
 
@@ -119,7 +128,7 @@ int main(int argc, char** argv) {
     auto loaded = ogf::replay::loadPoseEvents(odometry, pose_channel);
     if (!loaded) {
       spdlog::error("--odometry: {}", loaded.error().message);
-      return kExitUsage;
+      return kExitNothingSent;
     }
     for (const auto& p : loaded->problems) spdlog::warn("{}; skipped", p);
     if (loaded->skipped > static_cast<std::int64_t>(loaded->problems.size()))
@@ -130,7 +139,7 @@ int main(int argc, char** argv) {
     lcm = std::make_unique<lcm::LCM>(url);
     if (!lcm->good()) {
       spdlog::error("cannot join the LCM bus {} (udpm needs a multicast route: scripts/multicast-loopback.sh)", url);
-      return kExitUsage;
+      return kExitNothingSent;
     }
     spdlog::info("{}: {} poses to publish on {} ({})", odometry, poses->events.size(), pose_channel, url);
   }
@@ -162,52 +171,72 @@ int main(int argc, char** argv) {
     else ++counts.pose_errors;
   };
 
+  std::size_t next_pose = 0;
+  // One datagram as captured (its time and destination port), sent when the replay clock reaches it.
+  const auto sendDatagram = [&](std::int64_t utime, int captured_port, std::span<const std::uint8_t> payload) {
+    if (!origin_set) {
+      std::int64_t origin = utime;
+      if (poses && !poses->events.empty()) origin = std::min(origin, poses->events.front().utime);
+      clock.setOrigin(origin);
+      origin_set = true;
+    }
+    // Poses due before this packet go first, each at its own time.
+    while (poses && next_pose < poses->events.size() && poses->events[next_pose].utime <= utime) {
+      waitUntil(clock.dueEvent(poses->events[next_pose].utime));
+      publishPose(poses->events[next_pose++]);
+    }
+    waitUntil(clock.duePacket(utime));
+    const std::uint16_t port = ports.forCaptured(static_cast<std::uint16_t>(captured_port));
+    socket.send_to(boost::asio::buffer(payload.data(), payload.size()), boost::asio::ip::udp::endpoint(address, port), 0, ec);
+    if (ec) {
+      ++counts.send_errors;
+      spdlog::debug("send to {}:{} failed: {}", dest, port, ec.message());
+      return;
+    }
+    if (captured_port == ports.kCapturedData) ++counts.data;
+    else if (captured_port == ports.kCapturedPosition) ++counts.position;
+    else ++counts.other;
+  };
+
   int loop = 0;
   for (; loop < loops; ++loop) {
-    auto reader = ds::PcapFileReader::open(pcap);
-    if (!reader) {
-      spdlog::error("--pcap: {}", reader.error().message);
-      return loop == 0 ? kExitUsage : kExitNothingSent;
-    }
     if (loop > 0) clock.nextLoop(static_cast<std::int64_t>(loop_gap * 1e6));
-    std::size_t next_pose = 0;
-    ds::PcapRecord record;
-    bool ended = false;
-    while (!ended) {
-      const ds::ReadStatus st = (*reader)->next(record);
-      if (st == ds::ReadStatus::End) break;
-      if (st == ds::ReadStatus::Error) {
-        damage = (*reader)->error();
-        break;
+    next_pose = 0;
+    if (!lcm_log.empty()) {
+      auto read = ogf::log_io::readPacketLog(lcm_log, packets_channel, [&](const ogf::log_io::LoggedPacket& p) {
+        sendDatagram(p.host_utime, p.port, p.payload);
+      });
+      if (!read) {
+        spdlog::error("--lcm-log: {}", read.error().message);
+        return kExitNothingSent;
       }
-      if (st == ds::ReadStatus::Skipped || record.kind != ds::FrameKind::Udp) {
-        ++counts.skipped;
-        spdlog::debug("record {} skipped: {}", record.index, kindName(record.kind));
-        continue;
+      if (loop == 0) {
+        for (const auto& problem : read->problems) spdlog::warn("{}", problem);
+        if (const auto gaps = read->gaps.summary(lcm_log + ": " + packets_channel + " batches"); !gaps.empty())
+          spdlog::warn("{}", gaps);
+        if (read->batches == 0) spdlog::warn("{}: no packet batches on {}", lcm_log, packets_channel);
       }
-      const ds::UdpDatagram& d = record.datagram;
-      if (!origin_set) {
-        std::int64_t origin = d.utime;
-        if (poses && !poses->events.empty()) origin = std::min(origin, poses->events.front().utime);
-        clock.setOrigin(origin);
-        origin_set = true;
+    } else {
+      auto reader = ds::PcapFileReader::open(pcap);
+      if (!reader) {
+        spdlog::error("--pcap: {}", reader.error().message);
+        return kExitNothingSent;
       }
-      // Poses due before this packet go first, each at its own time.
-      while (poses && next_pose < poses->events.size() && poses->events[next_pose].utime <= d.utime) {
-        waitUntil(clock.dueEvent(poses->events[next_pose].utime));
-        publishPose(poses->events[next_pose++]);
+      ds::PcapRecord record;
+      while (true) {
+        const ds::ReadStatus st = (*reader)->next(record);
+        if (st == ds::ReadStatus::End) break;
+        if (st == ds::ReadStatus::Error) {
+          damage = (*reader)->error();
+          break;
+        }
+        if (st == ds::ReadStatus::Skipped || record.kind != ds::FrameKind::Udp) {
+          ++counts.skipped;
+          spdlog::debug("record {} skipped: {}", record.index, kindName(record.kind));
+          continue;
+        }
+        sendDatagram(record.datagram.utime, record.datagram.destination_port, record.datagram.payload);
       }
-      waitUntil(clock.duePacket(d.utime));
-      const std::uint16_t port = ports.forCaptured(d.destination_port);
-      socket.send_to(boost::asio::buffer(d.payload.data(), d.payload.size()), boost::asio::ip::udp::endpoint(address, port), 0, ec);
-      if (ec) {
-        ++counts.send_errors;
-        spdlog::debug("send to {}:{} failed: {}", dest, port, ec.message());
-        continue;
-      }
-      if (d.destination_port == ports.kCapturedData) ++counts.data;
-      else if (d.destination_port == ports.kCapturedPosition) ++counts.position;
-      else ++counts.other;
     }
     // Poses after the last packet: the mapper needs the pose after a scan's end to place its last points.
     while (poses && next_pose < poses->events.size()) {
@@ -218,7 +247,7 @@ int main(int argc, char** argv) {
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
 
-  if (!damage.empty()) spdlog::warn("{}: reading stopped at damage: {}; the records before it were sent", pcap, damage);
+  if (!damage.empty()) spdlog::warn("{}: reading stopped at damage: {}; the records before it were sent", input, damage);
   if (counts.skipped > 0) spdlog::warn("{} records skipped (not a whole IPv4/UDP datagram)", counts.skipped);
   if (counts.send_errors > 0) spdlog::warn("{} datagrams could not be sent", counts.send_errors);
   if (counts.pose_errors > 0) spdlog::warn("{} poses could not be published", counts.pose_errors);

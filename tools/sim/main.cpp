@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "ogf/common/command_line.hpp"
 #include "ogf/sim/scene.hpp"
 #include "ogf/sim/simulation.hpp"
 #include "ogf/transport/logging.hpp"
@@ -61,10 +62,10 @@ int main(int argc, char** argv) {
   app.add_option("--trajectory", trajectory,
                  "A trajectory of the world (static, loop, corridor) or a trajectory YAML file; "
                  "default: the world's default_trajectory");
-  app.add_option("--duration", config.duration_s, "Seconds of capture")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--duration", config.duration_s, "Seconds of capture")->capture_default_str()->check(ogf::cli::positive());
   app.add_option("--rpm", config.sensor.rpm, "Rotation rate, 300..1200 (600 or 1200 typical)")
       ->capture_default_str()
-      ->check(CLI::Range(300.0, 1200.0));
+      ->check(ogf::cli::between(300.0, 1200.0));
   app.add_option("--model", model_name, "Sensor: vlp16 (the VLP-16 of velodyne.md) or hdl32e")
       ->capture_default_str()
       ->check(CLI::IsMember({"vlp16", "hdl32e"}));
@@ -75,13 +76,13 @@ int main(int argc, char** argv) {
   app.add_option("--out", out_dir, "Output folder (created if missing)")->required();
   app.add_option("--range-noise", config.sensor.range_noise_m, "Gaussian range noise sigma, metres")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(ogf::cli::nonNegative());
   app.add_option("--dropout", config.sensor.dropout, "Probability that a firing returns nothing")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(ogf::cli::between(0.0, 1.0));
   app.add_option("--max-range", config.sensor.max_range_m, "Maximum range, metres")
       ->capture_default_str()
-      ->check(CLI::Range(0.5, 130.0));
+      ->check(ogf::cli::between(0.5, 130.0));
   app.add_option("--odometry-error,--odometry-drift", odometry_error,
                  "Odometry error preset (" + join(ogf::sim::odometryErrorPresetNames()) +
                      "). Drift presets: wheel-slip = 3 % scale, 0.01 rad/m heading drift, random walks "
@@ -90,10 +91,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--odometry-rate", config.odometry_rate_hz, "Odometry samples per second")
       ->capture_default_str()
-      ->check(CLI::Range(1.0, 1000.0));
+      ->check(ogf::cli::between(1.0, 1000.0));
   app.add_option("--truth-resolution", config.truth_resolution_m, "Ground-truth cell size, metres")
       ->capture_default_str()
-      ->check(CLI::Range(0.02, 5.0));
+      ->check(ogf::cli::between(0.02, 5.0));
   app.add_option("--start-utime", config.start_utime, "Time of the first firing, us since the epoch")
       ->capture_default_str();
   app.add_option("--movers", movers,
@@ -101,7 +102,7 @@ int main(int argc, char** argv) {
                  "the lidar sees them, truth.grid does not; swept.grid marks the cells they passed through")
       ->capture_default_str();
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
 
   if (!ogf::transport::setupLoggingAt("ogf-sim", "--log-level", log_level)) return EXIT_FAILURE;
 

@@ -17,15 +17,16 @@
 #include <ogf/tools/png_writer.hpp>
 #include <string>
 
+#include "ogf/common/command_line.hpp"
 #include "ogf/slam2d/map_image.hpp"
 #include "ogf/slam2d/slam_log.hpp"
 #include "ogf/slam2d/slam_run.hpp"
 
 namespace {
 
-constexpr int kExitOk = 0;
+using ogf::cli::kExitOk;
 constexpr int kExitFailed = 1;  // an input could not be read or an output not written
-constexpr int kExitUsage = 2;
+using ogf::cli::kExitUsage;  // bad flags or configuration
 
 // A one-line bar on stderr, drawn only when stderr is a terminal, at most every 100 ms.
 class ProgressBar {
@@ -137,12 +138,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--relations", relations_path, "Score the run against these ground-truth relations")
       ->check(CLI::ExistingFile);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int rc = app.exit(e);
-    return rc == 0 ? kExitOk : kExitUsage;
-  }
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
   auto mode = slam::parseCorrectionMode(mode_text);
   if (!mode) {
     fail("--mode: " + mode.error().message);

@@ -8,14 +8,15 @@
 #include <fstream>
 #include <string>
 
+#include "ogf/common/command_line.hpp"
 #include "ogf/slam_io/laser_trajectory.hpp"
 #include "ogf/slam_io/relations.hpp"
 
 namespace {
 
-constexpr int kExitOk = 0;
+using ogf::cli::kExitOk;
 constexpr int kExitFailed = 1;  // an input could not be read, or no relation matched
-constexpr int kExitUsage = 2;
+using ogf::cli::kExitUsage;  // bad flags or configuration
 constexpr std::size_t kMalformedShown = 10;
 
 }  // namespace
@@ -44,13 +45,8 @@ int main(int argc, char** argv) {
       ->required();
   app.add_option("--tolerance", tolerance, "Largest gap between a relation stamp and its pose, seconds")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int cli_rc = app.exit(e);  // prints the help or the error
-    return cli_rc == 0 ? kExitOk : kExitUsage;
-  }
+      ->check(ogf::cli::positive());
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
 
   std::ifstream result_in(result_path);
   if (!result_in) {

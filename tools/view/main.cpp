@@ -24,6 +24,7 @@
 #include <string>
 
 #include "ogf/adapters/message_adapters.hpp"
+#include "ogf/common/command_line.hpp"
 #include "ogf/delta/keyframe_request.hpp"
 #include "ogf/delta/map_receiver.hpp"
 #include "ogf/map_io/map_loader.hpp"
@@ -103,17 +104,13 @@ int main(int argc, char** argv) {
                  "Most boxes drawn: beyond, a box stands for 2x2x2 cells (4x4x4, ...), the level of detail")
       ->check(CLI::Range(std::size_t{1000}, std::size_t{50000000}))->capture_default_str();
   app.add_option("--keyframe-retry", keyframe_retry_s, "Seconds between keyframe requests while one is needed")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(ogf::cli::positive())->capture_default_str();
   app.add_option("--three-dir", three_dir,
                  "Where three.js is installed (Debian's libjs-three): three.min.js and "
                  "examples/js/controls/OrbitControls.js")
       ->capture_default_str();
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? kExitOk : kExitUsage;  // prints the help or the error
-  }
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
   if (!map_path.empty() && !url.empty()) {
     std::fprintf(stderr, "--map shows a file and joins no bus: drop --lcm-url\n");
     return kExitUsage;

@@ -14,7 +14,12 @@ PcapFileReader::~PcapFileReader() { pcap_close(handle_); }
 velodyne::Result<std::unique_ptr<PcapFileReader>> PcapFileReader::open(const std::filesystem::path& path) {
   char error[PCAP_ERRBUF_SIZE] = {};
   pcap* handle = pcap_open_offline_with_tstamp_precision(path.c_str(), PCAP_TSTAMP_PRECISION_MICRO, error);
-  if (handle == nullptr) return velodyne::Error{path.string() + ": " + error};
+  if (handle == nullptr) {
+    // libpcap names the file itself when it cannot open it ("<path>: No such file or directory").
+    const std::string why = error;
+    if (why.rfind(path.string() + ":", 0) == 0) return velodyne::Error{why};
+    return velodyne::Error{path.string() + ": " + why};
+  }
   return std::unique_ptr<PcapFileReader>(new PcapFileReader(handle, path.string()));
 }
 

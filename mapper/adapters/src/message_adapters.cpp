@@ -97,8 +97,21 @@ Status validateScan(const ogf::lidar_scan_t& s) {
   return okStatus();
 }
 
+fusion::ScanClock scanClockOf(const ogf::lidar_scan_t& s, ScanTimeBase base) {
+  switch (base) {
+    case ScanTimeBase::kDevice: return fusion::ScanClock::kDevice;
+    case ScanTimeBase::kHost: return fusion::ScanClock::kHost;
+    case ScanTimeBase::kAuto: break;
+  }
+  return s.time_source == ogf::lidar_scan_t::TIME_SOURCE_PPS_NMEA ? fusion::ScanClock::kDevice : fusion::ScanClock::kHost;
+}
+
+std::int64_t scanStartOn(const ogf::lidar_scan_t& s, fusion::ScanClock clock) {
+  return clock == fusion::ScanClock::kDevice ? s.device_utime_start : s.host_utime_start;
+}
+
 fusion::ScanPoints scanPointsOf(const ogf::lidar_scan_t& s, ScanTimeBase base) {
-  return {base == ScanTimeBase::kDevice ? s.device_utime_start : s.host_utime_start, s.x, s.y, s.z, s.time_offset_ns};
+  return {scanStartOn(s, scanClockOf(s, base)), s.x, s.y, s.z, s.time_offset_ns};
 }
 
 }  // namespace ogf::adapters

@@ -8,8 +8,10 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "ogf/common/command_line.hpp"
 #include "ogf/mapper_daemon/mapper_daemon.hpp"
 #include "ogf/mapper_daemon/mapper_options.hpp"
+#include "ogf/persistence/directory_lock.hpp"
 #include "ogf/transport/daemon_loop.hpp"
 #include "ogf/transport/lcm_asio_bridge.hpp"
 #include "ogf/transport/lcm_url.hpp"
@@ -31,35 +33,36 @@ int main(int argc, char** argv) {
   app.add_option("--state-dir", state_dir,
                  "Directory for snapshots and the journal (default: the file's state_dir, else $STATE_DIRECTORY)");
   app.add_flag("--in-memory", in_memory, "Keep the map in memory only, ignoring any state directory");
-  app.add_option("--resolution", resolution, "Cell size, metres")->check(CLI::PositiveNumber);
-  app.add_option("--min-range", min_range, "Returns closer than this are ignored, metres")->check(CLI::NonNegativeNumber);
-  app.add_option("--max-range", max_range, "Returns beyond are cut here (free cells only), metres")->check(CLI::PositiveNumber);
-  app.add_option("--threads", threads, "Filter update threads (the map is identical for any count)")->check(CLI::PositiveNumber);
-  app.add_option("--time-base", time_base, "Scan clock the odometry shares: device or host")->check(CLI::IsMember({"device", "host"}));
-  app.add_option("--snapshot-interval", snapshot_s, "Seconds between snapshots")->check(CLI::PositiveNumber);
-  app.add_option("--keyframe-interval", keyframe_s, "Seconds between unsolicited keyframes")->check(CLI::PositiveNumber);
+  app.add_option("--resolution", resolution, "Cell size, metres")->check(ogf::cli::positive());
+  app.add_option("--min-range", min_range, "Returns closer than this are ignored, metres")->check(ogf::cli::nonNegative());
+  app.add_option("--max-range", max_range, "Returns beyond are cut here (free cells only), metres")->check(ogf::cli::positive());
+  app.add_option("--threads", threads, "Filter update threads (the map is identical for any count)")->check(ogf::cli::positive());
+  app.add_option("--time-base", time_base, "Scan clock the odometry shares: auto (device with PPS locked, else host), device or host")
+      ->check(CLI::IsMember({"auto", "device", "host"}));
+  app.add_option("--snapshot-interval", snapshot_s, "Seconds between snapshots")->check(ogf::cli::positive());
+  app.add_option("--keyframe-interval", keyframe_s, "Seconds between unsolicited keyframes")->check(ogf::cli::positive());
   app.add_option("--scan-channel", scan_ch, "Scan channel (default VELODYNE_SCAN)");
   app.add_option("--pose-channel", pose_ch, "Odometry channel (default POSE)");
   app.add_option("--delta-channel", delta_ch, "Delta channel (default OGF_MAP_DELTA)");
   app.add_option("--request-channel", request_ch, "Keyframe request channel (default OGF_MAP_REQUEST)");
   app.add_option("--status-channel", status_ch, "Status channel (default OGF_MAPPER_STATUS)");
   app.add_option("--test-drop-deltas", drop_fraction, "Testing: drop this fraction of delta updates (gap injection)")
-      ->check(CLI::Range(0.0, 0.99));
+      ->check(ogf::cli::between(0.0, 0.99));
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
   app.add_flag("--print-config", print_config, "Print an example configuration with the defaults and exit");
-  CLI11_PARSE(app, argc, argv);
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
 
   if (print_config) {
     std::cout << ogf::mapper_daemon::exampleMapperConfig();
     return 0;
   }
-  if (!ogf::transport::setupLoggingAt("ogf-mapper", "--log-level", log_level)) return 2;
+  if (!ogf::transport::setupLoggingAt("ogf-mapper", "--log-level", log_level)) return ogf::cli::kExitUsage;
 
   MapperOptions options;
   if (!config_path.empty()) {
     if (auto st = ogf::mapper_daemon::loadMapperOptions(config_path, options); !st) {
       spdlog::critical("configuration: {}", st.error().message);
-      return 2;
+      return ogf::cli::kExitUsage;
     }
   }
   if (!url.empty()) options.lcm_url = url;
@@ -68,12 +71,20 @@ int main(int argc, char** argv) {
     if (const char* sd = std::getenv("STATE_DIRECTORY"); sd != nullptr && *sd != '\0') options.state_dir = sd;
   }
   if (in_memory) options.state_dir.clear();
+  if (options.state_dir.empty() && in_memory) {
+    spdlog::info("--in-memory: the map lives in memory only and is lost when ogf-mapper stops");
+  } else if (options.state_dir.empty()) {
+    spdlog::warn("no state directory (--state-dir, state_dir in the configuration, or $STATE_DIRECTORY): the map "
+                 "lives in memory only and is lost when ogf-mapper stops");
+  }
   if (resolution) options.map.setResolution(*resolution);
   if (min_range) options.map.fusion.measurement.min_range_m = *min_range;
   if (max_range) options.map.fusion.measurement.max_range_m = *max_range;
   if (threads) options.map.filter.threads = *threads;
   if (!time_base.empty())
-    options.time_base = time_base == "host" ? ogf::mapper_daemon::ScanTimeBase::kHost : ogf::mapper_daemon::ScanTimeBase::kDevice;
+    options.time_base = time_base == "host"     ? ogf::mapper_daemon::ScanTimeBase::kHost
+                        : time_base == "device" ? ogf::mapper_daemon::ScanTimeBase::kDevice
+                                                : ogf::mapper_daemon::ScanTimeBase::kAuto;
   if (snapshot_s) options.snapshot_interval_s = *snapshot_s;
   if (keyframe_s) options.keyframe_interval_s = *keyframe_s;
   if (scan_ch) options.scan_channel = *scan_ch;
@@ -84,21 +95,33 @@ int main(int argc, char** argv) {
   if (drop_fraction) options.test_drop_delta_fraction = *drop_fraction;
   if (auto st = options.validate(); !st) {
     spdlog::critical("configuration: {}", st.error().message);
-    return 2;
+    return ogf::cli::kExitUsage;
+  }
+
+  // One mapper per state directory, for this process's whole life (the kernel releases it at exit).
+  std::optional<ogf::persistence::DirectoryLock> lock;
+  if (!options.state_dir.empty()) {
+    auto l = ogf::persistence::DirectoryLock::acquire(options.state_dir);
+    if (l.in_use) {
+      spdlog::critical("state directory: {}", l.message);
+      return ogf::cli::kExitFailure;
+    }
+    if (!l.lock) spdlog::warn("state directory: {}", l.message);
+    lock = std::move(l.lock);
   }
 
   const std::string resolved = ogf::transport::withReceiveBuffer(ogf::transport::resolveLcmUrl(options.lcm_url));
   lcm::LCM lcm(resolved);
   if (!lcm.good()) {
     spdlog::critical("cannot join the LCM bus {} (udpm needs a multicast route)", resolved);
-    return 3;
+    return ogf::cli::kExitFailure;
   }
   ogf::transport::DaemonLoop loop;
-  ogf::transport::LcmAsioBridge bridge(loop.io(), lcm, [&loop] { loop.requestStop(4); });
+  ogf::transport::LcmAsioBridge bridge(loop.io(), lcm, [&loop] { loop.requestStop(ogf::cli::kExitFailure); });
   auto daemon = ogf::mapper_daemon::MapperDaemon::create(options, lcm, loop);
   if (!daemon) {
     spdlog::critical("{}", daemon.error().message);
-    return 2;
+    return ogf::cli::kExitUsage;
   }
   auto& d = **daemon;
   loop.onShutdown([&d] { d.stop(); });

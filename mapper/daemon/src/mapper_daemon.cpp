@@ -250,6 +250,7 @@ void MapperDaemon::onScan(const ogf::lidar_scan_t& scan, const lcm::ReceiveBuffe
   auto owned = std::make_shared<const ogf::lidar_scan_t>(scan);
   const fusion::ScanTimeSpan span = fusion::timeSpanOf(scanPointsOf(*owned, options_.time_base));
   std::lock_guard lk(mu_);
+  watchClocks(scan);  // before the time checks: a scan on another clock than the odometry is told apart
   const auto verdict = scan_clock_.check(span.end_utime, wallUtime(), steadyUtime());
   if (!timePlausible("scan", verdict, scan_clock_, span.end_utime, wallUtime(), bad_time_log_)) return;
   if (verdict == fusion::TimeVerdict::kFollowJump) pending_.restartClock();
@@ -283,6 +284,7 @@ void MapperDaemon::onPose(const lcm::ReceiveBuffer& rb) {
     if (!timePlausible("pose", verdict, pose_clock_, pose->utime, wallUtime(), bad_time_log_)) return;
     if (verdict == fusion::TimeVerdict::kFollowJump) poses_.clear();
     r = poses_.insert(*pose);
+    if (r.accepted()) last_pose_steady_ = steadyUtime();
     work_ = true;
     cv_.notify_one();
   }
@@ -469,6 +471,7 @@ void MapperDaemon::publishStatus() {
     s.update_ms_mean = update_count_ > 0 ? static_cast<float>(update_ms_sum_ / update_count_) : 0.0f;
     update_ms_sum_ = 0;
     update_count_ = 0;
+    fillClockStatus(s);
   }
   s.utime = wallUtime();
   lcm_.publish(options_.status_channel, &s);

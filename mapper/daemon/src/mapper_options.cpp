@@ -48,6 +48,16 @@ Status readOptional(const std::filesystem::path& path, const YAML::Node& parent,
   return okStatus();
 }
 
+// A number the map cannot do without: > 0 (or >= 0 with `zero_ok`), reported at the value's line with
+// the key as written.
+Status requireRange(const std::filesystem::path& path, const YAML::Node& parent, const std::string& section,
+                    const char* key, double value, bool zero_ok) {
+  const YAML::Node n = parent[key];
+  if (!n || value > 0 || (zero_ok && value == 0)) return okStatus();
+  return Error{where(path, n, section + "." + key) + ": must be " + (zero_ok ? "0 or more" : "greater than 0") +
+               ", got " + n.Scalar()};
+}
+
 Status readVector3(const std::filesystem::path& path, const YAML::Node& parent, const std::string& section,
                    const char* key, Eigen::Vector3d& out) {
   const YAML::Node n = parent[key];
@@ -124,7 +134,8 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
     const auto v = tb.as<std::string>();
     if (v == "device") o.time_base = ScanTimeBase::kDevice;
     else if (v == "host") o.time_base = ScanTimeBase::kHost;
-    else return Error{where(path, tb, "time_base") + ": 'device' or 'host', got '" + v + "'"};
+    else if (v == "auto") o.time_base = ScanTimeBase::kAuto;
+    else return Error{where(path, tb, "time_base") + ": 'auto', 'device' or 'host', got '" + v + "'"};
   }
   if (const auto ch = root["channels"]) {
     OGF_TRY(checkKeys(path, ch, "channels",
@@ -156,9 +167,12 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
     OGF_TRY(checkKeys(path, map, "map", {"resolution", "min_range", "max_range", "free_space_for_no_return", "extrinsic"}));
     double res = m.resolution_m;
     OGF_TRY(read(path, map, "map", "resolution", res));
+    OGF_TRY(requireRange(path, map, "map", "resolution", res, false));
     o.map.setResolution(res);
     OGF_TRY(read(path, map, "map", "min_range", m.min_range_m));
+    OGF_TRY(requireRange(path, map, "map", "min_range", m.min_range_m, true));
     OGF_TRY(read(path, map, "map", "max_range", m.max_range_m));
+    OGF_TRY(requireRange(path, map, "map", "max_range", m.max_range_m, false));
     OGF_TRY(read(path, map, "map", "free_space_for_no_return", m.free_space_for_no_return));
     if (const auto ex = map["extrinsic"]) {
       OGF_TRY(checkKeys(path, ex, "map.extrinsic", {"translation", "rpy", "quaternion"}));
@@ -228,7 +242,8 @@ std::string exampleMapperConfig() {
     << ", corrected_pose: " << d.corrected_pose_channel << ",\n"
     << "           query: " << d.query_channel << ", command: " << d.command_channel
     << "}   # map services answer on <channel>_REPLY\n"
-    << "time_base: device          # the scan clock odometry utime shares: device or host\n"
+    << "time_base: auto            # the scan clock odometry utime shares: device, host, or auto (device when\n"
+    << "                           # the driver reports PPS locked, host otherwise)\n"
     << "state_dir: \"\"              # snapshots + journal; empty keeps the map in memory only\n"
     << "snapshot_interval_s: " << d.snapshot_interval_s << "\n"
     << "keyframe_interval_s: " << d.keyframe_interval_s << "\n"

@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "ogf/common/command_line.hpp"
 #include "ogf/map_io/odometry_file.hpp"
 #include "ogf/map_io/pcap_scans.hpp"
 
@@ -247,7 +248,7 @@ int main(int argc, char** argv) {
   bool deltas = false;
   app.add_option("--scans", count, "Scans to map (synthetic street scans 1 m apart, or the first of --pcap)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(ogf::cli::positive());
   app.add_option("--pcap", pcap, "Use the scans of this capture instead (e.g. an ogf-sim capture.pcap)");
   app.add_option("--odometry", odometry, "Odometry for --pcap (CSV or LCM log); each scan at its start pose");
   app.add_option("--resolutions", resolutions, "Comma-separated cell sizes, metres")->capture_default_str();
@@ -259,7 +260,7 @@ int main(int argc, char** argv) {
   app.add_option("--free-clamp-z", free_clamp_z, "The OGF's freeClampZ for free measurements; 0: --clamp-z")
       ->capture_default_str();
   app.add_flag("--deltas", deltas, "Also collect the changed cells per scan, as ogf-mapper does for OGF_MAP_DELTA");
-  CLI11_PARSE(app, argc, argv);
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
 
   const auto scans = pcap.empty() ? syntheticStreetScans(count, min_range) : captureScans(pcap, odometry, min_range, count);
   std::size_t rays = 0;

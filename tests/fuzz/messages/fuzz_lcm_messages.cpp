@@ -31,7 +31,8 @@ void scan(const std::uint8_t* data, std::size_t size) {
   ogf::lidar_scan_t s;
   if (ogf::messages::decodeMessage(data, size, s)) return;
   if (!ogf::adapters::validateScan(s)) return;
-  for (const auto base : {ogf::adapters::ScanTimeBase::kDevice, ogf::adapters::ScanTimeBase::kHost}) {
+  for (const auto base : {ogf::adapters::ScanTimeBase::kDevice, ogf::adapters::ScanTimeBase::kHost,
+                          ogf::adapters::ScanTimeBase::kAuto}) {
     const auto points = ogf::adapters::scanPointsOf(s, base);
     // A validated scan's views are the arrays' own lengths, and its span is ordered.
     if (points.x.size() != static_cast<std::size_t>(s.num_points) || points.time_offset_ns.size() != points.x.size())

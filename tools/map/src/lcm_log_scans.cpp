@@ -6,6 +6,8 @@
 
 #include <cstdio>
 
+#include "ogf/log_io/log_events.hpp"
+#include "ogf/log_io/stream_gaps.hpp"
 #include "ogf/messages/decode_message.hpp"
 
 namespace ogf::map_io {
@@ -13,15 +15,13 @@ namespace ogf::map_io {
 Result<LcmLogScanCounts> readLcmLogScans(const std::filesystem::path& path, const std::string& channel,
                                          const std::function<void(const ScanRecord&)>& visit,
                                          const std::function<void(double)>& progress) {
-  std::error_code ec;
-  const auto file_size = std::filesystem::file_size(path, ec);
-  if (ec) return Error{fmt::format("{}: {}", path.string(), ec.message())};
-  lcm::LogFile log(path.string(), "r");
-  if (!log.good()) return Error{fmt::format("{}: cannot open as an LCM log", path.string())};
+  auto log = log_io::LogEvents::open(path);
+  if (!log) return log.error();
   LcmLogScanCounts counts;
+  log_io::StreamGaps gaps;
   ogf::lidar_scan_t message;
   ScanRecord record;
-  while (const lcm::LogEvent* event = log.readNextEvent()) {
+  while (const lcm::LogEvent* event = log->next()) {
     ++counts.events;
     if (event->channel != channel) continue;
     if (auto why = ogf::messages::decodeMessage(event->data, static_cast<std::size_t>(event->datalen), message)) {
@@ -32,13 +32,12 @@ Result<LcmLogScanCounts> readLcmLogScans(const std::filesystem::path& path, cons
       continue;
     }
     assignScan(message, record);
+    gaps.add(message.utime, message.seq);
     ++counts.scans;
     visit(record);
-    if (progress && file_size > 0) {
-      const long pos = std::ftell(log.getFilePtr());
-      if (pos >= 0) progress(static_cast<double>(pos) / static_cast<double>(file_size));
-    }
+    if (progress) progress(log->fractionRead());
   }
+  counts.gaps = gaps.summary(path.string() + ": " + channel);
   return counts;
 }
 

@@ -142,9 +142,15 @@ Status applyMapConfigYaml(std::string_view yaml, std::string_view source, pipeli
     if (key == "resolution") {
       auto r = scalar<double>(source, v, key);
       if (!r) return r.error();
+      if (!(*r > 0)) return Error{where(source, v, key) + ": must be greater than 0, got " + v.Scalar()};
       config.setResolution(*r);
-    } else if (key == "min_range") st = set<double>(source, v, key, m.min_range_m);
-    else if (key == "max_range") st = set<double>(source, v, key, m.max_range_m);
+    } else if (key == "min_range") {
+      st = set<double>(source, v, key, m.min_range_m);
+      if (st && !(m.min_range_m >= 0)) return Error{where(source, v, key) + ": must be 0 or more, got " + v.Scalar()};
+    } else if (key == "max_range") {
+      st = set<double>(source, v, key, m.max_range_m);
+      if (st && !(m.max_range_m > 0)) return Error{where(source, v, key) + ": must be greater than 0, got " + v.Scalar()};
+    }
     else if (key == "free_space_for_no_return") st = set<bool>(source, v, key, m.free_space_for_no_return);
     else if (key == "extrinsic") st = applyExtrinsic(source, v, config.fusion.extrinsic);
     else if (key == "filter") st = applyFilter(source, v, config.filter);

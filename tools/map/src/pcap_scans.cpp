@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "ogf/log_io/packet_log.hpp"
+
 namespace ogf::map_io {
 namespace {
 
@@ -17,9 +19,12 @@ constexpr double kBytesPerPacket = 1264.0;
 
 }  // namespace
 
-Result<PcapScanCounts> readPcapScans(const std::filesystem::path& path, const PcapScanConfig& config,
-                                     const std::function<void(const ScanRecord&)>& visit,
-                                     const std::function<void(double)>& progress) {
+namespace {
+
+// A decoder configured as `config` says, whose scans go to `visit` and are counted in `counts`.
+Result<ov::PacketStream> decoderFor(const PcapScanConfig& config, PcapScanCounts& counts,
+                                    const std::function<void(const ScanRecord&)>& visit,
+                                    const std::function<void()>& after_scan) {
   ov::StreamConfig stream_config;
   if (config.calibration) {
     auto calib = ov::loadCalibrationFile(*config.calibration);
@@ -30,24 +35,40 @@ Result<PcapScanCounts> readPcapScans(const std::filesystem::path& path, const Pc
   stream_config.max_range_m = config.max_range_m;
   auto stream = ov::PacketStream::create(stream_config);
   if (!stream) return Error{stream.error().message};
-  auto reader = os::PcapFileReader::open(path);
-  if (!reader) return Error{reader.error().message};
-
-  std::error_code ec;
-  const auto file_size = std::filesystem::file_size(path, ec);
-  const double expected_records = ec ? 0.0 : static_cast<double>(file_size) / kBytesPerPacket;
-
-  PcapScanCounts counts;
-  ScanRecord record;
-  stream->setScanSink([&](const ov::Scan& scan) {
+  stream->setScanSink([&counts, &visit, after_scan, record = ScanRecord{}](const ov::Scan& scan) mutable {
     assignScan(scan, record);
     ++counts.scans;
     counts.points += static_cast<std::int64_t>(scan.points.size());
     counts.packets_lost += scan.packets_lost;
     visit(record);
+    if (after_scan) after_scan();
+  });
+  return stream;
+}
+
+void finishCounts(const ov::PacketStream& stream, PcapScanCounts& counts) {
+  const ov::StreamCounters& c = stream.counters();
+  counts.data_packets = c.data_packets;
+  counts.bad_packets = c.bad_size + c.bad_block_flag + c.bad_other;
+}
+
+}  // namespace
+
+Result<PcapScanCounts> readPcapScans(const std::filesystem::path& path, const PcapScanConfig& config,
+                                     const std::function<void(const ScanRecord&)>& visit,
+                                     const std::function<void(double)>& progress) {
+  auto reader = os::PcapFileReader::open(path);
+  if (!reader) return Error{reader.error().message};
+  std::error_code ec;
+  const auto file_size = std::filesystem::file_size(path, ec);
+  const double expected_records = ec ? 0.0 : static_cast<double>(file_size) / kBytesPerPacket;
+
+  PcapScanCounts counts;
+  auto stream = decoderFor(config, counts, visit, [&] {
     if (progress && expected_records > 0.0)
       progress(std::min(1.0, static_cast<double>((*reader)->records()) / expected_records));
   });
+  if (!stream) return stream.error();
   os::PcapRecord rec;
   os::ReadStatus status;
   while ((status = (*reader)->next(rec)) != os::ReadStatus::End && status != os::ReadStatus::Error) {
@@ -59,9 +80,29 @@ Result<PcapScanCounts> readPcapScans(const std::filesystem::path& path, const Pc
   stream->finish();
   if (status == os::ReadStatus::Error)
     counts.warning = fmt::format("{}; kept the {} records before it", (*reader)->error(), (*reader)->records());
-  const ov::StreamCounters& c = stream->counters();
-  counts.data_packets = c.data_packets;
-  counts.bad_packets = c.bad_size + c.bad_block_flag + c.bad_other;
+  finishCounts(*stream, counts);
+  return counts;
+}
+
+Result<PcapScanCounts> readLcmLogPacketScans(const std::filesystem::path& path, const std::string& channel,
+                                             const PcapScanConfig& config,
+                                             const std::function<void(const ScanRecord&)>& visit,
+                                             const std::function<void(double)>& progress) {
+  PcapScanCounts counts;
+  auto stream = decoderFor(config, counts, visit, {});
+  if (!stream) return stream.error();
+  auto log = log_io::readPacketLog(
+      path, channel,
+      [&](const log_io::LoggedPacket& p) {
+        if (p.port == config.data_port) stream->addDataPacket(p.payload, p.host_utime);
+        else if (p.port == config.position_port) stream->addPositionPacket(p.payload, p.host_utime);
+      },
+      progress);
+  if (!log) return log.error();
+  stream->finish();
+  finishCounts(*stream, counts);
+  for (const auto& p : log->problems) counts.warning += (counts.warning.empty() ? "" : "; ") + p;
+  counts.gaps = log->gaps.summary(path.string() + ": " + channel + " batches");
   return counts;
 }
 

@@ -35,7 +35,8 @@ class UdpReceiver {
   UdpReceiver(const UdpReceiver&) = delete;
   UdpReceiver& operator=(const UdpReceiver&) = delete;
 
-  // The receive buffer the kernel granted (Linux reports twice the usable size; this is what it reports).
+  // The receive buffer the kernel granted, bytes, comparable with what was asked (Linux caps it at
+  // net.core.rmem_max; getsockopt reports twice this).
   int grantedReceiveBuffer() const { return granted_buffer_; }
   std::uint16_t port() const { return port_; }
   // Datagrams longer than the buffer (cut by the kernel): counted, not delivered.

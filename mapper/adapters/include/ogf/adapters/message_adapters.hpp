@@ -4,6 +4,7 @@
 #pragma once
 
 #include <lcm/lcm-cpp.hpp>
+#include <ogf/fusion/clock_agreement.hpp>
 #include <ogf/fusion/deskew.hpp>
 #include <ogf/fusion/pose.hpp>
 #include <ogf/lidar_scan_t.hpp>
@@ -14,8 +15,10 @@
 
 namespace ogf::adapters {
 
-// Which scan clock the odometry's utime shares: the sensor's device time or the driver host's receive time.
-enum class ScanTimeBase { kDevice, kHost };
+// Which scan clock the odometry's utime shares: the sensor's device time, the driver host's receive time,
+// or auto: the device time of scans whose device time is UTC (PPS locked, NMEA hour), the host time of
+// the others.
+enum class ScanTimeBase { kDevice, kHost, kAuto };
 
 // Decodes a POSE message of either type; its utime must be a time in [0, 2^62) µs. Errors say why
 // ("fingerprint matches neither ...", "truncated", "utime: ... is not a time").
@@ -24,6 +27,12 @@ Result<fusion::Pose> decodePose(const void* data, std::size_t size);
 // Checks a decoded scan: point count within limits and equal to every array's length, non-negative time
 // offsets, finite coordinates, times in [0, 2^62) µs, end not before start. The error names the field.
 Status validateScan(const ogf::lidar_scan_t& scan);
+
+// The clock `base` times this scan on (kAuto resolved by the scan's time_source).
+fusion::ScanClock scanClockOf(const ogf::lidar_scan_t& scan, ScanTimeBase base);
+
+// The scan's start time on `clock`.
+std::int64_t scanStartOn(const ogf::lidar_scan_t& scan, fusion::ScanClock clock);
 
 // The scan's points as the fusion layer reads them, timed on `base`. The spans point into `scan`.
 fusion::ScanPoints scanPointsOf(const ogf::lidar_scan_t& scan, ScanTimeBase base);

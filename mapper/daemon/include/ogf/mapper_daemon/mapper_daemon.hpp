@@ -7,6 +7,7 @@
 #pragma once
 
 #include <lcm/lcm-cpp.hpp>
+#include <ogf/fusion/clock_agreement.hpp>
 #include <ogf/fusion/pending_scans.hpp>
 #include <ogf/fusion/pose_buffer.hpp>
 #include <ogf/fusion/time_sanity.hpp>
@@ -77,6 +78,9 @@ class MapperDaemon {
   void persistenceFailed(const std::string& what, bool retry);
   bool applyRecovered(const persistence::RecoveredState& rec, const std::string& snapshot_source);
   void publishStatus();
+  // Compares the scan with the newest pose (mu_ held); logs when the clocks start or stop agreeing.
+  void watchClocks(const ogf::lidar_scan_t& scan);
+  void fillClockStatus(ogf::mapper_status_t& s) const;
   void armStatusTimer();
   // Map services (map_services.cpp): queries and commands arrive on the Asio thread, wait in a bounded
   // queue and are served by the worker between scans, so they never hold up mapping.
@@ -118,6 +122,8 @@ class MapperDaemon {
   std::int64_t worker_heartbeat_ = 0;
   ogf::mapper_status_t stats_{};  // counters the worker owns, copied into each status message
   std::int64_t malformed_scans_ = 0;
+  fusion::ClockAgreement clocks_;
+  std::int64_t last_pose_steady_ = 0;  // when the last pose was accepted (0: never)
   std::int64_t malformed_poses_ = 0;
   std::int64_t requests_ = 0;            // well-formed keyframe requests
   std::int64_t malformed_requests_ = 0;  // refused by decodeMessage

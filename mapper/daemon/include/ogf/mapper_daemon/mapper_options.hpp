@@ -29,7 +29,7 @@ struct MapperOptions {
   std::string command_channel = "OGF_MAP_COMMAND";
   // Which scan clock the odometry's utime shares: the sensor's device time (GPS/PPS or top-of-hour +
   // host hour) or the driver host's receive time.
-  ScanTimeBase time_base = ScanTimeBase::kDevice;
+  ScanTimeBase time_base = ScanTimeBase::kAuto;
 
   pipeline::MapperConfig map;
   // The optional stage between odometry and the OGF: none, scan-match or rbpf.

@@ -1,7 +1,7 @@
-// The scans of a Velodyne capture file, decoded with the driver's own reader and decoder
-// (driver_sources::PcapFileReader, velodyne::PacketStream), exactly as ogf-decode and ogf-driver see them,
-// handed to a visitor one at a time. A damaged tail ends the reading with a warning; what came before it
-// is kept.
+// The scans of raw Velodyne packets, decoded with the driver's own decoder (velodyne::PacketStream)
+// exactly as ogf-decode and ogf-driver see them, handed to a visitor one at a time: from a capture file
+// (driver_sources::PcapFileReader; a damaged tail ends the reading with a warning, what came before it is
+// kept) or from the packet batches of an LCM log (VELODYNE_PACKETS; gaps between batches are reported).
 #pragma once
 
 #include <ogf/common/result.hpp>
@@ -30,12 +30,19 @@ struct PcapScanCounts {
   std::int64_t data_packets = 0;
   std::int64_t packets_lost = 0;
   std::int64_t bad_packets = 0;  // wrong size, bad block flag, bad azimuth
-  std::string warning;           // a damaged capture: where reading stopped
+  std::string warning;           // a damaged capture: where reading stopped; batches of a log skipped
+  std::string gaps;              // a log's missing batches ("" when none)
 };
 
 // `progress` (optional) receives an estimate of the fraction of the file read after each scan.
 Result<PcapScanCounts> readPcapScans(const std::filesystem::path& path, const PcapScanConfig& config,
                                      const std::function<void(const ScanRecord&)>& visit,
                                      const std::function<void(double)>& progress = {});
+
+// The same from the ogf.velodyne_packets_t batches on `channel` of an LCM log, with their host receive times.
+Result<PcapScanCounts> readLcmLogPacketScans(const std::filesystem::path& path, const std::string& channel,
+                                             const PcapScanConfig& config,
+                                             const std::function<void(const ScanRecord&)>& visit,
+                                             const std::function<void(double)>& progress = {});
 
 }  // namespace ogf::map_io
