@@ -169,6 +169,12 @@ TEST(TopDownPng, TheDefaultBandStartsAboveTheFloor) {
     for (int z = -4; z <= 5; ++z) cells.cells.push_back({CellKey{x, 0, z}, 0.9, 1, 0.1f});
   }
   cells.cells.push_back({CellKey{0, 0, -9}, 0.9, 1, 0.1f});  // one stray cell below the floor
+  auto twoLayers = cells;  // range noise: the floor spread over layers -5 and -4
+  for (int x = 0; x < 10; ++x)
+    for (int y = 1; y < 10; ++y) twoLayers.cells.push_back({CellKey{x, y, -4}, 0.9, 1, 0.1f});
+  const auto spread = map_io::wallBand(twoLayers);
+  ASSERT_TRUE(spread.has_value());
+  EXPECT_NEAR(spread->z_min, -0.6 + 0.2, 1e-9);
   const auto band = map_io::wallBand(cells);
   ASSERT_TRUE(band.has_value());
   EXPECT_NEAR(band->z_min, -0.8 + 0.2, 1e-9);  // the floor layer's top is -4 × 0.2 = -0.8 m

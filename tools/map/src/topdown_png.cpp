@@ -33,10 +33,15 @@ std::optional<TopDownBand> wallBand(const MapCells& cells) {
   if (occupiedPerLayer.empty()) return std::nullopt;
   int fullest = 0;
   for (const auto& [z, n] : occupiedPerLayer) fullest = std::max(fullest, n);
+  // The lowest layer at least half as full as the fullest, and the layers right above it that are too (range
+  // noise spreads a floor over two layers).
   std::int32_t floor = occupiedPerLayer.begin()->first;
+  bool found = false;
   for (const auto& [z, n] : occupiedPerLayer) {
-    if (2 * n >= fullest) {
+    if (2 * n >= fullest && (!found || z == floor + 1)) {
       floor = z;
+      found = true;
+    } else if (found) {
       break;
     }
   }

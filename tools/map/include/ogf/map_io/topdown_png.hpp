@@ -5,7 +5,8 @@
 //                  unknown (cells between the thresholds), else not observed (no cell allocated)
 //   entropy.png    the mean binary entropy in bits of the column's cells (the prior is 1 bit), colour bar
 // The default band shows walls, not the floor: from 0.2 m above the floor to 2 m above it, the floor being
-// the lowest layer of cells that holds at least half as many occupied cells as the fullest layer.
+// the lowest layer of cells that holds at least half as many occupied cells as the fullest layer (with the
+// layers right above it that do too: range noise spreads a floor over two).
 #pragma once
 
 #include <ogf/common/result.hpp>
