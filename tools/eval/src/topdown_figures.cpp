@@ -75,21 +75,9 @@ HeightBand wallBand(const sim::GroundTruth& truth) {
   for (std::size_t i = 0; i < truth.cells.size(); ++i) {
     if (truth.cells[i] == static_cast<std::uint8_t>(sim::CellClass::Occupied)) ++occupiedPerLayer[static_cast<int>(i / layer)];
   }
-  if (occupiedPerLayer.empty()) return {};
-  int fullest = 0;
-  for (const auto& [z, n] : occupiedPerLayer) fullest = std::max(fullest, n);
-  // The lowest layer at least half as full as the fullest, and the layers right above it that are too.
-  int floor = occupiedPerLayer.begin()->first;
-  bool found = false;
-  for (const auto& [z, n] : occupiedPerLayer) {
-    if (2 * n >= fullest && (!found || z == floor + 1)) {
-      floor = z;
-      found = true;
-    } else if (found) {
-      break;
-    }
-  }
-  const double top = (truth.min_key.z + floor + 1) * truth.resolution;
+  const auto floor = tools::floorTopLayer(occupiedPerLayer);
+  if (!floor) return {};
+  const double top = (truth.min_key.z + *floor + 1) * truth.resolution;
   return {top + 0.2, top + 2.0};
 }
 

@@ -26,26 +26,13 @@ constexpr tools::Rgb kNotObserved{215, 215, 215};
 }  // namespace
 
 std::optional<TopDownBand> wallBand(const MapCells& cells) {
-  std::map<std::int32_t, int> occupiedPerLayer;
+  std::map<int, int> occupiedPerLayer;
   for (const CellRecord& c : cells.cells) {
     if (c.cell_class > 0) ++occupiedPerLayer[c.key.z];
   }
-  if (occupiedPerLayer.empty()) return std::nullopt;
-  int fullest = 0;
-  for (const auto& [z, n] : occupiedPerLayer) fullest = std::max(fullest, n);
-  // The lowest layer at least half as full as the fullest, and the layers right above it that are too (range
-  // noise spreads a floor over two layers).
-  std::int32_t floor = occupiedPerLayer.begin()->first;
-  bool found = false;
-  for (const auto& [z, n] : occupiedPerLayer) {
-    if (2 * n >= fullest && (!found || z == floor + 1)) {
-      floor = z;
-      found = true;
-    } else if (found) {
-      break;
-    }
-  }
-  const double top = (floor + 1) * cells.resolution;
+  const auto floor = tools::floorTopLayer(occupiedPerLayer);
+  if (!floor) return std::nullopt;
+  const double top = (*floor + 1) * cells.resolution;
   return TopDownBand{top + 0.2, top + 2.0};
 }
 
