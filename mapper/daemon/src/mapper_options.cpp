@@ -188,7 +188,7 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
     auto& fc = o.map.filter;
     OGF_TRY(checkKeys(path, f, "filter", {"sigma", "amplitude", "stencil_radius", "taper_support", "occupied_threshold",
                                           "free_threshold", "skip_tolerance", "clamp_z", "free_clamp_z",
-                                          "occupied_priority", "free_release_scans", "threads"}));
+                                          "occupied_priority", "free_release_scans", "covariance", "threads"}));
     OGF_TRY(readOptional(path, f, "filter", "sigma", fc.kernelSigma));
     OGF_TRY(readOptional(path, f, "filter", "amplitude", fc.kernelAmplitude));
     OGF_TRY(readOptional(path, f, "filter", "stencil_radius", fc.stencilRadius));
@@ -205,6 +205,12 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
       fc.occupiedPriority = *p;
     }
     OGF_TRY(read(path, f, "filter", "free_release_scans", fc.freeReleaseCount));
+    if (const auto cv = f["covariance"]) {
+      const std::string v = cv.as<std::string>("");
+      const auto c = filter::parseCovarianceStorage(v);
+      if (!c) return Error{where(path, cv, "filter.covariance") + ": 'compact' or 'banded', got '" + v + "'"};
+      fc.covariance = *c;
+    }
     OGF_TRY(read(path, f, "filter", "threads", fc.threads));
   }
   if (const auto fu = root["fusion"]) {
@@ -265,6 +271,8 @@ std::string exampleMapperConfig() {
     << "      # map: a cell once measured occupied ignores free measurements (scan: exact filter)\n"
     << "  free_release_scans: " << d.map.filter.freeReleaseCount
     << "    # ... until this many scans in a row measure it free; 0: never\n"
+    << "  covariance: " << filter::toString(d.map.filter.covariance)
+    << "       # compact: mean and variance per cell; banded: also the covariances (exact, 6x the memory)\n"
     << "  threads: 1\n"
     << "fusion:\n"
     << "  max_pose_wait_s: " << d.map.fusion.pending.max_pose_wait_s << "\n"

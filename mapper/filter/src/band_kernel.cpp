@@ -12,15 +12,19 @@
 #endif
 
 #include "ogf/filter/filter_config.hpp"
+#include "ogf/filter/variance_code.hpp"
 
 namespace ogf::filter {
 
-BandTables::BandTables(const Stencil& stencil, int dimensions) {
+BandTables::BandTables(const Stencil& stencil, int dimensions, CovarianceStorage storage) {
   const auto offsets = stencil.offsets();
   cells = offsets.size();
-  stride = 2 + stencil.forwardOffsets().size();
+  const bool banded = storage == CovarianceStorage::kBanded;
+  stride = banded ? 2 + stencil.forwardOffsets().size() : 1;
+  pointers = banded ? cells : 2 * cells;
   self = stencil.selfIndex();
   const std::size_t positions = dimensions == 3 ? 512 : 64;
+  blockCells = positions;
   recordBlock.resize(positions * cells);
   recordFloat.resize(positions * cells);
   for (std::size_t l = 0; l < positions; ++l) {
@@ -69,6 +73,35 @@ void genericBandLocate(float* const* blocks, std::size_t local, const BandTables
     if (tables.rowEnd[s] != 0) {
       __builtin_prefetch(record + lastFloat, 1, 3);
     }
+  }
+}
+
+void compactBandLocate(float* const* blocks, std::size_t local, const BandTables& tables, float** records) {
+  const std::size_t cells = tables.cells;
+  for (std::size_t s = 0; s < cells; ++s) {
+    float* block = blocks[tables.recordBlock[local * cells + s]];
+    const std::size_t cell = tables.recordFloat[local * cells + s];
+    float* mean = block + cell;
+    auto* code = reinterpret_cast<std::uint16_t*>(block + tables.blockCells) + cell;
+    records[s] = mean;
+    records[cells + s] = reinterpret_cast<float*>(code);
+    __builtin_prefetch(mean, 1, 3);
+    __builtin_prefetch(code, 1, 3);
+  }
+}
+
+void compactBandKernel(float* const* records, BandUpdate update, const BandTables& tables) {
+  const std::size_t cells = tables.cells;
+  const std::size_t self = tables.self;
+  const float prior = tables.priorVariance;
+  const float floor = update.varianceFloor / prior;
+  const auto code = [&](std::size_t s) { return reinterpret_cast<std::uint16_t*>(records[cells + s]); };
+  const float selfRatio = decodeVarianceRatio(*code(self));  // before the update, for every column entry
+  for (std::size_t s = 0; s < cells; ++s) {
+    const float ratio = decodeVarianceRatio(*code(s));
+    const float column = s == self ? prior * selfRatio : tables.correlation[s] * (ratio * selfRatio);
+    *records[s] += update.gain * column;
+    *code(s) = encodeVarianceRatio(std::max(ratio - update.shrink * column * (column / prior), floor));
   }
 }
 

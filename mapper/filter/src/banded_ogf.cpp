@@ -16,6 +16,7 @@
 #include "ogf/filter/map_checksum.hpp"
 #include "ogf/filter/occupancy.hpp"
 #include "ogf/filter/probit_update.hpp"
+#include "ogf/filter/variance_code.hpp"
 
 namespace ogf::filter {
 
@@ -121,11 +122,21 @@ Result<BandedOgf> BandedOgf::create(const FilterConfig& config) {
 
 BandedOgf::BandedOgf(const FilterConfig& resolved)
     : config_(resolved), prior_(resolved.prior()), stencil_(resolved.dimensions, resolved.stencilShape()),
-      storage_(resolved.dimensions, stencil_.forwardOffsets().size()),
-      published_(resolved.occupiedThreshold, resolved.freeThreshold), band_(stencil_, resolved.dimensions),
-      locate_(bandLocateFor(band_)), kernel_(bandKernelFor(band_)) {
-  for (const CellKey& o : stencil_.forwardOffsets()) {
-    priorSlots_.push_back(static_cast<float>(prior_(o)));
+      storage_(resolved.dimensions, floatsPerBlockOf(resolved.dimensions, resolved.covariance, stencil_)),
+      published_(resolved.occupiedThreshold, resolved.freeThreshold),
+      band_(stencil_, resolved.dimensions, resolved.covariance), locate_(bandLocateFor(band_)),
+      kernel_(resolved.covariance == CovarianceStorage::kBanded ? bandKernelFor(band_) : &compactBandKernel),
+      compact_(resolved.covariance == CovarianceStorage::kCompact) {
+  if (resolved.covariance == CovarianceStorage::kBanded) {
+    for (const CellKey& o : stencil_.forwardOffsets()) {
+      priorSlots_.push_back(static_cast<float>(prior_(o)));
+    }
+  } else {
+    locate_ = &compactBandLocate;
+    for (const CellKey& o : stencil_.offsets()) {
+      band_.correlation.push_back(static_cast<float>(prior_(o)));
+    }
+    band_.priorVariance = static_cast<float>(prior_.variance());
   }
   priorVariance_ = static_cast<float>(prior_.variance());
   varianceFloor_ = priorVariance_ * 1e-9F;
@@ -157,14 +168,35 @@ BandedOgf::BandedOgf(const FilterConfig& resolved)
   }
 }
 
+std::size_t BandedOgf::floatsPerBlockOf(int dimensions, CovarianceStorage storage, const Stencil& stencil) {
+  const std::size_t cells = dimensions == 3 ? 512 : 64;
+  // Compact: a float mean and a 16-bit variance code per cell.
+  return storage == CovarianceStorage::kCompact ? cells + cells / 2 : cells * (2 + stencil.forwardOffsets().size());
+}
+
+BandedOgf::Moments BandedOgf::momentsAt(const float* blockData, std::size_t local) const {
+  if (compact_) {
+    const auto* codes = reinterpret_cast<const std::uint16_t*>(blockData + storage_.cellsPerBlock());
+    return {blockData[local], priorVariance_ * decodeVarianceRatio(codes[local])};
+  }
+  const float* d = blockData + local * floatsPerCell();
+  return {d[0], d[1]};
+}
+
 void BandedOgf::initialiseBlock(Block& block) {
+  if (compact_) {
+    const std::size_t cells = block.cells();
+    std::fill_n(block.data(), cells, 0.0F);
+    std::fill_n(reinterpret_cast<std::uint16_t*>(block.data() + cells), cells, encodeVarianceRatio(1.0F));
+    return;
+  }
   // The prior record in the first cell, then copied over the block in doubling steps.
   float* d = block.data();
   d[0] = 0.0F;
   d[1] = priorVariance_;
   std::copy(priorSlots_.begin(), priorSlots_.end(), d + 2);
   const std::size_t total = block.values().size();
-  for (std::size_t done = storage_.floatsPerCell(); done < total; done *= 2) {
+  for (std::size_t done = floatsPerCell(); done < total; done *= 2) {
     std::memcpy(d + done, d, std::min(done, total - done) * sizeof(float));
   }
 }
@@ -286,7 +318,6 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
 
   // 4. With a sink: the cells the updates can change (the stencils of the measurements), and their mean and
   //    variance before, to find what changed. Blocks in key order, cells in position order.
-  const std::size_t stride = storage_.floatsPerCell();
   std::vector<std::uint32_t>& touchedOrder = batchWork.touchedOrder;
   std::vector<float>& before = batchWork.before;
   touchedOrder.clear();
@@ -318,14 +349,15 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
     for (const std::uint32_t t : touchedOrder) {
       const TouchedBlock& block = batchWork.touched[t];
       forEachBit(block.cells, [&](std::size_t l) {
-        before.push_back(block.data[l * stride]);
-        before.push_back(block.data[l * stride + 1]);
+        const Moments c = momentsAt(block.data, l);
+        before.push_back(c.mean);
+        before.push_back(c.variance);
       });
     }
   }
 
   // 5. Colour by colour; blocks of one colour in parallel.
-  const std::size_t ringSize = kRingSlots * band_.cells;
+  const std::size_t ringSize = kRingSlots * band_.pointers;
   for (std::size_t g0 = 0; g0 < sorted.size();) {
     std::size_t g1 = g0;
     while (g1 < sorted.size() && sorted[g1].colour == sorted[g0].colour) {
@@ -368,14 +400,14 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
     for (const std::uint32_t t : touchedOrder) {
       const TouchedBlock& block = batchWork.touched[t];
       forEachBit(block.cells, [&](std::size_t l) {
-        const float* cell = block.data + l * stride;
+        const Moments cell = momentsAt(block.data, l);
         const float* was = old;
         old += 2;
-        if (std::memcmp(cell, was, 2 * sizeof(float)) == 0) {
+        if (cell.mean == was[0] && cell.variance == was[1]) {
           return;
         }
-        const double m1 = static_cast<double>(cell[0]);
-        const double s1 = static_cast<double>(cell[1]);
+        const double m1 = static_cast<double>(cell.mean);
+        const double s1 = static_cast<double>(cell.variance);
         const double m0 = static_cast<double>(was[0]);
         const double s0 = static_cast<double>(was[1]);
         CellChange c;
@@ -386,8 +418,8 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
           return;
         }
         c.key = storage_.cellKey(block.key, l);
-        c.mean = cell[0];
-        c.variance = cell[1];
+        c.mean = cell.mean;
+        c.variance = cell.variance;
         sink->cellChanged(c);
       });
     }
@@ -399,7 +431,7 @@ void BandedOgf::applyRun(std::span<const Group> groups, std::span<const std::uin
                          float* const* neighbourhoods, std::span<float*> ring, UpdateStats& stats) {
   // The groups' measurements are consecutive in `codes`; measurement i's records are in ring slot i mod
   // kRingSlots, found kPrefetchAhead measurements earlier.
-  const std::size_t cells = band_.cells;
+  const std::size_t cells = band_.pointers;
   const std::size_t first = groups.front().begin;
   const std::size_t last = groups.back().end;
   const auto slot = [&](std::size_t i) { return ring.data() + (i & (kRingSlots - 1)) * cells; };
@@ -450,7 +482,10 @@ void BandedOgf::markOccupied(Block& block, std::span<const std::uint16_t> codes)
 bool BandedOgf::applyMeasurement(float* const* records, int y) {
   const float* self = records[band_.self];
   const double mean = static_cast<double>(self[0]);
-  const double var = static_cast<double>(self[1]);
+  const double var = static_cast<double>(
+      compact_ ? priorVariance_ * decodeVarianceRatio(*reinterpret_cast<const std::uint16_t*>(
+                                      records[band_.cells + band_.self]))
+               : self[1]);
   const double tolerance = config_.skipTolerance;
   const double inverseScale = 1.0 / std::sqrt(1.0 + var);
   const double z = static_cast<double>(y) * mean * inverseScale;
@@ -496,8 +531,8 @@ CellEstimate BandedOgf::estimate(const CellKey& cell) const {
   if (b == nullptr || (config_.dimensions == 2 && cell.z != 0)) {
     return {0.0, prior_.variance(), false};
   }
-  const float* d = b->data() + localIndexOf(cell) * storage_.floatsPerCell();
-  return {static_cast<double>(d[0]), static_cast<double>(d[1]), true};
+  const Moments c = momentsAt(b->data(), localIndexOf(cell));
+  return {static_cast<double>(c.mean), static_cast<double>(c.variance), true};
 }
 
 double BandedOgf::covariance(const CellKey& a, const CellKey& b) const {
@@ -511,16 +546,20 @@ double BandedOgf::covariance(const CellKey& a, const CellKey& b) const {
   if (slot < 0) {
     return 0.0;
   }
+  if (config_.covariance == CovarianceStorage::kCompact) {
+    // The prior's covariance scaled by both cells' variance ratios (FilterConfig::covariance).
+    const double v0 = prior_.variance();
+    return prior_(o) * (estimate(a).variance / v0) * (estimate(b).variance / v0);
+  }
   const Block* blk = storage_.find(blockKeyOf(owner));
   if (blk == nullptr) {
     return prior_(o);
   }
   return static_cast<double>(
-      blk->data()[localIndexOf(owner) * storage_.floatsPerCell() + 2 + static_cast<std::size_t>(slot)]);
+      blk->data()[localIndexOf(owner) * floatsPerCell() + 2 + static_cast<std::size_t>(slot)]);
 }
 
 void BandedOgf::forEachCell(const std::function<void(const CellKey&, float, float)>& visit) const {
-  const std::size_t stride = storage_.floatsPerCell();
   const int side = kBlockSide;
   const int zSide = config_.dimensions == 3 ? kBlockSide : 1;
   for (const CellKey& key : storage_.sortedKeys()) {
@@ -529,7 +568,8 @@ void BandedOgf::forEachCell(const std::function<void(const CellKey&, float, floa
       for (int y = 0; y < side; ++y) {
         for (int z = 0; z < zSide; ++z) {
           const auto l = static_cast<std::size_t>(x + side * (y + side * z));
-          visit(CellKey{key.x * side + x, key.y * side + y, key.z * side + z}, d[l * stride], d[l * stride + 1]);
+          const Moments c = momentsAt(d, l);
+          visit(CellKey{key.x * side + x, key.y * side + y, key.z * side + z}, c.mean, c.variance);
         }
       }
     }
@@ -550,6 +590,9 @@ std::uint64_t BandedOgf::checksum() const {
   sum.addValue(*config_.kernelAmplitude);
   sum.addValue(*config_.stencilRadius);
   sum.addValue(*config_.taperSupport);
+  if (config_.covariance != CovarianceStorage::kBanded) {
+    sum.addValue(static_cast<int>(config_.covariance));
+  }
   for (const CellKey& key : storage_.sortedKeys()) {
     const Block* b = storage_.find(key);
     sum.addValue(key);
@@ -559,9 +602,22 @@ std::uint64_t BandedOgf::checksum() const {
   return sum.value();
 }
 
-std::span<const float> BandedOgf::blockValues(const CellKey& blockKey) const {
+std::vector<float> BandedOgf::blockValues(const CellKey& blockKey) const {
   const Block* b = storage_.find(blockKey);
-  return b == nullptr ? std::span<const float>{} : b->values();
+  if (b == nullptr) {
+    return {};
+  }
+  if (!compact_) {
+    return {b->values().begin(), b->values().end()};
+  }
+  std::vector<float> values;
+  values.reserve(floatsPerBlock());
+  for (std::size_t l = 0; l < b->cells(); ++l) {
+    const Moments c = momentsAt(b->data(), l);
+    values.push_back(c.mean);
+    values.push_back(c.variance);
+  }
+  return values;
 }
 
 std::span<const std::uint8_t> BandedOgf::blockMarks(const CellKey& blockKey) const {
@@ -590,7 +646,15 @@ Status BandedOgf::restoreBlock(const CellKey& blockKey, std::span<const float> v
   }
   bool fresh = false;
   Block& b = storage_.obtain(blockKey, fresh);
-  std::copy(values.begin(), values.end(), b.data());
+  if (compact_) {
+    auto* codes = reinterpret_cast<std::uint16_t*>(b.data() + b.cells());
+    for (std::size_t l = 0; l < b.cells(); ++l) {
+      b.data()[l] = values[2 * l];
+      codes[l] = encodeVarianceRatio(values[2 * l + 1] / priorVariance_);
+    }
+  } else {
+    std::copy(values.begin(), values.end(), b.data());
+  }
   std::copy(marks.begin(), marks.end(), b.marks().begin());
   return okStatus();
 }

@@ -105,6 +105,9 @@ Result<FilterConfig> FilterConfig::resolved() const {
                       "leaves the banded prior not positive definite (its lattice spectrum reaches 0); use a "
                       "shorter support");
   }
+  if (c.covariance != CovarianceStorage::kBanded && c.covariance != CovarianceStorage::kCompact) {
+    return fieldError("covariance", static_cast<int>(c.covariance), "must be banded (0) or compact (1)");
+  }
   if (auto policy = c.validatePolicy(); !policy) {
     return policy.error();
   }
@@ -144,6 +147,18 @@ std::optional<OccupiedPriority> parseOccupiedPriority(std::string_view text) {
   }
   if (text == "map") {
     return OccupiedPriority::kMap;
+  }
+  return std::nullopt;
+}
+
+const char* toString(CovarianceStorage c) { return c == CovarianceStorage::kCompact ? "compact" : "banded"; }
+
+std::optional<CovarianceStorage> parseCovarianceStorage(std::string_view text) {
+  if (text == "banded") {
+    return CovarianceStorage::kBanded;
+  }
+  if (text == "compact") {
+    return CovarianceStorage::kCompact;
   }
   return std::nullopt;
 }

@@ -245,6 +245,8 @@ Result<BandedOgf> decodeMap(std::span<const std::uint8_t> bytes, std::string_vie
   }
   config.occupiedPriority = static_cast<OccupiedPriority>(h.occupiedPriority);
   config.freeReleaseCount = h.freeReleaseCount;
+  // Mean and variance alone: compact covariance storage (a banded stencil keeps at least one covariance).
+  config.covariance = h.floatsPerCell == 2 ? CovarianceStorage::kCompact : CovarianceStorage::kBanded;
   config.threads = std::clamp(threads, 1, 256);
   auto created = BandedOgf::create(config);
   if (!created) {

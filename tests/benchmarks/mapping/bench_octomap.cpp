@@ -147,7 +147,7 @@ struct OgfResult {
 };
 
 OgfResult runOgf(const std::vector<RayScan>& scans, double resolution, double max_range, double min_range,
-                 double clamp_z, double free_clamp_z, bool deltas) {
+                 double clamp_z, double free_clamp_z, ogf::filter::CovarianceStorage covariance, bool deltas) {
   ogf::pipeline::MapperConfig config;
   config.setResolution(resolution);
   config.fusion.measurement.max_range_m = max_range;
@@ -155,6 +155,7 @@ OgfResult runOgf(const std::vector<RayScan>& scans, double resolution, double ma
   config.filter.threads = 1;
   config.filter.clampZ = clamp_z;
   config.filter.freeClampZ = free_clamp_z;
+  config.filter.covariance = covariance;
   auto mapper = ogf::pipeline::ScanMapper::create(config);
   if (!mapper) {
     std::fprintf(stderr, "ogf-bench-octomap: %s\n", mapper.error().message.c_str());
@@ -245,6 +246,7 @@ int main(int argc, char** argv) {
   double max_range = 30.0, min_range = 0.4;
   double clamp_z = ogf::filter::FilterConfig{}.clampZ;
   double free_clamp_z = ogf::filter::FilterConfig{}.freeClampZ;
+  std::string covariance = ogf::filter::toString(ogf::pipeline::MapperConfig{}.filter.covariance);
   bool deltas = false;
   app.add_option("--scans", count, "Scans to map (synthetic street scans 1 m apart, or the first of --pcap)")
       ->capture_default_str()
@@ -259,6 +261,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--free-clamp-z", free_clamp_z, "The OGF's freeClampZ for free measurements; 0: --clamp-z")
       ->capture_default_str();
+  app.add_option("--covariance", covariance, "The OGF's covariance storage: compact or banded")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"compact", "banded"}));
   app.add_flag("--deltas", deltas, "Also collect the changed cells per scan, as ogf-mapper does for OGF_MAP_DELTA");
   OGF_PARSE_COMMAND_LINE(app, argc, argv);
 
@@ -275,7 +280,8 @@ int main(int argc, char** argv) {
   std::printf("%-6s %-8s %9s %9s %9s %8s %10s %11s %s\n", "res m", "mapper", "mean ms", "p50 ms", "p99 ms",
               "x 10 Hz", "memory MB", "cells", "notes");
   for (const double res : parseList(resolutions)) {
-    const OgfResult ogf = runOgf(scans, res, max_range, min_range, clamp_z, free_clamp_z, deltas);
+    const OgfResult ogf = runOgf(scans, res, max_range, min_range, clamp_z, free_clamp_z,
+                                 *ogf::filter::parseCovarianceStorage(covariance), deltas);
     const OctomapResult oct = runOctomap(scans, res, max_range);
     const auto row = [&](const char* name, const Timing& t, std::size_t memory, std::size_t cells, const std::string& notes) {
       std::printf("%-6.2f %-8s %9.1f %9.1f %9.1f %8.2f %10.1f %11zu %s\n", res, name, t.mean(), t.percentile(0.5),

@@ -18,9 +18,10 @@
 namespace ogf::filter {
 namespace {
 
-BandedOgf sampleMap(int dimensions) {
+BandedOgf sampleMap(int dimensions, CovarianceStorage storage = CovarianceStorage::kBanded) {
   FilterConfig config;
   config.dimensions = dimensions;
+  config.covariance = storage;
   auto map = BandedOgf::create(config);
   EXPECT_TRUE(map.ok());
   std::mt19937 rng(5);
@@ -41,9 +42,11 @@ std::filesystem::path tempPath(const char* name) {
   return std::filesystem::temp_directory_path() / (std::string(name) + "-" + std::to_string(::getpid()));
 }
 
-TEST(MapFile, RoundTripIsBitIdenticalIn2DAnd3D) {
+TEST(MapFile, RoundTripIsBitIdenticalIn2DAnd3DForBothStorages) {
+  for (const CovarianceStorage storage : {CovarianceStorage::kBanded, CovarianceStorage::kCompact})
   for (int dims : {2, 3}) {
-    const BandedOgf map = sampleMap(dims);
+    const BandedOgf map = sampleMap(dims, storage);
+    EXPECT_EQ(map.config().covariance, storage);
     const auto path = tempPath("ogf-map-roundtrip");
     ASSERT_TRUE(saveMapFile(map, path).ok());
     const auto loaded = loadMapFile(path);
@@ -51,6 +54,7 @@ TEST(MapFile, RoundTripIsBitIdenticalIn2DAnd3D) {
     EXPECT_EQ(loaded->checksum(), map.checksum());
     EXPECT_EQ(loaded->blockKeys(), map.blockKeys());
     EXPECT_EQ(*loaded->config().taperSupport, *map.config().taperSupport);
+    EXPECT_EQ(loaded->config().covariance, storage);
     // No temporary file left behind.
     for (const auto& entry : std::filesystem::directory_iterator(path.parent_path())) {
       EXPECT_EQ(entry.path().string().find(path.filename().string() + ".tmp"), std::string::npos);
@@ -60,13 +64,28 @@ TEST(MapFile, RoundTripIsBitIdenticalIn2DAnd3D) {
 }
 
 TEST(MapFile, LoadedMapKeepsFilteringLikeTheOriginal) {
-  BandedOgf map = sampleMap(3);
-  auto loaded = decodeMap(encodeMap(map));
-  ASSERT_TRUE(loaded.ok());
-  const std::vector<Measurement> more = {{{1, 1, 1}, 1}, {{2, 1, 1}, -1}, {{40, 0, 0}, 1}};
-  map.update(more);
-  loaded->update(more);
-  EXPECT_EQ(loaded->checksum(), map.checksum());
+  for (const CovarianceStorage storage : {CovarianceStorage::kBanded, CovarianceStorage::kCompact}) {
+    BandedOgf map = sampleMap(3, storage);
+    auto loaded = decodeMap(encodeMap(map));
+    ASSERT_TRUE(loaded.ok());
+    const std::vector<Measurement> more = {{{1, 1, 1}, 1}, {{2, 1, 1}, -1}, {{40, 0, 0}, 1}};
+    map.update(more);
+    loaded->update(more);
+    EXPECT_EQ(loaded->checksum(), map.checksum()) << toString(storage);
+  }
+}
+
+// A compact map file holds a mean and a variance per cell: about a ninth of a banded one's blocks.
+TEST(MapFile, CompactFilesHoldMeanAndVarianceOnly) {
+  const BandedOgf banded = sampleMap(3, CovarianceStorage::kBanded);
+  const BandedOgf compact = sampleMap(3, CovarianceStorage::kCompact);
+  ASSERT_EQ(banded.blockKeys(), compact.blockKeys());
+  const auto perBlock = [](const BandedOgf& m) {
+    return static_cast<double>(encodeMap(m).size() - kMapFilePayloadAt) / static_cast<double>(m.blockKeys().size());
+  };
+  EXPECT_EQ(compact.floatsPerBlock(), 2U * compact.cellsPerBlock());
+  EXPECT_NEAR(perBlock(compact), 12.0 + 512.0 * (2 * 4 + 1), 0.5);
+  EXPECT_LT(perBlock(compact) * 5.0, perBlock(banded));
 }
 
 TEST(MapFile, EveryTruncationIsRefused) {

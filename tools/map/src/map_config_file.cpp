@@ -91,13 +91,19 @@ Status applyFilter(std::string_view source, const YAML::Node& map, filter::Filte
       const auto p = filter::parseOccupiedPriority(*text);
       if (!p) return Error{fmt::format("{}: 'scan' or 'map', got '{}'", where(source, v, path), *text)};
       f.occupiedPriority = *p;
+    } else if (key == "covariance") {
+      auto text = scalar<std::string>(source, v, path);
+      if (!text) return text.error();
+      const auto c = filter::parseCovarianceStorage(*text);
+      if (!c) return Error{fmt::format("{}: 'compact' or 'banded', got '{}'", where(source, v, path), *text)};
+      f.covariance = *c;
     } else if (key == "free_release_scans") st = set<int>(source, v, path, f.freeReleaseCount);
     else if (key == "threads") st = set<int>(source, v, path, f.threads);
     else
       return Error{where(source, kv.first, path) +
                    ": unknown key (kernel_sigma, kernel_amplitude, stencil_radius, stencil_manhattan_radius, "
                    "taper_support, occupied_threshold, free_threshold, skip_tolerance, clamp_z, free_clamp_z, "
-                   "occupied_priority, free_release_scans, threads)"};
+                   "occupied_priority, free_release_scans, covariance, threads)"};
     if (!st) return st;
   }
   return okStatus();

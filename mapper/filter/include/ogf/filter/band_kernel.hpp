@@ -20,16 +20,19 @@
 #include <cstdint>
 #include <vector>
 
+#include "ogf/filter/filter_config.hpp"
 #include "ogf/filter/stencil.hpp"
 
 namespace ogf::filter {
 
 // The per-stencil tables of the update, derived from a Stencil and the block layout (8×8×8 cells, x fastest).
 struct BandTables {
-  BandTables(const Stencil& stencil, int dimensions);
+  BandTables(const Stencil& stencil, int dimensions, CovarianceStorage storage = CovarianceStorage::kBanded);
 
-  std::size_t cells = 0;   // stencil cells S
-  std::size_t stride = 0;  // floats per cell record: 2 + forward slots
+  std::size_t cells = 0;     // stencil cells S
+  std::size_t stride = 0;    // floats per cell record: 2 + forward slots (banded); 1, the mean (compact)
+  std::size_t pointers = 0;  // record pointers per measurement: S (banded); 2S, means then variances (compact)
+  std::size_t blockCells = 0;  // cells in a block (where a compact block's variance codes begin)
   std::size_t self = 0;    // index of offset 0
   // Per local position l and stencil cell s, [l·S + s]: the neighbouring block (13 = own) and the first float
   // of the record in it.
@@ -49,6 +52,10 @@ struct BandTables {
 
   // Per stencil cell s: 1 when no stencil cell follows it along x (the last record of its x row).
   std::vector<std::uint8_t> rowEnd;
+  // Compact storage: per stencil cell s, the prior covariance Σ0_si between s and the measured cell, and
+  // the prior variance. Filled by the filter, which owns the prior; empty for banded storage.
+  std::vector<float> correlation;
+  float priorVariance = 0.0F;
 
   // The record of stencil cell s of the measurement at `local`, `blocks` as for BandKernel.
   float* record(float* const* blocks, std::size_t local, std::size_t s) const {
@@ -85,6 +92,14 @@ BandLocate bandLocateFor(const BandTables& tables);
 
 // The generic kernel in the baseline arithmetic.
 void genericBandKernel(float* const* records, BandUpdate update, const BandTables& tables);
+
+// Compact storage (CovarianceStorage::kCompact): `records[s]` is the mean of stencil cell s and
+// `records[S + s]` its variance code (variance_code.hpp), as a float pointer.
+void compactBandLocate(float* const* blocks, std::size_t local, const BandTables& tables, float** records);
+// Its update: with r = Σ_ss/Σ0 the stored variance ratios, the column is Σ_si = Σ0_si·r_s·r_i (Σ0·r_i for the
+// cell itself), then m_s += gain·Σ_si and r_s −= shrink·Σ_si²/Σ0 for every stencil cell, rounded to its
+// code. One arithmetic on every CPU.
+void compactBandKernel(float* const* records, BandUpdate update, const BandTables& tables);
 
 // Whether this CPU (and OS) can run AVX2 + FMA code.
 bool cpuHasFma();

@@ -81,10 +81,11 @@ class BandedOgf {
   // Raw block access for the map file: sorted keys, a block's floats (layout of Block) and cell marks
   // (CellMark), and restoring a block from them (error on a wrong size, a key outside the 2-D slice or a
   // duplicate; no marks: all 0).
+  // Compact storage exchanges its blocks as banded storage without covariances: [mean, variance] per cell.
   std::vector<CellKey> blockKeys() const { return storage_.sortedKeys(); }
-  std::span<const float> blockValues(const CellKey& blockKey) const;
+  std::vector<float> blockValues(const CellKey& blockKey) const;
   std::span<const std::uint8_t> blockMarks(const CellKey& blockKey) const;
-  std::size_t floatsPerBlock() const { return storage_.cellsPerBlock() * storage_.floatsPerCell(); }
+  std::size_t floatsPerBlock() const { return storage_.cellsPerBlock() * floatsPerCell(); }
   std::size_t cellsPerBlock() const { return storage_.cellsPerBlock(); }
   Status restoreBlock(const CellKey& blockKey, std::span<const float> values,
                       std::span<const std::uint8_t> marks = {});
@@ -92,6 +93,14 @@ class BandedOgf {
  private:
   struct Group;
   explicit BandedOgf(const FilterConfig& resolved);
+  static std::size_t floatsPerBlockOf(int dimensions, CovarianceStorage storage, const Stencil& stencil);
+  // Floats per cell in the banded layout and in the exchange format (2 when compact).
+  std::size_t floatsPerCell() const { return 2 + (compact_ ? 0 : stencil_.forwardOffsets().size()); }
+  struct Moments {
+    float mean = 0.0F;
+    float variance = 0.0F;
+  };
+  Moments momentsAt(const float* blockData, std::size_t local) const;
   Block& obtainBlock(const CellKey& blockKey, std::size_t& allocated);
   void initialiseBlock(Block& block);
   // A block the batch's updates reach, and which of its cells they can change (bit per position).
@@ -149,6 +158,7 @@ class BandedOgf {
   BandTables band_;                           // where the stencil cells and their pairs are
   BandLocate locate_ = nullptr;               // the records of a measurement's stencil cells, prefetched
   BandKernel kernel_ = nullptr;               // eq. (5) in the band (compiled for common stencils)
+  bool compact_ = false;                      // CovarianceStorage::kCompact
   const InverseMillsTable* lambda_ = &inverseMillsTable();  // λ(z) of eq. (5), tabulated
   bool parallelSafe_ = false;
   Batch scratch_;

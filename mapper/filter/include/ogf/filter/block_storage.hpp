@@ -28,11 +28,12 @@ inline std::size_t localIndexOf(const CellKey& cell) {
 
 class Block {
  public:
-  // The values are left uninitialised: the owner writes every one (the prior, or a restored block). The
-  // marks start at 0.
-  Block(std::size_t cells, std::size_t forwardSlots);
+  // `floats` values (the layout is the filter's), left uninitialised: the owner writes every one (the
+  // prior, or a restored block). The marks start at 0.
+  Block(std::size_t cells, std::size_t floats);
   std::size_t cells() const { return cells_; }
-  // Layout: cell-major; cell l at l·(2 + F): [mean, variance, slot 0, ..., slot F-1].
+  // Banded layout: cell-major; cell l at l·(2 + F): [mean, variance, slot 0, ..., slot F-1]. Compact
+  // layout: the cells' means, then their variance codes (variance_code.hpp) two to a float.
   float* data() { return data_.get(); }
   const float* data() const { return data_.get(); }
   std::span<float> values() { return {data_.get(), size_}; }
@@ -59,10 +60,10 @@ struct CellMark {
 
 class BlockStorage {
  public:
-  BlockStorage(int dimensions, std::size_t forwardSlots);
+  BlockStorage(int dimensions, std::size_t floatsPerBlock);
 
   std::size_t cellsPerBlock() const { return cellsPerBlock_; }
-  std::size_t floatsPerCell() const { return 2 + forwardSlots_; }
+  std::size_t floatsPerBlock() const { return floatsPerBlock_; }
   Block* find(const CellKey& blockKey);
   const Block* find(const CellKey& blockKey) const;
   // The block, allocated (and `fresh` set) when missing. Not thread-safe.
@@ -77,8 +78,8 @@ class BlockStorage {
 
  private:
   int dimensions_;
-  std::size_t forwardSlots_;
   std::size_t cellsPerBlock_;
+  std::size_t floatsPerBlock_;
   std::unordered_map<CellKey, std::unique_ptr<Block>, CellKeyHash> blocks_;
 };
 

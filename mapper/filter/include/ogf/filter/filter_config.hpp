@@ -30,6 +30,19 @@ enum class OccupiedPriority : int {
   kMap = 1,
 };
 
+// How the covariance between neighbouring cells is kept (ogf.md §4).
+enum class CovarianceStorage : int {
+  // Every cell stores its covariances to the forward half of its stencil (56 bytes a cell at the default
+  // stencil): eq. (5) applied exactly inside the band.
+  kBanded = 0,
+  // Every cell stores its mean and variance only (8 bytes, with its mark 9): the covariance of two cells
+  // within the stencil is rebuilt from the prior, Σ_jk = Σ0_jk·(Σ_jj/Σ0_jj)·(Σ_kk/Σ0_kk), so a correlation
+  // fades as its cells become certain, the way eq. (5) shrinks Σ_ij by Σ_ii'/Σ_ii when cell i is measured.
+  // Positive semi-definite: it is S·Σ0·S (S = diag(Σ_jj/Σ0_jj)) plus the non-negative diagonal
+  // Σ_jj − Σ_jj²/Σ0_jj. Costs against the banded filter: docs/mapping.md, "Covariance storage".
+  kCompact = 1,
+};
+
 struct FilterConfig {
   // 3: cells are 3-D and the stencil is a ball. 2: the map is the z = 0 slice and the stencil a disc.
   int dimensions = 3;
@@ -63,6 +76,8 @@ struct FilterConfig {
   // 0: never released (the paper's rule as stated). At most kMaxFreeRelease. 20 scans (2 s at 10 Hz) keep
   // real surfaces that most rays miss and clear a walking person's trail as fast as OctoMap (docs/mapping.md).
   int freeReleaseCount = 20;
+  // A structural choice, like the stencil: a map keeps the storage it was made with.
+  CovarianceStorage covariance = CovarianceStorage::kBanded;
   int threads = 1;  // worker threads of BandedOgf::update; the map is bit-identical for any count
 
   // Every optional field filled in, and every field checked. The error names the field.
@@ -89,5 +104,8 @@ inline constexpr int kMaxFreeRelease = 127;  // the count is kept in 7 bits of a
 // "scan" / "map", as configuration files spell the policy; nullopt for anything else.
 const char* toString(OccupiedPriority p);
 std::optional<OccupiedPriority> parseOccupiedPriority(std::string_view text);
+// "banded" / "compact", as configuration files spell the storage; nullopt for anything else.
+const char* toString(CovarianceStorage c);
+std::optional<CovarianceStorage> parseCovarianceStorage(std::string_view text);
 
 }  // namespace ogf::filter

@@ -11,7 +11,13 @@ namespace ogf::pipeline {
 
 struct MapperConfig {
   fusion::FusionConfig fusion;
-  filter::FilterConfig filter;
+  // The filter library defaults to the exact banded covariance; the mapping programs store it compactly
+  // (filter_config.hpp, CovarianceStorage; costs in docs/mapping.md).
+  filter::FilterConfig filter = [] {
+    filter::FilterConfig f;
+    f.covariance = filter::CovarianceStorage::kCompact;
+    return f;
+  }();
 
   // Sets the one cell size both layers use.
   void setResolution(double metres) {

@@ -23,6 +23,7 @@
 //     free_clamp_z: 1.5        # the same for free measurements (0: clamp_z)
 //     occupied_priority: map   # map: a cell once measured occupied ignores free measurements; scan: exact
 //     free_release_scans: 20   # ... until this many scans in a row measure it free (0: never)
+//     covariance: compact      # compact: mean and variance per cell; banded: also the covariances (exact)
 //     threads: 1
 #pragma once
 
