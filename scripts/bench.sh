@@ -70,7 +70,7 @@ fi
 octo() { awk -v r="$2" -v m="$3" -v c="$4" '$1 == r && $2 == m { print $c; exit }' "$1"; }
 
 echo "== ogf-bench-filter (default stencil)" >&2
-"$bin/ogf-bench-filter" --benchmark_filter='Measurement/R2:0/' --benchmark_format=csv "${gb[@]}" \
+"$bin/ogf-bench-filter" --benchmark_filter='Measurement/R2:(0|-1)/' --benchmark_format=csv "${gb[@]}" \
   >"$work/filter.csv" 2>"$work/filter.err"
 echo "== ogf-bench-fusion" >&2
 # One run per benchmark family: Google Benchmark's CSV reporter aborts when a later benchmark has a counter
@@ -114,13 +114,14 @@ fi
 f=$work/filter.csv
 for y in -1 1; do
   kind=free; [ "$y" = 1 ] && kind=occupied
-  upd=$(gbval "$f" "BM_AllocatedMeasurement/R2:0/y:$y/threads:1" ns_per_measurement)
-  first=$(gbval "$f" "BM_FirstMeasurement/R2:0/y:$y/threads:1" ns_per_measurement)
-  upd2=$(gbval "$f" "BM_AllocatedMeasurement/R2:0/y:$y/threads:2/real_time" ns_per_measurement)
-  echo "| filter update alone, default stencil, $kind: ns per measurement, 1 thread / 2 threads | $(fmt "$upd" %.0f) / $(fmt "$upd2" %.0f) | | 2 threads take $(ratio "$upd2" "$upd") of the time |"
+  upd=$(gbval "$f" "BM_AllocatedMeasurement/R2:-1/y:$y/threads:1" ns_per_measurement)
+  updb=$(gbval "$f" "BM_AllocatedMeasurement/R2:0/y:$y/threads:1" ns_per_measurement)
+  first=$(gbval "$f" "BM_FirstMeasurement/R2:-1/y:$y/threads:1" ns_per_measurement)
+  upd2=$(gbval "$f" "BM_AllocatedMeasurement/R2:-1/y:$y/threads:2/real_time" ns_per_measurement)
+  echo "| filter update alone, default stencil, $kind: ns per measurement, 1 thread / 2 threads | $(fmt "$upd" %.0f) / $(fmt "$upd2" %.0f) | banded storage $(fmt "$updb" %.0f) | $(ratio "$upd" "$updb") of banded's time |"
   echo "| filter first measurement (with block allocation), $kind: ns, 1 thread | $(fmt "$first" %.0f) | update alone $(fmt "$upd" %.0f) | $(ratio "$first" "$upd")× |"
 done
-echo "| filter memory per allocated cell, bytes | $(fmt "$(gbval "$f" "BM_FirstMeasurement/R2:0/y:-1/threads:1" bytes_per_cell)" %.1f) | | |"
+echo "| filter memory per allocated cell, bytes | $(fmt "$(gbval "$f" "BM_FirstMeasurement/R2:-1/y:-1/threads:1" bytes_per_cell)" %.1f) | banded storage $(fmt "$(gbval "$f" "BM_FirstMeasurement/R2:0/y:-1/threads:1" bytes_per_cell)" %.1f) | |"
 u=$work/fusion.csv
 room=$(gbval "$u" "BM_MeasurementSetVlp16/street:0/resolution_mm:200" cpu_time)
 street=$(gbval "$u" "BM_MeasurementSetVlp16/street:1/resolution_mm:200" cpu_time)

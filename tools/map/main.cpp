@@ -26,6 +26,7 @@
 #include "ogf/map_io/cell_csv.hpp"
 #include "ogf/map_io/cell_pcd.hpp"
 #include "ogf/map_io/cell_ply.hpp"
+#include "ogf/map_io/drive_report.hpp"
 #include "ogf/map_io/lcm_log_scans.hpp"
 #include "ogf/map_io/map_cells.hpp"
 #include "ogf/map_io/map_config_file.hpp"
@@ -81,6 +82,7 @@ struct Options {
   std::vector<std::string> pcd;
   bool is_static = false;
   double resolution = 0.2, max_range = 30.0, min_range = 0.4;
+  double report_every = 0.0;
   int threads = 1;
   std::string export_ply, export_csv, export_pcd, export_bt, png_dir, from_map;
   std::optional<double> png_zmin, png_zmax;  // default: the walls' band (map_io::wallBand)
@@ -241,6 +243,10 @@ int main(int argc, char** argv) {
       ->check(ogf::cli::between(1, 1000));
   app.add_option("--corrected-out", o.corrected_out,
                  "CSV of the corrected body pose of every mapped scan (utime,x,y,z,qw,qx,qy,qz)");
+  app.add_option("--report-every", o.report_every,
+                 "Print a row every this many seconds of scan time: scans, mean and largest ms per scan, map MB, "
+                 "resident MB, cells")
+      ->check(CLI::PositiveNumber);
   app.add_option("--log-level", o.log_level, "trace|debug|info|warn|error")->capture_default_str();
   odo_opt->excludes(static_opt);
   pcd_opt->excludes(pcap_opt)->excludes(lcm_opt)->excludes(odo_opt)->excludes(static_opt);
@@ -340,12 +346,20 @@ int main(int argc, char** argv) {
   const mio::TimeBase base = o.time_base == "host" ? mio::TimeBase::kHost : mio::TimeBase::kDevice;
   int uncovered_told = 0;
   std::string odometry_source;
+  std::optional<mio::DriveReport> report;
+  if (o.report_every > 0.0) report.emplace(o.report_every, stdout);
   const auto addScan = [&](const mio::ScanRecord& scan) {
-    if (o.is_static) {
-      run.addStaticScan(scan, Eigen::Isometry3d::Identity());
-      return;
+    const auto began = Clock::now();
+    const mio::ScanOutcome outcome =
+        o.is_static ? run.addStaticScan(scan, Eigen::Isometry3d::Identity()) : run.addScan(scan, base);
+    if (report && outcome == mio::ScanOutcome::kMapped) {
+      const auto& f = run.mapper().filter();
+      report->add({scan.points(base).start_utime,
+                   std::chrono::duration<double, std::milli>(Clock::now() - began).count(), f.memoryBytes(),
+                   f.allocatedCells()});
     }
-    if (run.addScan(scan, base) == mio::ScanOutcome::kUncovered && uncovered_told++ < kUncoveredWarnings) {
+    if (o.is_static) return;
+    if (outcome == mio::ScanOutcome::kUncovered && uncovered_told++ < kUncoveredWarnings) {
       const auto span = run.odometrySpan();
       const std::int64_t t = scan.points(base).start_utime;
       spdlog::warn("scan {} at utime {} ({} time) is not covered by the odometry of {} ({}); left out", scan.seq, t,
@@ -447,6 +461,7 @@ int main(int argc, char** argv) {
       spdlog::info("{}: {} corrected poses ({})", o.corrected_out, run.correctedPoses().size(), o.pose_correction);
     }
   }
+  if (report) report->finish();
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   std::printf("scans %lld measurements %lld cells %zu seconds %.2f checksum %016llx\n",
               static_cast<long long>(c.scans_mapped), static_cast<long long>(c.measurements), filter.allocatedCells(),

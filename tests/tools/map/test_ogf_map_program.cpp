@@ -182,6 +182,45 @@ TEST(OgfMapProgram, MovingSimCaptureMapsTheSameWithCsvAndLcmLogOdometry) {
   EXPECT_EQ(csv.output.find("not covered"), std::string::npos) << csv.output;
 }
 
+// --report-every: one row per interval of scan time, whose scans add up to the scans mapped and whose cells
+// grow as the robot sees more.
+TEST(OgfMapProgram, ReportEveryPrintsARowPerIntervalOfScanTime) {
+  ogf::testing::ScratchDir dir;
+  ASSERT_EQ(runProgram({kSim, "--out", (dir / "sim").string(), "--duration", "2.0"}, dir.path()).exit_code, 0);
+  const auto run = runProgram({kMap, "--pcap", (dir / "sim" / "capture.pcap").string(), "--odometry",
+                               (dir / "sim" / "odometry.csv").string(), "--report-every", "0.5", "--out",
+                               (dir / "m").string()},
+                              dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  std::istringstream out(run.stdout_text);
+  std::string line;
+  std::getline(out, line);
+  EXPECT_EQ(line.rfind("interval", 0), 0U) << run.stdout_text;
+  int rows = 0;
+  long long scans = 0;
+  long long firstCells = 0, lastCells = 0;
+  while (std::getline(out, line)) {
+    int index = 0;
+    long long n = 0, cells = 0;
+    double mean = 0.0, max = 0.0, mapMb = 0.0, rssMb = 0.0;
+    if (std::sscanf(line.c_str(), "%d %lld %lf %lf %lf %lf %lld", &index, &n, &mean, &max, &mapMb, &rssMb,
+                    &cells) != 7) {
+      break;  // the summary line
+    }
+    ++rows;
+    EXPECT_EQ(index, rows);
+    EXPECT_GT(mean, 0.0) << line;
+    EXPECT_GE(max, mean) << line;
+    EXPECT_GT(rssMb, mapMb) << line;
+    EXPECT_GT(mapMb, 0.0) << line;
+    scans += n;
+    (rows == 1 ? firstCells : lastCells) = cells;
+  }
+  EXPECT_GE(rows, 4) << run.stdout_text;
+  EXPECT_EQ(scans, summaryOf(run.stdout_text).scans) << run.stdout_text;
+  EXPECT_GT(lastCells, firstCells) << run.stdout_text;
+}
+
 // A tiny LCM log: poses every 50 ms over 1 s (odometry_t, then bot_core.pose_t), two wall scans inside
 // that span and one after it.
 void writeTinyLog(const std::filesystem::path& path, std::int64_t t0) {
