@@ -64,7 +64,8 @@ final class ReceiveBuffer {
 
   /**
    * Asks for `bytes` on the provider's socket and says on stderr what the kernel granted (and the fix
-   * when net.core.rmem_max capped it). Returns the granted size (getsockopt reports twice the usable size).
+   * when net.core.rmem_max capped it). Returns the granted size (the JDK reports the size asked for, not the
+   * twice as large one Linux's getsockopt reports).
    */
   static int apply(Object provider, int bytes) throws ReflectiveOperationException, IOException {
     Field f = provider.getClass().getDeclaredField("sock");
@@ -76,7 +77,7 @@ final class ReceiveBuffer {
       System.err.printf("ogf-spy: warning: receive buffer %d bytes, less than the %d asked for: the kernel caps it at"
                             + " net.core.rmem_max=%s; large messages will be lost. Fix: sudo sysctl -w"
                             + " net.core.rmem_max=%d%n",
-                        granted / 2, bytes, rmemMax(), bytes);
+                        granted, bytes, rmemMax(), bytes);
     } else {
       System.err.printf("ogf-spy: receive buffer %d bytes%n", bytes);
     }
@@ -84,8 +85,10 @@ final class ReceiveBuffer {
   }
 
   static String rmemMax() {
-    try {
-      return new String(Files.readAllBytes(Paths.get("/proc/sys/net/core/rmem_max"))).trim();
+    // readAllBytes trusts the file's size, which /proc reports as 0: read a line.
+    try (java.io.BufferedReader r = Files.newBufferedReader(Paths.get("/proc/sys/net/core/rmem_max"))) {
+      String line = r.readLine();
+      return line == null ? "?" : line.trim();
     } catch (IOException e) {
       return "?";
     }
