@@ -42,7 +42,7 @@ capture and publishes scans on LCM; ogf-mapper builds an occupancy map from
 them with the Occupancy Grid Filter and keeps it across restarts. Both run
 as hardened systemd services (ogf.target, not enabled on install). Also
 ships the replay, simulation, decoding, map and evaluation tools, and
-lcmtypes_ogf.jar for lcm-spy.")
+lcmtypes_ogf.jar and ogf_spy.jar (its launcher) for lcm-spy.")
 # Depends from the ELF programs' DT_NEEDED, through dpkg-shlibdeps and the shlibs of installed packages,
 # after libjs-three: ogf-view serves its /usr/share/javascript/three/three.min.js.
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "libjs-three")

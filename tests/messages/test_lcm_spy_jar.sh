@@ -19,7 +19,7 @@ for f in "$lcmdir"/*.lcm; do
 done
 echo "jar lists all $expected types"
 
-out=$(OGF_LCM_JAR="$jar" DISPLAY= timeout 60 bash "$src/scripts/lcm-spy.sh" --lcm-url='udpm://239.255.76.67:7667?ttl=0' 2>&1)
+out=$(OGF_JAVA_DIR="$(dirname "$jar")" DISPLAY= timeout 60 bash "$src/scripts/lcm-spy.sh" --lcm-url='udpm://239.255.76.67:7667?ttl=0' 2>&1)
 found=$(grep -o 'Found [0-9]* LCM types' <<<"$out" | head -1)
 echo "lcm-spy: ${found:-<nothing>}"
 n=$(grep -o '[0-9]*' <<<"$found")

@@ -47,7 +47,8 @@ extra=$(grep '^/usr/bin/.' <<<"$files" | sed 's|/usr/bin/||' | grep -vxF -f <(pr
 grep -q '\.a$\|/include/\|/tests\?/' <<<"$files" && bad "static libraries, headers or tests packaged"
 for f in /lib/systemd/system/ogf-driver.service /lib/systemd/system/ogf-mapper.service \
          /lib/systemd/system/ogf.target /etc/ogf/driver.yaml /etc/ogf/mapper.yaml \
-         /usr/lib/sysctl.d/60-ogf-lcm.conf /usr/share/java/lcmtypes_ogf.jar /usr/share/doc/ogf/README.md \
+         /usr/lib/sysctl.d/60-ogf-lcm.conf /usr/share/java/lcmtypes_ogf.jar /usr/share/java/ogf_spy.jar \
+         /usr/share/doc/ogf/README.md \
          /usr/share/doc/ogf/copyright /usr/share/doc/ogf/changelog.Debian.gz \
          /usr/share/doc/ogf/examples/ogf-driver.service.d/pcap-live.conf; do
   has "$f"

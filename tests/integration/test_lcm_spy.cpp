@@ -1,0 +1,180 @@
+// scripts/lcm-spy.sh during the main job's pipeline: ogf-sim's lab world replayed at 1x onto UDP into
+// ogf-driver, ogf-mapper mapping it with the simulated odometry. lcm-spy's receive path (Java LCM, lcm-spy's
+// type lookup and decoding on the reader thread), run by the script's --text mode, sees every channel of
+// both daemons at its true count and rate: the driver's scans as many as its status says it published, the
+// packet batches, deltas and statuses as many as a C++ subscriber with a large buffer counted.
+// Java LCM's own receive buffer (the kernel default) lets through about one scan in ten.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <ogf/driver_status_t.hpp>
+#include <ogf/map_delta_t.hpp>
+#include <ogf/mapper_status_t.hpp>
+#include <ogf/velodyne_packets_t.hpp>
+
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+#include <thread>
+
+#include "support/child_process.hpp"
+#include "support/latest_message.hpp"
+#include "support/message_counter.hpp"
+#include "support/multicast.hpp"
+
+namespace {
+
+using namespace std::chrono_literals;
+namespace fs = std::filesystem;
+using ogf::testing::ChildProcess;
+
+const std::string kBin = OGF_BIN_DIR;
+const std::string kScripts = OGF_SCRIPTS_DIR;
+const std::string kJavaDir = OGF_JAVA_DIR;
+
+std::string readFile(const fs::path& p) {
+  std::ifstream in(p);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+bool onPath(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  std::stringstream dirs(path ? path : "");
+  for (std::string d; std::getline(dirs, d, ':');) {
+    if (!d.empty() && ::access((fs::path(d) / program).c_str(), X_OK) == 0) return true;
+  }
+  return false;
+}
+
+struct Seen {
+  long long messages = 0;
+  double hz = 0;
+  long long undecodable = 0;
+};
+
+// The totals table the spy prints at exit: channel, type, messages, Hz, KB/s, undecodable.
+std::map<std::string, Seen> totals(const std::string& log) {
+  std::map<std::string, Seen> out;
+  const auto at = log.rfind("totals over");
+  if (at == std::string::npos) return out;
+  std::istringstream lines(log.substr(at));
+  const std::regex row(R"(^(\S+)\s+\S+\s+(\d+)\s+([0-9.]+)\s+[0-9.]+\s+(\d+)\s*$)");
+  for (std::string line; std::getline(lines, line);) {
+    std::smatch m;
+    if (std::regex_match(line, m, row)) out[m[1]] = {std::stoll(m[2]), std::stod(m[3]), std::stoll(m[4])};
+  }
+  return out;
+}
+
+TEST(LcmSpy, SeesEveryChannelOfTheDaemonsAtItsTrueRate) {
+  if (!onPath("java")) GTEST_SKIP() << "no java runtime (apt-get install default-jre): lcm-spy cannot run";
+  if (!fs::exists(fs::path(kJavaDir) / "ogf_spy.jar") || !fs::exists(fs::path(kJavaDir) / "lcmtypes_ogf.jar"))
+    GTEST_SKIP() << "ogf_spy.jar / lcmtypes_ogf.jar not built in " << kJavaDir << " (no JDK at configure time)";
+  if (!fs::exists("/usr/share/java/lcm.jar")) GTEST_SKIP() << "liblcm-java is not installed";
+  if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
+
+  const fs::path dir = fs::temp_directory_path() / ("ogf-lcm-spy-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const auto now_us = std::chrono::duration_cast<std::chrono::microseconds>(
+                          std::chrono::system_clock::now().time_since_epoch())
+                          .count();
+  {
+    ChildProcess sim({kBin + "/ogf-sim", "--world", "lab", "--duration", "8", "--out", (dir / "sim").string(),
+                      "--start-utime", std::to_string(now_us), "--log-level", "warn"},
+                     (dir / "sim.log").string());
+    ASSERT_EQ(sim.wait(120s), 0) << sim.log();
+  }
+  const std::string sim_yaml = readFile(dir / "sim" / "sim.yaml");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(sim_yaml, m,
+                                std::regex(R"(sensor_to_body: \{xyz: (\[[^\]]*\]), quaternion_wxyz: (\[[^\]]*\])\})")))
+      << sim_yaml;
+  std::ofstream(dir / "mapper.yaml") << "map:\n  extrinsic: {translation: " << m[1] << ", quaternion: " << m[2]
+                                     << "}\n";
+
+  // The daemons and the test's own subscribers on a large buffer; the spy on the URL a user would type.
+  const std::string url = ogf::testing::loopbackUdpmUrl(240);
+  const std::string spy_url = url.substr(0, url.find('?')) + "?ttl=0";
+  const std::string data_port = std::to_string(40000 + (::getpid() % 20000) + 241);
+  const std::string position_port = std::to_string(40000 + (::getpid() % 20000) + 242);
+  ogf::testing::LatestMessage<ogf::driver_status_t> driver_status(url, "VELODYNE_STATUS");
+  ogf::testing::LatestMessage<ogf::mapper_status_t> mapper_status(url, "OGF_MAPPER_STATUS");
+  ogf::testing::MessageCounter<ogf::velodyne_packets_t> packets(url, "VELODYNE_PACKETS");
+  ogf::testing::MessageCounter<ogf::map_delta_t> deltas(url, "OGF_MAP_DELTA");
+  ogf::testing::MessageCounter<ogf::mapper_status_t> mapper_statuses(url, "OGF_MAPPER_STATUS");
+
+  ChildProcess spy({"/usr/bin/env", "OGF_JAVA_DIR=" + kJavaDir, "/bin/bash", kScripts + "/lcm-spy.sh", "--text",
+                    "--lcm-url", spy_url},
+                   (dir / "spy.log").string());
+  for (int i = 0; i < 600 && spy.log().find("ogf-spy: listening") == std::string::npos; ++i)
+    std::this_thread::sleep_for(50ms);
+  ASSERT_NE(spy.log().find("ogf-spy: listening"), std::string::npos) << spy.log();
+
+  ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir / "state").string(), "--config",
+                       (dir / "mapper.yaml").string(), "--log-level", "warn"},
+                      (dir / "mapper.log").string());
+  ChildProcess driver({kBin + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port", data_port,
+                       "--position-port", position_port, "--log-level", "warn"},
+                      (dir / "driver.log").string());
+  ASSERT_TRUE(driver_status.waitFor([](const auto&) { return true; }, 15s)) << driver.log();
+  ASSERT_TRUE(mapper_status.waitFor([](const auto&) { return true; }, 15s)) << mapper.log();
+  {
+    ChildProcess replay({kBin + "/ogf-replay", "--pcap", (dir / "sim" / "capture.pcap").string(), "--dest",
+                         "127.0.0.1", "--data-port", data_port, "--position-port", position_port, "--speed", "1",
+                         "--odometry", (dir / "sim" / "odometry.csv").string(), "--lcm-url", url},
+                        (dir / "replay.log").string());
+    ASSERT_EQ(replay.wait(60s), 0) << replay.log();
+  }
+  std::this_thread::sleep_for(300ms);
+  driver.signal(SIGTERM);
+  ASSERT_EQ(driver.wait(20s), 0) << driver.log();
+  std::this_thread::sleep_for(300ms);
+  const auto published = driver_status.latest();
+  ASSERT_TRUE(published.has_value());
+  const std::int64_t scans = published->scans_published;
+  ASSERT_TRUE(mapper_status.waitFor([&](const ogf::mapper_status_t& s) { return s.scans_in >= scans; }, 30s));
+  std::this_thread::sleep_for(1500ms);  // the deltas of the last scan, and a status after it
+  mapper.signal(SIGTERM);
+  ASSERT_EQ(mapper.wait(30s), 0) << mapper.log();
+  std::this_thread::sleep_for(500ms);
+  spy.signal(SIGTERM);  // the spy prints its totals and exits
+  ASSERT_TRUE(spy.wait(20s).has_value()) << spy.log();
+
+  const auto seen = totals(spy.log());
+  const auto count = [&](const std::string& channel) {
+    const auto it = seen.find(channel);
+    return it == seen.end() ? 0LL : it->second.messages;
+  };
+  const std::string log = spy.log();
+  EXPECT_GE(scans, 70) << "an 8 s drive at 10 Hz";
+  EXPECT_GE(count("VELODYNE_SCAN"), scans * 95 / 100) << log;
+  EXPECT_LE(count("VELODYNE_SCAN"), scans) << log;
+  EXPECT_GE(count("VELODYNE_PACKETS"), packets.count() * 95 / 100) << log;
+  EXPECT_GE(count("VELODYNE_STATUS"), 5) << log;
+  EXPECT_GT(deltas.count(), 0);
+  EXPECT_GE(count("OGF_MAP_DELTA"), deltas.count() * 95 / 100) << log;
+  EXPECT_GE(count("OGF_MAPPER_STATUS"), mapper_statuses.count() * 95 / 100) << log;
+  // The rate between the first and the last scan the spy saw: 10 Hz played at 1x.
+  if (seen.count("VELODYNE_SCAN")) {
+    EXPECT_GT(seen.at("VELODYNE_SCAN").hz, 7.0) << log;
+  }
+  for (const auto& [channel, s] : seen) {
+    if (channel == "LCM_SELF_TEST") continue;  // C LCM's own self-test message, no type
+    EXPECT_EQ(s.undecodable, 0) << channel << "\n" << log;
+  }
+  std::cout << "[ figures ] published: scans " << scans << ", packet batches " << packets.count() << ", deltas "
+            << deltas.count() << ", mapper statuses " << mapper_statuses.count() << "; lcm-spy saw: scans "
+            << count("VELODYNE_SCAN") << ", packet batches " << count("VELODYNE_PACKETS") << ", deltas "
+            << count("OGF_MAP_DELTA") << ", mapper statuses " << count("OGF_MAPPER_STATUS") << "\n";
+  if (!HasFailure()) fs::remove_all(dir);
+}
+
+}  // namespace
