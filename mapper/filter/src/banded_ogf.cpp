@@ -501,6 +501,32 @@ bool BandedOgf::applyMeasurement(float* const* records, int y) {
   return true;
 }
 
+BandedOgf BandedOgf::withCovarianceStorage(CovarianceStorage storage) const {
+  FilterConfig config = config_;
+  config.covariance = storage;
+  BandedOgf out(config);  // config_ is resolved and valid; only the storage differs
+  const double v0 = prior_.variance();
+  std::vector<float> values;
+  for (const CellKey& key : storage_.sortedKeys()) {
+    const Block* b = storage_.find(key);
+    values.clear();
+    for (std::size_t l = 0; l < b->cells(); ++l) {
+      const Moments c = momentsAt(b->data(), l);
+      values.push_back(c.mean);
+      values.push_back(c.variance);
+      if (storage == CovarianceStorage::kBanded) {
+        const CellKey cell = storage_.cellKey(key, l);
+        for (const CellKey& o : stencil_.forwardOffsets()) {
+          const double other = estimate(cell + o).variance;
+          values.push_back(static_cast<float>(prior_(o) * (static_cast<double>(c.variance) / v0) * (other / v0)));
+        }
+      }
+    }
+    static_cast<void>(out.restoreBlock(key, values, b->marks()));  // same keys, sizes of `out`'s layout
+  }
+  return out;
+}
+
 Status BandedOgf::adoptPolicy(const FilterConfig& config) {
   FilterConfig next = config_;
   next.occupiedThreshold = config.occupiedThreshold;

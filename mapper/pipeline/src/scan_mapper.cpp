@@ -108,7 +108,8 @@ Status ScanMapper::restoreFilter(std::span<const std::uint8_t> map_bytes, const 
   // The thresholds, clamps and skip tolerance are the configuration's, not those saved with the map (an
   // older file, or a changed configuration).
   if (auto st = loaded->adoptPolicy(want); !st) return Error{source + ": " + st.error().message};
-  filter_ = std::move(*loaded);
+  // A map saved in the other covariance storage is converted to the configured one.
+  filter_ = got.covariance == want.covariance ? std::move(*loaded) : loaded->withCovarianceStorage(want.covariance);
   return okStatus();
 }
 

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "ogf/filter/map_file.hpp"
 #include "ogf/filter/occupancy.hpp"
 #include "ogf/pipeline/scan_mapper.hpp"
 #include "support/process_memory.hpp"
@@ -107,6 +108,28 @@ TEST(CovarianceStorage, CompactAndBandedMapsOfTheSameScansShowTheSameClasses) {
   // Same blocks; a sixth of the bytes (9 of 57 bytes a cell, 7 of them stored per cell).
   EXPECT_EQ(compact.filter().allocatedCells(), banded.filter().allocatedCells());
   EXPECT_LT(compact.filter().memoryBytes() * 6, banded.filter().memoryBytes());
+}
+
+// A mapper configured for compact storage restores a banded map by converting it (an older state
+// directory); compact to banded and back is bit for bit the same map.
+TEST(CovarianceStorage, SavedMapsAreConvertedToTheConfiguredStorage) {
+  const pipeline::ScanMapper banded = mapRoom(filter::CovarianceStorage::kBanded, 5);
+  pipeline::ScanMapper restored = makeMapper(filter::CovarianceStorage::kCompact);
+  ASSERT_TRUE(restored.restoreFilter(filter::encodeMap(banded.filter()), "banded.map").ok());
+  EXPECT_EQ(restored.filter().config().covariance, filter::CovarianceStorage::kCompact);
+  EXPECT_EQ(restored.filter().blockKeys(), banded.filter().blockKeys());
+  std::size_t differ = 0;
+  banded.filter().forEachCell([&](const CellKey& key, float mean, float variance) {
+    const auto e = restored.filter().estimate(key);
+    differ += e.mean != static_cast<double>(mean) ? 1U : 0U;
+    differ += std::abs(e.variance - static_cast<double>(variance)) > 2.5e-4 * static_cast<double>(variance) ? 1U : 0U;
+  });
+  EXPECT_EQ(differ, 0U) << "means kept exactly, variances to the 16-bit code's rounding";
+
+  const filter::BandedOgf back = restored.filter()
+                                     .withCovarianceStorage(filter::CovarianceStorage::kBanded)
+                                     .withCovarianceStorage(filter::CovarianceStorage::kCompact);
+  EXPECT_EQ(back.checksum(), restored.filter().checksum());
 }
 
 TEST(CovarianceStorage, MemoryBytesIsWhatTheProcessHolds) {

@@ -73,6 +73,10 @@ class BandedOgf {
   const PriorCovariance& prior() const { return prior_; }
   // Number of worker threads for update(); does not change results.
   void setThreads(int threads) { config_.threads = threads < 1 ? 1 : threads; }
+  // The same map in the other covariance storage: compact keeps each cell's mean and variance and drops its
+  // covariances; banded rebuilds them from the prior as compact storage computes them
+  // (FilterConfig::covariance), so converting back and forth changes nothing but that rounding.
+  BandedOgf withCovarianceStorage(CovarianceStorage storage) const;
   // Takes the policy of `config` (thresholds r_o/r_f, skip tolerance, clamps, threads) and keeps the map's
   // structure (dimensions, resolution, kernel, stencil, taper): a map restored from a file then filters as
   // configured now, not as it was when saved. Error (nothing changed) when `config` is invalid.

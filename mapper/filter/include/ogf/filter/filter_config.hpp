@@ -76,7 +76,8 @@ struct FilterConfig {
   // 0: never released (the paper's rule as stated). At most kMaxFreeRelease. 20 scans (2 s at 10 Hz) keep
   // real surfaces that most rays miss and clear a walking person's trail as fast as OctoMap (docs/mapping.md).
   int freeReleaseCount = 20;
-  // A structural choice, like the stencil: a map keeps the storage it was made with.
+  // A structural choice, like the stencil: a map file keeps the storage it was made with
+  // (BandedOgf::withCovarianceStorage converts).
   CovarianceStorage covariance = CovarianceStorage::kBanded;
   int threads = 1;  // worker threads of BandedOgf::update; the map is bit-identical for any count
 

@@ -58,7 +58,8 @@ class ScanMapper {
                             std::vector<delta::PublishedCell>* changes = nullptr);
 
   // Replaces the filter with a saved map (the filter's map file bytes). Refused, naming the field, when the
-  // saved map was made with another resolution, kernel or stencil than this configuration.
+  // saved map was made with another resolution, kernel or stencil than this configuration; a map saved in
+  // the other covariance storage is converted to the configured one.
   Status restoreFilter(std::span<const std::uint8_t> map_bytes, const std::string& source);
 
   filter::BandedOgf& filter() { return filter_; }
