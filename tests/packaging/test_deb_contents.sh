@@ -34,7 +34,7 @@ field() { dpkg-deb -f "$deb" "$1"; }
 [ "$(field Architecture)" = "$(dpkg --print-architecture)" ] || bad "Architecture '$(field Architecture)'"
 [ -n "$(field Maintainer)" ] && [ -n "$(field Section)" ] || bad "Maintainer or Section missing"
 depends=$(field Depends)
-for lib in libc6 libstdc++6 liblcm libpcap libspdlog libfmt libyaml-cpp libjs-three; do
+for lib in libc6 libstdc++6 liblcm libpcap libsqlite3 libspdlog libfmt libyaml-cpp libjs-three; do
   grep -q "\b$lib" <<<"$depends" || bad "Depends lacks $lib: $depends"
 done
 grep -Eq -- '-dev( |,|$)' <<<"$depends" && bad "Depends names a -dev package: $depends"

@@ -1,5 +1,6 @@
-// ogf-decode: decodes a Velodyne capture file into scans with the driver's own library and prints one
-// line per scan, then totals; optionally writes every point as CSV or binary PLY.
+// ogf-decode: decodes a Velodyne capture file (pcap, a packets LCM log or a ROS 2 bag) into scans with the
+// driver's own library and prints one line per scan, then totals; optionally writes every point as CSV or
+// binary PLY.
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
@@ -10,6 +11,8 @@
 #include "ogf/common/command_line.hpp"
 #include "ogf/log_io/packet_log.hpp"
 #include "ogf/driver_sources/pcap_file_reader.hpp"
+#include "ogf/rosbag/bag_packets.hpp"
+#include "ogf/rosbag/ros_messages.hpp"
 #include "ogf/velodyne/calibration.hpp"
 #include "ogf/velodyne/packet_stream.hpp"
 #include "point_writers.hpp"
@@ -23,14 +26,16 @@ namespace os = ogf::driver_sources;
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "Decodes a Velodyne capture (pcap or pcapng) into scans and prints one line per scan:\n"
+      "Decodes a Velodyne capture (pcap or pcapng, an LCM log of raw packets, or a ROS 2 bag) into scans and\n"
+      "prints one line per scan:\n"
       "  scan <i> points <n> packets <k> lost <l>\n"
       "then a totals line. Points are in the sensor frame, REP-103 (x forward, y left, z up, metres).\n"
       "CSV columns: scan,x,y,z,intensity,ring,laser_id,azimuth_deg,distance_m,time_s,return_type\n"
       "  distance_m is the raw distance (count x resolution), azimuth_deg the interpolated azimuth of the\n"
       "  firing, time_s the firing time in seconds RELATIVE TO THE SCAN START (device time of its first\n"
       "  firing), return_type one of strongest, last, both."};
-  std::string pcap_path, lcm_log_path, packets_channel = "VELODYNE_PACKETS", calib_path, model_name, return_mode_name,
+  std::string pcap_path, lcm_log_path, bag_path, packets_topic, packets_channel = "VELODYNE_PACKETS",
+      calib_path, model_name, return_mode_name,
       csv_path, ply_path;
   double min_range = 0.4, max_range = 250.0, cut_angle = 0.0;
   int data_port = 2368, position_port = 8308;
@@ -38,7 +43,13 @@ int main(int argc, char** argv) {
   auto* pcap_opt = app.add_option("--pcap", pcap_path, "Capture file to decode");
   auto* log_opt = app.add_option("--lcm-log", lcm_log_path,
                                  "LCM log to decode: the raw packet batches ogf-driver published (--packets-channel)");
-  pcap_opt->excludes(log_opt);
+  auto* bag_opt = app.add_option("--rosbag2", bag_path,
+                                 "ROS 2 bag folder (or one .db3) to decode: its velodyne_msgs/msg/VelodyneScan "
+                                 "packets");
+  pcap_opt->excludes(log_opt)->excludes(bag_opt);
+  log_opt->excludes(bag_opt);
+  app.add_option("--packets-topic", packets_topic, "VelodyneScan topic of --rosbag2 (default: the only one)")
+      ->needs(bag_opt);
   app.add_option("--packets-channel", packets_channel, "Channel of the raw packet batches in --lcm-log")
       ->capture_default_str();
   app.add_option("--calib", calib_path,
@@ -63,8 +74,8 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(ogf::cli::between(1, 65535));
   app.add_flag("--quiet", quiet, "Print only the totals line");
   OGF_PARSE_COMMAND_LINE(app, argc, argv);
-  if (pcap_path.empty() && lcm_log_path.empty()) {
-    std::fprintf(stderr, "ogf-decode: give --pcap FILE or --lcm-log FILE\n");
+  if (pcap_path.empty() && lcm_log_path.empty() && bag_path.empty()) {
+    std::fprintf(stderr, "ogf-decode: give --pcap FILE, --lcm-log FILE or --rosbag2 DIR\n");
     return ogf::cli::kExitUsage;
   }
 
@@ -139,6 +150,36 @@ int main(int argc, char** argv) {
                    packets_channel.c_str());
     if (const auto gaps = counts->gaps.summary(lcm_log_path + ": " + packets_channel + " batches"); !gaps.empty())
       std::fprintf(stderr, "ogf-decode: warning: %s\n", gaps.c_str());
+  } else if (!bag_path.empty()) {
+    auto bag = ogf::rosbag::Rosbag2Storage::open(bag_path);
+    if (!bag) {
+      std::fprintf(stderr, "ogf-decode: %s\n", bag.error().message.c_str());
+      return ogf::cli::kExitFailure;
+    }
+    if (const auto others = ogf::rosbag::undecodedTopicsSummary(bag->topics()); !others.empty())
+      std::fprintf(stderr, "ogf-decode: %s: not read (types ogf does not decode): %s\n", bag_path.c_str(),
+                   others.c_str());
+    auto topic = ogf::rosbag::choosePacketTopic(*bag, packets_topic);
+    if (!topic) {
+      std::fprintf(stderr, "ogf-decode: --packets-topic: %s\n", topic.error().message.c_str());
+      return ogf::cli::kExitUsage;
+    }
+    if (*topic) {
+      auto counts = ogf::rosbag::readBagPackets(*bag, **topic, [&](const ogf::rosbag::BagPacket& p) {
+        stream->addDataPacket(p.payload, p.host_utime);
+      });
+      if (!counts) {
+        std::fprintf(stderr, "ogf-decode: %s\n", counts.error().message.c_str());
+        return ogf::cli::kExitFailure;
+      }
+      for (const auto& p : counts->problems) std::fprintf(stderr, "ogf-decode: warning: %s\n", p.c_str());
+      if (const auto gaps = counts->gaps.summary(bag_path + ": " + **topic + " messages"); !gaps.empty())
+        std::fprintf(stderr, "ogf-decode: warning: %s\n", gaps.c_str());
+    } else {
+      std::fprintf(stderr, "ogf-decode: warning: %s: no %s topic\n", bag_path.c_str(),
+                   std::string(ogf::rosbag::kVelodyneScanType).c_str());
+    }
+    stream->finish();
   } else {
     auto reader = os::PcapFileReader::open(pcap_path);
     if (!reader) {

@@ -1,8 +1,8 @@
 // ogf-map: the mapping pipeline offline, as fast as the machine allows. Scans from a PCAP (with odometry
-// from a file, or a tripod), an LCM log or PCD files go through the same ScanMapper the daemon runs; the
-// result is a map file and optional CSV, PLY, OctoMap and PNG exports. This file owns the command line,
-// the logs, the progress bar and the exit code; the work is in ogf_map_io. --from-map exports a map made
-// before (a map file or a daemon snapshot) without mapping.
+// from a file, or a tripod), an LCM log, a ROS 2 bag (with its own poses) or PCD files go through the same
+// ScanMapper the daemon runs; the result is a map file and optional CSV, PLY, OctoMap and PNG exports. This
+// file owns the command line, the logs, the progress bar and the exit code; the work is in ogf_map_io.
+// --from-map exports a map made before (a map file or a daemon snapshot) without mapping.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -37,6 +37,9 @@
 #include "ogf/map_io/pcap_scans.hpp"
 #include "ogf/map_io/pcd_file.hpp"
 #include "ogf/map_io/topdown_png.hpp"
+#include "ogf/rosbag/bag_packets.hpp"
+#include "ogf/rosbag/bag_poses.hpp"
+#include "ogf/rosbag/ros_messages.hpp"
 
 namespace {
 
@@ -77,7 +80,8 @@ class ProgressBar {
 };
 
 struct Options {
-  std::string out, config_path, pcap, calib, odometry, lcm_log, time_base = "device";
+  std::string out, config_path, pcap, calib, odometry, lcm_log, rosbag2, time_base = "device";
+  std::string packets_topic, pose_topic, body_frame = "base_link";
   std::string scan_channel = "VELODYNE_SCAN", pose_channel = "POSE", packets_channel = "VELODYNE_PACKETS";
   std::vector<std::string> pcd;
   bool is_static = false;
@@ -97,6 +101,21 @@ void logProblems(const std::vector<std::string>& problems, std::int64_t total) {
     spdlog::warn("{} more problems like these not shown", total - static_cast<std::int64_t>(problems.size()));
 }
 
+// Hands the odometry read from `source` to the run and says what it kept.
+void useOdometry(const std::string& source, const std::vector<ogf::fusion::Pose>& poses,
+                 mio::OfflineMapping& run) {
+  run.setOdometry(poses);
+  const auto& c = run.counts();
+  if (c.poses_rejected > 0)
+    spdlog::warn("{}: {} poses rejected (out of order, duplicate time, NaN or not a unit quaternion)", source,
+                 c.poses_rejected);
+  if (const auto span = run.odometrySpan())
+    spdlog::info("{}: {} poses, utime {} .. {} ({:.1f} s)", source, c.poses_accepted, span->first,
+                 span->second, static_cast<double>(span->second - span->first) * 1e-6);
+  else
+    spdlog::warn("{}: no usable pose: every scan will be left out", source);
+}
+
 // Reads odometry into the run; false when the file cannot be read at all.
 bool loadOdometry(const std::string& path, const std::string& channel, mio::OfflineMapping& run) {
   auto odo = mio::readOdometry(path, channel);
@@ -105,16 +124,35 @@ bool loadOdometry(const std::string& path, const std::string& channel, mio::Offl
     return false;
   }
   logProblems(odo->problems, odo->skipped);
-  run.setOdometry(odo->poses);
-  const auto& c = run.counts();
-  if (c.poses_rejected > 0)
-    spdlog::warn("{}: {} poses rejected (out of order, duplicate time, NaN or not a unit quaternion)", path,
-                 c.poses_rejected);
-  if (const auto span = run.odometrySpan())
-    spdlog::info("{}: {} poses, utime {} .. {} ({:.1f} s)", path, c.poses_accepted, span->first, span->second,
-                 static_cast<double>(span->second - span->first) * 1e-6);
-  else
-    spdlog::warn("{}: no usable pose: every scan will be left out", path);
+  useOdometry(path, odo->poses, run);
+  return true;
+}
+
+// Logs what went wrong reading raw packets (a damaged tail, skipped messages, gaps); false when they could
+// not be read at all.
+bool reportPacketProblems(const ogf::Result<mio::PcapScanCounts>& counts) {
+  if (!counts) {
+    spdlog::error("{}", counts.error().message);
+    return false;
+  }
+  if (!counts->warning.empty()) spdlog::warn("{}", counts->warning);
+  if (!counts->gaps.empty()) spdlog::warn("{}", counts->gaps);
+  return true;
+}
+
+// Reads the bag's poses into the run; false when they cannot be read at all.
+bool loadBagPoses(const ogf::rosbag::Rosbag2Storage& bag, const ogf::rosbag::BagPoseSource& source,
+                  const std::string& name, mio::OfflineMapping& run) {
+  auto poses = ogf::rosbag::readBagPoses(bag, source);
+  if (!poses) {
+    spdlog::error("{}", poses.error().message);
+    return false;
+  }
+  logProblems(poses->problems, poses->skipped);
+  spdlog::info("{}: poses of {} in {} from {} messages ({})", name,
+               poses->child_frame.empty() ? "?" : poses->child_frame,
+               poses->parent_frame.empty() ? "?" : poses->parent_frame, poses->messages, source.type);
+  useOdometry(name, poses->poses, run);
   return true;
 }
 
@@ -185,6 +223,8 @@ int main(int argc, char** argv) {
       "Builds an Occupancy Grid Filter map offline, from one input:\n"
       "  --pcap FILE [--calib FILE] (--odometry FILE | --static)   a Velodyne capture\n"
       "  --lcm-log FILE                                             lidar_scan_t and poses as lcm-logger records them\n"
+      "  --rosbag2 DIR                                              a ROS 2 bag (sqlite3): VelodyneScan packets,\n"
+      "                                                             poses from its Odometry or /tf\n"
       "  --pcd FILE...                                              PCL point clouds (rays from each VIEWPOINT)\n"
       "or exports a map already made: --from-map FILE (a map file or a daemon snapshot) with any --export-*\n"
       "and --png; then --out is optional and the last line is  map <kind> cells <allocated cells>.\n"
@@ -208,14 +248,31 @@ int main(int argc, char** argv) {
   auto* min_opt = app.add_option("--min-range", o.min_range, "Returns closer than this are ignored, metres")
                       ->capture_default_str()->check(ogf::cli::nonNegative());
   auto* pcap_opt = app.add_option("--pcap", o.pcap, "Velodyne capture (pcap or pcapng)");
-  app.add_option("--calib", o.calib, "Calibration for --pcap: VeloView XML or ROS YAML")->needs(pcap_opt);
+  auto* calib_opt =
+      app.add_option("--calib", o.calib, "Calibration for --pcap or --rosbag2: VeloView XML or ROS YAML");
   auto* odo_opt = app.add_option("--odometry", o.odometry, "Odometry: CSV or LCM log (POSE)");
   auto* static_opt = app.add_flag("--static", o.is_static, "The sensor does not move (a tripod): body at the origin");
   auto* lcm_opt = app.add_option("--lcm-log", o.lcm_log, "LCM log with scans (VELODYNE_SCAN, else the raw packets on VELODYNE_PACKETS) and poses (POSE)");
   auto* pcd_opt = app.add_option("--pcd", o.pcd, "PCD files, one scan each");
-  app.add_option("--time", o.time_base, "Clock the odometry is on: device (scan device time) or host (receive time)")
-      ->check(CLI::IsMember({"device", "host"}))
-      ->capture_default_str();
+  auto* bag_opt =
+      app.add_option("--rosbag2", o.rosbag2,
+                     "ROS 2 bag folder (or one .db3): velodyne_msgs/msg/VelodyneScan packets, poses from "
+                     "nav_msgs/msg/Odometry or tf2_msgs/msg/TFMessage; --time defaults to host (ROS stamps)");
+  app.add_option("--packets-topic", o.packets_topic,
+                 "VelodyneScan topic of --rosbag2 (default: the only one)")
+      ->needs(bag_opt);
+  auto* pose_topic_opt =
+      app.add_option("--pose-topic", o.pose_topic,
+                     "Odometry or TFMessage topic of --rosbag2 (default: the only Odometry topic, else /tf)")
+          ->needs(bag_opt);
+  app.add_option("--body-frame", o.body_frame, "The body's TF child frame when the poses come from /tf")
+      ->capture_default_str()
+      ->needs(bag_opt);
+  auto* time_opt =
+      app.add_option("--time", o.time_base,
+                     "Clock the odometry is on: device (scan device time) or host (receive time)")
+          ->check(CLI::IsMember({"device", "host"}))
+          ->capture_default_str();
   app.add_option("--scan-channel", o.scan_channel, "Scan channel in --lcm-log")->capture_default_str();
   app.add_option("--packets-channel", o.packets_channel,
                  "Raw packet channel in --lcm-log, decoded when the log has no scans")
@@ -252,16 +309,24 @@ int main(int argc, char** argv) {
   pcd_opt->excludes(pcap_opt)->excludes(lcm_opt)->excludes(odo_opt)->excludes(static_opt);
   auto* from_opt = app.add_option("--from-map", o.from_map, "Export this map file or daemon snapshot instead of mapping")
                        ->check(CLI::ExistingFile);
-  from_opt->excludes(pcap_opt)->excludes(lcm_opt)->excludes(pcd_opt);
+  from_opt->excludes(pcap_opt)->excludes(lcm_opt)->excludes(pcd_opt)->excludes(bag_opt);
   lcm_opt->excludes(pcap_opt);
+  bag_opt->excludes(pcap_opt)->excludes(lcm_opt)->excludes(pcd_opt);
+  pose_topic_opt->excludes(odo_opt)->excludes(static_opt);
   OGF_PARSE_COMMAND_LINE(app, argc, argv);
 
   if (!ogf::transport::setupLoggingAt("ogf-map", "--log-level", o.log_level)) return kExitUsage;
   if (!o.from_map.empty()) return exportMapFile(o);
-  if (o.pcap.empty() && o.lcm_log.empty() && o.pcd.empty()) {
-    spdlog::error("no input: give --pcap, --lcm-log, --pcd or --from-map");
+  if (o.pcap.empty() && o.lcm_log.empty() && o.pcd.empty() && o.rosbag2.empty()) {
+    spdlog::error("no input: give --pcap, --lcm-log, --rosbag2, --pcd or --from-map");
     return kExitUsage;
   }
+  if (calib_opt->count() > 0 && o.pcap.empty() && o.lcm_log.empty() && o.rosbag2.empty()) {
+    spdlog::error("--calib applies to raw packets: --pcap, --rosbag2 or an --lcm-log of packets");
+    return kExitUsage;
+  }
+  // A bag's packet stamps and its poses' header stamps are both on the ROS (host) clock.
+  if (!o.rosbag2.empty() && time_opt->count() == 0) o.time_base = "host";
   if (out_opt->count() == 0) {
     spdlog::error("--out is required when mapping");
     return kExitUsage;
@@ -312,7 +377,9 @@ int main(int argc, char** argv) {
   }
   if (*correction_mode != ogf::slam::CorrectionMode::kNone) {
     if (o.is_static || !o.pcd.empty()) {
-      spdlog::error("--pose-correction needs a moving sensor with odometry (--pcap with --odometry, or --lcm-log)");
+      spdlog::error(
+          "--pose-correction needs a moving sensor with odometry (--pcap with --odometry, --lcm-log or "
+          "--rosbag2)");
       return kExitUsage;
     }
     ogf::correction::ScanPoseCorrectionConfig cc;
@@ -334,6 +401,43 @@ int main(int argc, char** argv) {
     if (!path.empty() && !std::filesystem::is_regular_file(path)) {
       spdlog::error("{}: {}: no such file", flag, path);
       return kExitNothingMapped;
+    }
+  }
+  // A bag: what it holds and which topics are read, before anything is mapped.
+  std::optional<ogf::rosbag::Rosbag2Storage> bag;
+  std::string packets_topic;
+  std::optional<ogf::rosbag::BagPoseSource> bag_poses;
+  if (!o.rosbag2.empty()) {
+    auto opened = ogf::rosbag::Rosbag2Storage::open(o.rosbag2);
+    if (!opened) {
+      spdlog::error("--rosbag2: {}", opened.error().message);
+      return kExitNothingMapped;
+    }
+    bag = std::move(*opened);
+    if (const auto others = ogf::rosbag::undecodedTopicsSummary(bag->topics()); !others.empty())
+      spdlog::info("{}: not read (types ogf does not decode): {}", o.rosbag2, others);
+    auto topic = ogf::rosbag::choosePacketTopic(*bag, o.packets_topic);
+    if (!topic) {
+      spdlog::error("--packets-topic: {}", topic.error().message);
+      return kExitUsage;
+    }
+    if (!*topic) {
+      spdlog::error("{}: no {} topic: nothing to map", o.rosbag2, ogf::rosbag::kVelodyneScanType);
+      return kExitNothingMapped;
+    }
+    packets_topic = **topic;
+    if (!o.is_static && o.odometry.empty()) {
+      auto source = ogf::rosbag::choosePoseSource(*bag, o.pose_topic, o.body_frame);
+      if (!source) {
+        spdlog::error("--pose-topic: {}", source.error().message);
+        return kExitUsage;
+      }
+      if (!*source) {
+        spdlog::error("{}: no {} topic and no /tf: give --pose-topic, --odometry FILE or --static", o.rosbag2,
+                      ogf::rosbag::kOdometryType);
+        return kExitUsage;
+      }
+      bag_poses = **source;
     }
   }
 
@@ -368,6 +472,12 @@ int main(int argc, char** argv) {
     }
   };
   const auto progress = [&](double f) { bar.update(f, run.counts().scans_in); };
+  const auto decoderConfig = [&] {
+    mio::PcapScanConfig pc;
+    if (!o.calib.empty()) pc.calibration = o.calib;
+    pc.min_range_m = m.min_range_m;
+    return pc;
+  };
 
   bool input_failed = false;
   if (!o.pcap.empty() || !o.lcm_log.empty()) {
@@ -376,15 +486,10 @@ int main(int argc, char** argv) {
       if (!loadOdometry(odometry_source, o.pose_channel, run)) return kExitNothingMapped;
     }
     if (!o.pcap.empty()) {
-      mio::PcapScanConfig pc;
-      if (!o.calib.empty()) pc.calibration = o.calib;
-      pc.min_range_m = m.min_range_m;
-      auto counts = mio::readPcapScans(o.pcap, pc, addScan, progress);
-      if (!counts) {
-        spdlog::error("{}", counts.error().message);
+      auto counts = mio::readPcapScans(o.pcap, decoderConfig(), addScan, progress);
+      if (!reportPacketProblems(counts)) {
         input_failed = true;
       } else {
-        if (!counts->warning.empty()) spdlog::warn("{}", counts->warning);
         spdlog::info("{}: {} scans, {} points, {} data packets, {} lost, {} bad", o.pcap, counts->scans,
                      counts->points, counts->data_packets, counts->packets_lost, counts->bad_packets);
       }
@@ -400,21 +505,31 @@ int main(int argc, char** argv) {
       }
       if (counts && counts->scans == 0) {
         // A log of the raw packets only: decode them as the driver did live.
-        mio::PcapScanConfig pc;
-        if (!o.calib.empty()) pc.calibration = o.calib;
-        pc.min_range_m = m.min_range_m;
-        auto decoded = mio::readLcmLogPacketScans(o.lcm_log, o.packets_channel, pc, addScan, progress);
-        if (!decoded) {
-          spdlog::error("{}", decoded.error().message);
+        auto decoded =
+            mio::readLcmLogPacketScans(o.lcm_log, o.packets_channel, decoderConfig(), addScan, progress);
+        if (!reportPacketProblems(decoded)) {
           input_failed = true;
         } else {
-          if (!decoded->warning.empty()) spdlog::warn("{}", decoded->warning);
-          if (!decoded->gaps.empty()) spdlog::warn("{}", decoded->gaps);
           spdlog::info("{}: no scans on {}; {} scans decoded from the packets on {} ({} data packets, {} lost, {} bad)",
                        o.lcm_log, o.scan_channel, decoded->scans, o.packets_channel, decoded->data_packets,
                        decoded->packets_lost, decoded->bad_packets);
         }
       }
+    }
+  } else if (bag) {
+    if (!o.is_static) {
+      odometry_source = bag_poses ? o.rosbag2 + " " + bag_poses->topic : o.odometry;
+      const bool loaded = bag_poses ? loadBagPoses(*bag, *bag_poses, odometry_source, run)
+                                    : loadOdometry(o.odometry, o.pose_channel, run);
+      if (!loaded) return kExitNothingMapped;
+    }
+    auto counts = mio::readRosbagPacketScans(*bag, packets_topic, decoderConfig(), addScan, progress);
+    if (!reportPacketProblems(counts)) {
+      input_failed = true;
+    } else {
+      spdlog::info("{}: {} scans decoded from {} ({} data packets, {} lost, {} bad)", o.rosbag2,
+                   counts->scans, packets_topic, counts->data_packets, counts->packets_lost,
+                   counts->bad_packets);
     }
   } else {
     for (std::size_t i = 0; i < o.pcd.size(); ++i) {

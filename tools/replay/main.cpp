@@ -1,8 +1,9 @@
-// ogf-replay: replays a Velodyne capture onto UDP without root, as tcpreplay would for a driver listening
-// on a socket: each record's UDP payload is sent to --dest at the data or position port, paced by the
-// capture timestamps divided by --speed on a steady clock (sleep_until from the start, so no drift), with
-// loops and a packet-rate limit; optionally the robot's odometry is published on LCM on the same clock, so
-// ogf-driver and ogf-mapper see a live robot. Records that are not usable UDP are skipped and counted.
+// ogf-replay: replays a Velodyne capture (a pcap, a packets LCM log or a ROS 2 bag) onto UDP without root,
+// as tcpreplay would for a driver listening on a socket: each record's UDP payload is sent to --dest at the
+// data or position port, paced by the capture timestamps divided by --speed on a steady clock (sleep_until
+// from the start, so no drift), with loops and a packet-rate limit; optionally the robot's odometry is
+// published on LCM on the same clock, so ogf-driver and ogf-mapper see a live robot. Records that are not
+// usable UDP are skipped and counted.
 #include <CLI/CLI.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/udp.hpp>
@@ -17,6 +18,7 @@
 #include <span>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "ogf/common/command_line.hpp"
 #include "ogf/log_io/packet_log.hpp"
@@ -24,6 +26,8 @@
 #include "ogf/replay/destination_ports.hpp"
 #include "ogf/replay/pose_events.hpp"
 #include "ogf/replay/replay_clock.hpp"
+#include "ogf/rosbag/bag_packets.hpp"
+#include "ogf/rosbag/ros_messages.hpp"
 #include "ogf/transport/lcm_url.hpp"
 #include "ogf/transport/logging.hpp"
 
@@ -63,7 +67,8 @@ const char* kindName(ds::FrameKind k) {
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "Replays a capture's UDP payloads (or the raw packet batches of an LCM log) onto the network (no root needed), optionally with the robot's odometry "
+      "Replays a capture's UDP payloads (or the raw packet batches of an LCM log, or a ROS 2 bag's VelodyneScan\n"
+      "packets) onto the network (no root needed), optionally with the robot's odometry "
       "on LCM on the same clock.\n"
       "Data packets (captured to 2368) go to --data-port, position packets (8308) to --position-port, others to "
       "their captured port. Pacing: capture time / --speed, on a steady clock; --fast sends as fast as possible; "
@@ -72,7 +77,8 @@ int main(int argc, char** argv) {
       "At the end one line on stdout:\n"
       "  packets N data N position N other N skipped N send_errors N poses N loops N seconds S rate R\n"
       "Exit 0 when packets were sent, 1 when none could be (an input missing or unreadable), 2 on bad flags."};
-  std::string pcap, lcm_log, packets_channel = "VELODYNE_PACKETS", dest = "127.0.0.1", odometry, lcm_url,
+  std::string pcap, lcm_log, rosbag2, packets_topic, packets_channel = "VELODYNE_PACKETS", dest = "127.0.0.1",
+      odometry, lcm_url,
       pose_channel = "POSE", log_level = "info";
   int data_port = 2368, position_port = 8308, loops = 1;
   double speed = 1.0, max_rate = 0.0, start_delay = 0.0, loop_gap = 0.0;
@@ -81,7 +87,13 @@ int main(int argc, char** argv) {
   auto* log_opt = app.add_option("--lcm-log", lcm_log,
                                  "LCM log whose raw packet batches (--packets-channel) are sent as the sensor sent "
                                  "them, paced by their host receive times");
-  pcap_opt->excludes(log_opt);
+  auto* bag_opt = app.add_option("--rosbag2", rosbag2,
+                                 "ROS 2 bag folder (or one .db3) whose velodyne_msgs/msg/VelodyneScan packets are sent "
+                                 "to the data port, paced by their stamps");
+  pcap_opt->excludes(log_opt)->excludes(bag_opt);
+  log_opt->excludes(bag_opt);
+  app.add_option("--packets-topic", packets_topic, "VelodyneScan topic of --rosbag2 (default: the only one)")
+      ->needs(bag_opt);
   app.add_option("--packets-channel", packets_channel, "Channel of the raw packet batches in --lcm-log")
       ->capture_default_str();
   app.add_option("--dest", dest, "Destination IPv4 address")->capture_default_str();
@@ -106,13 +118,37 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(ogf::cli::nonNegative());
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error")->capture_default_str();
   OGF_PARSE_COMMAND_LINE(app, argc, argv);
-  if (pcap.empty() && lcm_log.empty()) {
-    std::fprintf(stderr, "ogf-replay: give --pcap FILE or --lcm-log FILE\n");
+  if (pcap.empty() && lcm_log.empty() && rosbag2.empty()) {
+    std::fprintf(stderr, "ogf-replay: give --pcap FILE, --lcm-log FILE or --rosbag2 DIR\n");
     return kExitUsage;
   }
-  const std::string input = pcap.empty() ? lcm_log : pcap;
+  const std::string input = !pcap.empty() ? pcap : (!lcm_log.empty() ? lcm_log : rosbag2);
 
   if (!ogf::transport::setupLoggingAt("ogf-replay", "--log-level", log_level)) return kExitUsage;
+
+  // A bag: opened and its packet topic chosen before anything is sent.
+  std::optional<ogf::rosbag::Rosbag2Storage> bag;
+  std::string bag_topic;
+  if (!rosbag2.empty()) {
+    auto opened = ogf::rosbag::Rosbag2Storage::open(rosbag2);
+    if (!opened) {
+      spdlog::error("--rosbag2: {}", opened.error().message);
+      return kExitNothingSent;
+    }
+    bag = std::move(*opened);
+    if (const auto others = ogf::rosbag::undecodedTopicsSummary(bag->topics()); !others.empty())
+      spdlog::info("{}: not read (types ogf does not decode): {}", rosbag2, others);
+    auto topic = ogf::rosbag::choosePacketTopic(*bag, packets_topic);
+    if (!topic) {
+      spdlog::error("--packets-topic: {}", topic.error().message);
+      return kExitUsage;
+    }
+    if (!*topic) {
+      spdlog::error("{}: no {} topic: nothing to send", rosbag2, ogf::rosbag::kVelodyneScanType);
+      return kExitNothingSent;
+    }
+    bag_topic = **topic;
+  }
 
   boost::system::error_code ec;
   const auto address = boost::asio::ip::make_address_v4(dest, ec);
@@ -172,6 +208,12 @@ int main(int argc, char** argv) {
   };
 
   std::size_t next_pose = 0;
+  // What a recording's reader skipped and its gaps, said once (on the first loop).
+  const auto warnRecording = [&](int at_loop, const std::vector<std::string>& problems, const std::string& gaps) {
+    if (at_loop > 0) return;
+    for (const auto& problem : problems) spdlog::warn("{}", problem);
+    if (!gaps.empty()) spdlog::warn("{}", gaps);
+  };
   // One datagram as captured (its time and destination port), sent when the replay clock reaches it.
   const auto sendDatagram = [&](std::int64_t utime, int captured_port, std::span<const std::uint8_t> payload) {
     if (!origin_set) {
@@ -202,7 +244,16 @@ int main(int argc, char** argv) {
   for (; loop < loops; ++loop) {
     if (loop > 0) clock.nextLoop(static_cast<std::int64_t>(loop_gap * 1e6));
     next_pose = 0;
-    if (!lcm_log.empty()) {
+    if (bag) {
+      auto read = ogf::rosbag::readBagPackets(*bag, bag_topic, [&](const ogf::rosbag::BagPacket& p) {
+        sendDatagram(p.host_utime, ports.kCapturedData, p.payload);
+      });
+      if (!read) {
+        spdlog::error("--rosbag2: {}", read.error().message);
+        return kExitNothingSent;
+      }
+      warnRecording(loop, read->problems, read->gaps.summary(rosbag2 + ": " + bag_topic + " messages"));
+    } else if (!lcm_log.empty()) {
       auto read = ogf::log_io::readPacketLog(lcm_log, packets_channel, [&](const ogf::log_io::LoggedPacket& p) {
         sendDatagram(p.host_utime, p.port, p.payload);
       });
@@ -210,12 +261,8 @@ int main(int argc, char** argv) {
         spdlog::error("--lcm-log: {}", read.error().message);
         return kExitNothingSent;
       }
-      if (loop == 0) {
-        for (const auto& problem : read->problems) spdlog::warn("{}", problem);
-        if (const auto gaps = read->gaps.summary(lcm_log + ": " + packets_channel + " batches"); !gaps.empty())
-          spdlog::warn("{}", gaps);
-        if (read->batches == 0) spdlog::warn("{}: no packet batches on {}", lcm_log, packets_channel);
-      }
+      warnRecording(loop, read->problems, read->gaps.summary(lcm_log + ": " + packets_channel + " batches"));
+      if (loop == 0 && read->batches == 0) spdlog::warn("{}: no packet batches on {}", lcm_log, packets_channel);
     } else {
       auto reader = ds::PcapFileReader::open(pcap);
       if (!reader) {

@@ -1,5 +1,6 @@
-// ogf-replay as a user runs it: a real capture's payloads arrive on a UDP socket on loopback, every data
-// and position packet, redirected to the ports asked for, loops repeating it; bad flags exit 2.
+// ogf-replay as a user runs it: a real capture's (or a ROS 2 bag's) payloads arrive on a UDP socket on
+// loopback, every data and position packet, redirected to the ports asked for, loops repeating it; bad
+// flags exit 2.
 #include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -117,9 +118,24 @@ TEST(ReplayProgram, TwoLoopsSendTheCaptureTwiceAtItsOwnPace) {
   EXPECT_EQ(data.count(), 3 * number(once.out, "data")) << r.out;  // all three passes arrived
 }
 
+TEST(ReplayProgram, EveryPacketOfARos2BagArrivesOnTheDataPort) {
+  OGF_REQUIRE_SHARED_FILE(bag, "data/real/nebula_vlp16_dual/1673400471837873222");
+  Sink data;
+  const auto r = run("--rosbag2 " + bag.string() + " --fast --data-port " + std::to_string(data.port()));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ASSERT_EQ(r.rc, 0) << r.out;
+  EXPECT_EQ(number(r.out, "data"), 603) << r.out;  // SOURCES.md: 603 data packets in 4 VelodyneScan messages
+  EXPECT_EQ(number(r.out, "position"), 0) << r.out;
+  EXPECT_EQ(data.count(), 603) << r.out;
+  EXPECT_EQ(data.dataSized(), 603);
+}
+
 TEST(ReplayProgram, BadFlagsExitTwoAMissingFileOne) {
   EXPECT_EQ(run("--pcap /nonexistent.pcap").rc, 1);
   EXPECT_EQ(run("--fast").rc, 2);  // no input
+  const auto bag = run("--rosbag2 /nonexistent/bag");
+  EXPECT_EQ(bag.rc, 1);
+  EXPECT_NE(bag.out.find("/nonexistent/bag: no such bag folder"), std::string::npos) << bag.out;
 }
 
 }  // namespace

@@ -1,12 +1,15 @@
 #include "ogf/map_io/pcap_scans.hpp"
 
+#include <fmt/format.h>
+
 #include <ogf/driver_sources/pcap_file_reader.hpp>
 #include <ogf/velodyne/calibration.hpp>
 #include <ogf/velodyne/packet_stream.hpp>
-
-#include <fmt/format.h>
+#include <string>
+#include <vector>
 
 #include "ogf/log_io/packet_log.hpp"
+#include "ogf/rosbag/bag_packets.hpp"
 
 namespace ogf::map_io {
 namespace {
@@ -50,6 +53,16 @@ void finishCounts(const ov::PacketStream& stream, PcapScanCounts& counts) {
   const ov::StreamCounters& c = stream.counters();
   counts.data_packets = c.data_packets;
   counts.bad_packets = c.bad_size + c.bad_block_flag + c.bad_other;
+}
+
+// The end of a recording's packets: the last scan out, the decoder's counts, what the reader skipped and
+// the recording's gaps.
+void finishRecording(ov::PacketStream& stream, PcapScanCounts& counts,
+                     const std::vector<std::string>& problems, std::string gaps) {
+  stream.finish();
+  finishCounts(stream, counts);
+  for (const auto& p : problems) counts.warning += (counts.warning.empty() ? "" : "; ") + p;
+  counts.gaps = std::move(gaps);
 }
 
 }  // namespace
@@ -99,10 +112,24 @@ Result<PcapScanCounts> readLcmLogPacketScans(const std::filesystem::path& path, 
       },
       progress);
   if (!log) return log.error();
-  stream->finish();
-  finishCounts(*stream, counts);
-  for (const auto& p : log->problems) counts.warning += (counts.warning.empty() ? "" : "; ") + p;
-  counts.gaps = log->gaps.summary(path.string() + ": " + channel + " batches");
+  finishRecording(*stream, counts, log->problems,
+                  log->gaps.summary(path.string() + ": " + channel + " batches"));
+  return counts;
+}
+
+Result<PcapScanCounts> readRosbagPacketScans(const rosbag::Rosbag2Storage& bag, const std::string& topic,
+                                             const PcapScanConfig& config,
+                                             const std::function<void(const ScanRecord&)>& visit,
+                                             const std::function<void(double)>& progress) {
+  PcapScanCounts counts;
+  auto stream = decoderFor(config, counts, visit, {});
+  if (!stream) return stream.error();
+  auto read = rosbag::readBagPackets(
+      bag, topic, [&](const rosbag::BagPacket& p) { stream->addDataPacket(p.payload, p.host_utime); },
+      progress);
+  if (!read) return read.error();
+  finishRecording(*stream, counts, read->problems,
+                  read->gaps.summary(bag.path().string() + ": " + topic + " messages"));
   return counts;
 }
 

@@ -1,18 +1,19 @@
 // The scans of raw Velodyne packets, decoded with the driver's own decoder (velodyne::PacketStream)
 // exactly as ogf-decode and ogf-driver see them, handed to a visitor one at a time: from a capture file
 // (driver_sources::PcapFileReader; a damaged tail ends the reading with a warning, what came before it is
-// kept) or from the packet batches of an LCM log (VELODYNE_PACKETS; gaps between batches are reported).
+// kept), from the packet batches of an LCM log (VELODYNE_PACKETS; gaps between batches are reported) or
+// from the VelodyneScan messages of a ROS 2 bag (gaps between messages are reported).
 #pragma once
-
-#include <ogf/common/result.hpp>
 
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <ogf/common/result.hpp>
 #include <optional>
 #include <string>
 
 #include "ogf/map_io/scan_record.hpp"
+#include "ogf/rosbag/rosbag2_storage.hpp"
 
 namespace ogf::map_io {
 
@@ -41,6 +42,13 @@ Result<PcapScanCounts> readPcapScans(const std::filesystem::path& path, const Pc
 
 // The same from the ogf.velodyne_packets_t batches on `channel` of an LCM log, with their host receive times.
 Result<PcapScanCounts> readLcmLogPacketScans(const std::filesystem::path& path, const std::string& channel,
+                                             const PcapScanConfig& config,
+                                             const std::function<void(const ScanRecord&)>& visit,
+                                             const std::function<void(double)>& progress = {});
+
+// The same from the velodyne_msgs/msg/VelodyneScan messages on `topic` of a ROS 2 bag, with their packet
+// stamps.
+Result<PcapScanCounts> readRosbagPacketScans(const rosbag::Rosbag2Storage& bag, const std::string& topic,
                                              const PcapScanConfig& config,
                                              const std::function<void(const ScanRecord&)>& visit,
                                              const std::function<void(double)>& progress = {});

@@ -1,0 +1,211 @@
+#include "ogf/rosbag/rosbag2_storage.hpp"
+
+#include <fmt/format.h>
+#include <sqlite3.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <memory>
+
+namespace ogf::rosbag {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CloseDatabase {
+  void operator()(sqlite3* db) const { sqlite3_close(db); }
+};
+struct FinalizeStatement {
+  void operator()(sqlite3_stmt* s) const { sqlite3_finalize(s); }
+};
+using Database = std::unique_ptr<sqlite3, CloseDatabase>;
+using Statement = std::unique_ptr<sqlite3_stmt, FinalizeStatement>;
+
+Result<Database> openDatabase(const fs::path& file) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return Error{fmt::format("{}: no such file", file.string())};
+  sqlite3* raw = nullptr;
+  const int rc = sqlite3_open_v2(file.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr);
+  Database db(raw);
+  if (rc != SQLITE_OK)
+    return Error{
+        fmt::format("{}: cannot open: {}", file.string(), raw ? sqlite3_errmsg(raw) : sqlite3_errstr(rc))};
+  return db;
+}
+
+Result<Statement> prepare(sqlite3* db, const fs::path& file, const std::string& sql) {
+  sqlite3_stmt* raw = nullptr;
+  if (sqlite3_prepare_v2(db, sql.c_str(), -1, &raw, nullptr) != SQLITE_OK) {
+    Statement guard(raw);
+    return Error{fmt::format("{}: not a rosbag2 sqlite3 file ({})", file.string(), sqlite3_errmsg(db))};
+  }
+  return Statement(raw);
+}
+
+std::string text(sqlite3_stmt* s, int column) {
+  const unsigned char* t = sqlite3_column_text(s, column);
+  return t ? std::string(reinterpret_cast<const char*>(t)) : std::string();
+}
+
+Error stepError(sqlite3* db, const fs::path& file, const char* doing) {
+  return Error{fmt::format("{}: {}: {}", file.string(), doing, sqlite3_errmsg(db))};
+}
+
+// Every *.db3 of `dir`, shortest name first then by name, so x_2.db3 comes before x_10.db3.
+std::vector<fs::path> globDb3(const fs::path& dir) {
+  std::vector<fs::path> found;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec))
+    if (entry.path().extension() == ".db3") found.push_back(entry.path());
+  std::sort(found.begin(), found.end(), [](const fs::path& a, const fs::path& b) {
+    const auto an = a.filename().string(), bn = b.filename().string();
+    return an.size() != bn.size() ? an.size() < bn.size() : an < bn;
+  });
+  return found;
+}
+
+// The .db3 files metadata.yaml lists, after checking that the bag is one this reader can read.
+Result<std::vector<fs::path>> filesFromMetadata(const fs::path& dir, const fs::path& metadata) {
+  const std::string where = metadata.string();
+  try {
+    const YAML::Node root = YAML::LoadFile(metadata.string());
+    const YAML::Node info = root["rosbag2_bagfile_information"];
+    if (!info || !info.IsMap()) return Error{where + ": no rosbag2_bagfile_information map"};
+    if (const YAML::Node storage = info["storage_identifier"];
+        storage && storage.as<std::string>() != "sqlite3")
+      return Error{fmt::format("{}: storage_identifier is '{}': only sqlite3 bags are read", where,
+                               storage.as<std::string>())};
+    if (const YAML::Node c = info["compression_format"]; c && !c.as<std::string>().empty())
+      return Error{fmt::format("{}: compressed bag ({}): decompress it first (ros2 bag convert)", where,
+                               c.as<std::string>())};
+    const YAML::Node paths = info["relative_file_paths"];
+    if (!paths || !paths.IsSequence() || paths.size() == 0)
+      return Error{where + ": relative_file_paths lists no file"};
+    std::vector<fs::path> files;
+    for (const YAML::Node& p : paths) {
+      const fs::path relative = p.as<std::string>();
+      fs::path file = dir / relative;
+      // Bags of early rosbag2 versions list the files with the bag folder's name in front.
+      if (std::error_code ec; !fs::exists(file, ec) && fs::exists(dir / relative.filename(), ec))
+        file = dir / relative.filename();
+      if (std::error_code ec; !fs::is_regular_file(file, ec))
+        return Error{
+            fmt::format("{}: listed in {} but missing", file.string(), metadata.filename().string())};
+      files.push_back(file);
+    }
+    return files;
+  } catch (const YAML::Exception& e) {
+    return Error{fmt::format("{}:{}: {}", where, e.mark.line + 1, e.msg)};
+  }
+}
+
+}  // namespace
+
+Result<Rosbag2Storage> Rosbag2Storage::open(const fs::path& path) {
+  Rosbag2Storage bag;
+  bag.path_ = path;
+  std::error_code ec;
+  if (fs::is_regular_file(path, ec)) {
+    bag.files_ = {path};
+  } else if (!fs::is_directory(path, ec)) {
+    return Error{fmt::format("{}: no such bag folder", path.string())};
+  } else if (const fs::path metadata = path / "metadata.yaml"; fs::exists(metadata, ec)) {
+    auto files = filesFromMetadata(path, metadata);
+    if (!files) return files.error();
+    bag.files_ = std::move(*files);
+  } else {
+    bag.files_ = globDb3(path);
+    if (bag.files_.empty())
+      return Error{
+          fmt::format("{}: no metadata.yaml and no .db3 file: not a rosbag2 sqlite3 bag", path.string())};
+  }
+
+  for (const fs::path& file : bag.files_) {
+    auto db = openDatabase(file);
+    if (!db) return db.error();
+    auto topics = prepare(db->get(), file, "SELECT id, name, type, serialization_format FROM topics");
+    if (!topics) return topics.error();
+    auto& ids = bag.file_topics_.emplace_back();
+    int rc;
+    while ((rc = sqlite3_step(topics->get())) == SQLITE_ROW) {
+      BagTopic t{text(topics->get(), 1), text(topics->get(), 2), text(topics->get(), 3), 0};
+      auto known = std::find_if(bag.topics_.begin(), bag.topics_.end(),
+                                [&](const BagTopic& k) { return k.name == t.name; });
+      if (known == bag.topics_.end()) {
+        bag.topics_.push_back(t);
+        known = bag.topics_.end() - 1;
+      } else if (known->type != t.type) {
+        return Error{fmt::format("{}: topic {} has type {} here and {} in an earlier file", file.string(),
+                                 t.name, t.type, known->type)};
+      }
+      ids.emplace_back(sqlite3_column_int64(topics->get(), 0),
+                       static_cast<std::size_t>(known - bag.topics_.begin()));
+    }
+    if (rc != SQLITE_DONE) return stepError(db->get(), file, "reading table topics");
+    auto counts = prepare(db->get(), file, "SELECT topic_id, COUNT(*) FROM messages GROUP BY topic_id");
+    if (!counts) return counts.error();
+    while ((rc = sqlite3_step(counts->get())) == SQLITE_ROW) {
+      const std::int64_t id = sqlite3_column_int64(counts->get(), 0);
+      const auto it = std::find_if(ids.begin(), ids.end(), [&](const auto& p) { return p.first == id; });
+      if (it != ids.end()) bag.topics_[it->second].message_count += sqlite3_column_int64(counts->get(), 1);
+    }
+    if (rc != SQLITE_DONE) return stepError(db->get(), file, "counting messages");
+  }
+  return bag;
+}
+
+const BagTopic* Rosbag2Storage::topic(std::string_view name) const {
+  for (const BagTopic& t : topics_)
+    if (t.name == name) return &t;
+  return nullptr;
+}
+
+std::vector<const BagTopic*> Rosbag2Storage::topicsOfType(std::string_view type) const {
+  std::vector<const BagTopic*> out;
+  for (const BagTopic& t : topics_)
+    if (t.type == type) out.push_back(&t);
+  return out;
+}
+
+Status Rosbag2Storage::forEachMessage(const std::vector<std::string>& topic_names,
+                                      const std::function<void(const BagMessage&)>& visit) const {
+  for (std::size_t f = 0; f < files_.size(); ++f) {
+    const fs::path& file = files_[f];
+    // The topic ids of this file wanted, as integers in the query (no text from the bag goes into SQL).
+    std::string wanted;
+    for (const auto& [id, index] : file_topics_[f]) {
+      if (std::find(topic_names.begin(), topic_names.end(), topics_[index].name) == topic_names.end())
+        continue;
+      wanted += (wanted.empty() ? "" : ",") + std::to_string(id);
+    }
+    if (wanted.empty()) continue;
+    auto db = openDatabase(file);
+    if (!db) return db.error();
+    auto rows = prepare(db->get(), file,
+                        "SELECT id, topic_id, timestamp, data FROM messages WHERE topic_id IN (" + wanted +
+                            ") ORDER BY timestamp, id");
+    if (!rows) return rows.error();
+    sqlite3_stmt* s = rows->get();
+    int rc;
+    while ((rc = sqlite3_step(s)) == SQLITE_ROW) {
+      const std::int64_t topic_id = sqlite3_column_int64(s, 1);
+      const auto it = std::find_if(file_topics_[f].begin(), file_topics_[f].end(),
+                                   [&](const auto& p) { return p.first == topic_id; });
+      if (it == file_topics_[f].end()) continue;
+      const auto* bytes = static_cast<const std::uint8_t*>(sqlite3_column_blob(s, 3));
+      const int size = sqlite3_column_bytes(s, 3);
+      BagMessage m;
+      m.topic = &topics_[it->second];
+      m.file = &file;
+      m.id = sqlite3_column_int64(s, 0);
+      m.timestamp_ns = sqlite3_column_int64(s, 2);
+      if (bytes != nullptr && size > 0)
+        m.data = std::span<const std::uint8_t>(bytes, static_cast<std::size_t>(size));
+      visit(m);
+    }
+    if (rc != SQLITE_DONE) return stepError(db->get(), file, "reading table messages");
+  }
+  return okStatus();
+}
+
+}  // namespace ogf::rosbag
