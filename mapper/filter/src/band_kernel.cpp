@@ -90,19 +90,60 @@ void compactBandLocate(float* const* blocks, std::size_t local, const BandTables
   }
 }
 
-void compactBandKernel(float* const* records, BandUpdate update, const BandTables& tables) {
-  const std::size_t cells = tables.cells;
+namespace {
+
+// The compact update on `Cells` stencil cells (0: the run-time count): the ratios gathered, the columns and
+// new ratios computed on arrays (which the compiler vectorises when the count is fixed), then scattered.
+template <std::size_t Cells>
+[[gnu::always_inline]] inline void compactBody(float* const* records, const BandUpdate& update,
+                                               const BandTables& tables) {
+  constexpr std::size_t kMax = 64;
+  const std::size_t cells = Cells != 0 ? Cells : tables.cells;
   const std::size_t self = tables.self;
   const float prior = tables.priorVariance;
   const float floor = update.varianceFloor / prior;
   const auto code = [&](std::size_t s) { return reinterpret_cast<std::uint16_t*>(records[cells + s]); };
-  const float selfRatio = decodeVarianceRatio(*code(self));  // before the update, for every column entry
-  for (std::size_t s = 0; s < cells; ++s) {
-    const float ratio = decodeVarianceRatio(*code(s));
-    const float column = s == self ? prior * selfRatio : tables.correlation[s] * (ratio * selfRatio);
-    *records[s] += update.gain * column;
-    *code(s) = encodeVarianceRatio(std::max(ratio - update.shrink * column * (column / prior), floor));
+  if (Cells == 0 && cells > kMax) {  // a large stencil: the same arithmetic cell by cell
+    const float selfRatio = decodeVarianceRatio(*code(self));
+    for (std::size_t s = 0; s < cells; ++s) {
+      const float r = decodeVarianceRatio(*code(s));
+      const float c = s == self ? prior * selfRatio : tables.correlation[s] * (r * selfRatio);
+      *records[s] += update.gain * c;
+      *code(s) = encodeVarianceRatio(std::max(r - update.shrink * c * (c / prior), floor));
+    }
+    return;
   }
+  std::array<float, kMax> ratio;   // NOLINT: every used entry is written below
+  std::array<float, kMax> column;  // NOLINT
+  for (std::size_t s = 0; s < cells; ++s) {
+    ratio[s] = decodeVarianceRatio(*code(s));
+  }
+  const float selfRatio = ratio[self];  // before the update, for every column entry
+  for (std::size_t s = 0; s < cells; ++s) {
+    column[s] = tables.correlation[s] * (ratio[s] * selfRatio);
+  }
+  column[self] = prior * selfRatio;
+  for (std::size_t s = 0; s < cells; ++s) {
+    ratio[s] = std::max(ratio[s] - update.shrink * column[s] * (column[s] / prior), floor);
+  }
+  for (std::size_t s = 0; s < cells; ++s) {
+    *records[s] += update.gain * column[s];
+    *code(s) = encodeVarianceRatio(ratio[s]);
+  }
+}
+
+void compactBandKernelDefault(float* const* records, BandUpdate update, const BandTables& tables) {
+  compactBody<25>(records, update, tables);
+}
+
+}  // namespace
+
+void compactBandKernel(float* const* records, BandUpdate update, const BandTables& tables) {
+  compactBody<0>(records, update, tables);
+}
+
+BandKernel compactBandKernelFor(const BandTables& tables) {
+  return tables.cells == 25 ? &compactBandKernelDefault : &compactBandKernel;
 }
 
 namespace {

@@ -125,7 +125,7 @@ BandedOgf::BandedOgf(const FilterConfig& resolved)
       storage_(resolved.dimensions, floatsPerBlockOf(resolved.dimensions, resolved.covariance, stencil_)),
       published_(resolved.occupiedThreshold, resolved.freeThreshold),
       band_(stencil_, resolved.dimensions, resolved.covariance), locate_(bandLocateFor(band_)),
-      kernel_(resolved.covariance == CovarianceStorage::kBanded ? bandKernelFor(band_) : &compactBandKernel),
+      kernel_(resolved.covariance == CovarianceStorage::kBanded ? bandKernelFor(band_) : compactBandKernelFor(band_)),
       compact_(resolved.covariance == CovarianceStorage::kCompact) {
   if (resolved.covariance == CovarianceStorage::kBanded) {
     for (const CellKey& o : stencil_.forwardOffsets()) {

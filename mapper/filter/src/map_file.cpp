@@ -160,19 +160,7 @@ Status syncDirectory(const std::filesystem::path& dir) {
 
 std::vector<std::uint8_t> encodeMap(const BandedOgf& map) {
   const FilterConfig& c = map.config();
-  Writer payload;
   const std::vector<CellKey> keys = map.blockKeys();
-  for (const CellKey& key : keys) {
-    payload.put(key.x);
-    payload.put(key.y);
-    payload.put(key.z);
-    for (float v : map.blockValues(key)) {
-      payload.put(v);
-    }
-    for (std::uint8_t mark : map.blockMarks(key)) {
-      payload.put(mark);
-    }
-  }
   Header h;
   std::memcpy(h.magic, kMagic, sizeof kMagic);
   h.version = kMapFileVersion;
@@ -194,11 +182,29 @@ std::vector<std::uint8_t> encodeMap(const BandedOgf& map) {
   h.cellsPerBlock = c.dimensions == 3 ? 512U : 64U;
   h.floatsPerCell = static_cast<std::uint32_t>(map.floatsPerBlock() / h.cellsPerBlock);
   h.blockCount = keys.size();
-  h.payloadChecksum = checksumOf(payload.bytes);
+  // One buffer of the file's exact size (a large map's file is the largest allocation a save makes): the
+  // header with a placeholder checksum, the blocks, then the header again with both checksums.
   Writer out;
+  out.bytes.reserve(kMapFilePayloadAt +
+                    keys.size() * (3 * sizeof(std::int32_t) + map.floatsPerBlock() * sizeof(float) + h.cellsPerBlock));
   writeHeaderFields(out, h);
-  out.put(checksumOf(out.bytes));
-  out.bytes.insert(out.bytes.end(), payload.bytes.begin(), payload.bytes.end());
+  out.put(std::uint64_t{0});
+  const std::size_t payloadAt = out.bytes.size();
+  for (const CellKey& key : keys) {
+    out.put(key.x);
+    out.put(key.y);
+    out.put(key.z);
+    const std::vector<float> values = map.blockValues(key);
+    const auto* v = reinterpret_cast<const std::uint8_t*>(values.data());
+    out.bytes.insert(out.bytes.end(), v, v + values.size() * sizeof(float));
+    const auto marks = map.blockMarks(key);
+    out.bytes.insert(out.bytes.end(), marks.begin(), marks.end());
+  }
+  h.payloadChecksum = checksumOf(std::span<const std::uint8_t>(out.bytes).subspan(payloadAt));
+  Writer header;
+  writeHeaderFields(header, h);
+  header.put(checksumOf(header.bytes));
+  std::copy(header.bytes.begin(), header.bytes.end(), out.bytes.begin());
   return std::move(out.bytes);
 }
 
