@@ -1,7 +1,8 @@
 // The product Occupancy Grid Filter: eq. (5) with the covariance kept only between cells within the stencil
 // radius R (ogf.md §4), on hashed blocks allocated on demand, so one measurement costs a constant amount of
-// work whatever the size of the map. Prior Σ0 = kernel × Wendland taper; mean, variance and the forward
-// half of the covariances are floats.
+// work whatever the size of the map. Prior Σ0 = kernel × Wendland taper. Banded storage keeps mean,
+// variance and the forward half of the covariances as floats; compact storage a float mean and a 16-bit
+// variance, the covariances rebuilt from the prior (FilterConfig::covariance).
 //
 // Determinism: a batch is applied in a fixed order (colour of its block in a 2×2×2 checkerboard, block key,
 // position in the block). Blocks of one colour are more than 2R apart, touch disjoint state and run in parallel; the map
