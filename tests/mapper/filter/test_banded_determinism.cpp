@@ -116,6 +116,16 @@ TEST(BandedDeterminism, ChangeSinkReportsExactlyTheCellsWhoseClassOrQuantisedPro
   expectSinkReportsExactlyTheChanges(config, batchAround(CellKey{}, 1, 3000), batchAround(CellKey{3, 0, 0}, 2, 3000));
 }
 
+TEST(BandedDeterminism, ChangeSinkReportsExactlyTheChangesInCompactStorage) {
+  FilterConfig config;
+  config.covariance = CovarianceStorage::kCompact;
+  config.threads = 2;
+  expectSinkReportsExactlyTheChanges(config, batchAround(CellKey{}, 1, 3000), batchAround(CellKey{3, 0, 0}, 2, 3000));
+  // The same cells measured again: most updates are clamped, only the applied ones' stencils can change.
+  const auto again = batchAround(CellKey{}, 1, 3000);
+  expectSinkReportsExactlyTheChanges(config, again, again);
+}
+
 TEST(BandedDeterminism, ChangeSinkReportsExactlyTheChangesOfA2DMap) {
   FilterConfig config;
   config.dimensions = 2;
