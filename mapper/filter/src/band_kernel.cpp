@@ -93,7 +93,7 @@ void compactBandLocate(float* const* blocks, std::size_t local, const BandTables
 namespace {
 
 // The compact update on `Cells` stencil cells (0: the run-time count): the ratios gathered, the columns and
-// new ratios computed on arrays (which the compiler vectorises when the count is fixed), then scattered.
+// new ratios computed on arrays (unrolled by the compiler when the count is fixed), then scattered.
 template <std::size_t Cells>
 [[gnu::always_inline]] inline void compactBody(float* const* records, const BandUpdate& update,
                                                const BandTables& tables) {

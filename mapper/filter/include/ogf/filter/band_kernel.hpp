@@ -101,7 +101,7 @@ void compactBandLocate(float* const* blocks, std::size_t local, const BandTables
 // code. One arithmetic on every CPU.
 void compactBandKernel(float* const* records, BandUpdate update, const BandTables& tables);
 // The same arithmetic with the cell count fixed at compile time for the default stencil (25 cells), else
-// compactBandKernel. Stencils of more than 64 cells are not allowed with compact storage.
+// compactBandKernel (which takes stencils of any size).
 BandKernel compactBandKernelFor(const BandTables& tables);
 
 // Whether this CPU (and OS) can run AVX2 + FMA code.
