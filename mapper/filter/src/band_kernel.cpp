@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <utility>
+#include <vector>
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #include <immintrin.h>
@@ -93,7 +94,8 @@ void compactBandLocate(float* const* blocks, std::size_t local, const BandTables
 namespace {
 
 // The compact update on `Cells` stencil cells (0: the run-time count): the ratios gathered, the columns and
-// new ratios computed on arrays (unrolled by the compiler when the count is fixed), then scattered.
+// new ratios computed on arrays (unrolled by the compiler when the count is fixed; on a scratch vector for
+// stencils of more than 64 cells), then scattered.
 template <std::size_t Cells>
 [[gnu::always_inline]] inline void compactBody(float* const* records, const BandUpdate& update,
                                                const BandTables& tables) {
@@ -103,22 +105,18 @@ template <std::size_t Cells>
   const float prior = tables.priorVariance;
   const float floor = update.varianceFloor / prior;
   const auto code = [&](std::size_t s) { return reinterpret_cast<std::uint16_t*>(records[cells + s]); };
-  if (Cells == 0 && cells > kMax) {  // a large stencil: the same arithmetic cell by cell
-    const float selfRatio = decodeVarianceRatio(*code(self));
-    for (std::size_t s = 0; s < cells; ++s) {
-      const float r = decodeVarianceRatio(*code(s));
-      const float c = s == self ? prior * selfRatio : tables.correlation[s] * (r * selfRatio);
-      *records[s] += update.gain * c;
-      *code(s) = encodeVarianceRatio(std::max(r - update.shrink * c * (c / prior), floor));
-    }
-    return;
+  std::array<float, 2 * kMax> local;  // NOLINT: every used entry is written below
+  float* ratio = local.data();
+  if (Cells == 0 && cells > kMax) {  // a large stencil: the same arithmetic on a scratch of this thread's
+    thread_local std::vector<float> large;
+    large.resize(2 * cells);
+    ratio = large.data();
   }
-  std::array<float, kMax> ratio;   // NOLINT: every used entry is written below
-  std::array<float, kMax> column;  // NOLINT
+  float* const column = ratio + cells;
   for (std::size_t s = 0; s < cells; ++s) {
     ratio[s] = decodeVarianceRatio(*code(s));
   }
-  const float selfRatio = ratio[self];  // before the update, for every column entry
+  const float selfRatio = decodeVarianceRatio(*code(self));  // before the update, for every column entry
   for (std::size_t s = 0; s < cells; ++s) {
     column[s] = tables.correlation[s] * (ratio[s] * selfRatio);
   }

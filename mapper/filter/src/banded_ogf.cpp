@@ -124,15 +124,14 @@ BandedOgf::BandedOgf(const FilterConfig& resolved)
     : config_(resolved), prior_(resolved.prior()), stencil_(resolved.dimensions, resolved.stencilShape()),
       storage_(resolved.dimensions, floatsPerBlockOf(resolved.dimensions, resolved.covariance, stencil_)),
       published_(resolved.occupiedThreshold, resolved.freeThreshold),
-      band_(stencil_, resolved.dimensions, resolved.covariance), locate_(bandLocateFor(band_)),
-      kernel_(resolved.covariance == CovarianceStorage::kBanded ? bandKernelFor(band_) : compactBandKernelFor(band_)),
-      compact_(resolved.covariance == CovarianceStorage::kCompact) {
+      band_(stencil_, resolved.dimensions, resolved.covariance),
+      locate_(resolved.covariance == CovarianceStorage::kBanded ? bandLocateFor(band_) : &compactBandLocate),
+      kernel_(resolved.covariance == CovarianceStorage::kBanded ? bandKernelFor(band_) : compactBandKernelFor(band_)) {
   if (resolved.covariance == CovarianceStorage::kBanded) {
     for (const CellKey& o : stencil_.forwardOffsets()) {
       priorSlots_.push_back(static_cast<float>(prior_(o)));
     }
   } else {
-    locate_ = &compactBandLocate;
     for (const CellKey& o : stencil_.offsets()) {
       band_.correlation.push_back(static_cast<float>(prior_(o)));
     }
@@ -174,17 +173,8 @@ std::size_t BandedOgf::floatsPerBlockOf(int dimensions, CovarianceStorage storag
   return storage == CovarianceStorage::kCompact ? cells + cells / 2 : cells * (2 + stencil.forwardOffsets().size());
 }
 
-BandedOgf::Moments BandedOgf::momentsAt(const float* blockData, std::size_t local) const {
-  if (compact_) {
-    const auto* codes = reinterpret_cast<const std::uint16_t*>(blockData + storage_.cellsPerBlock());
-    return {blockData[local], priorVariance_ * decodeVarianceRatio(codes[local])};
-  }
-  const float* d = blockData + local * floatsPerCell();
-  return {d[0], d[1]};
-}
-
 void BandedOgf::initialiseBlock(Block& block) {
-  if (compact_) {
+  if (compact()) {
     const std::size_t cells = block.cells();
     std::fill_n(block.data(), cells, 0.0F);
     std::fill_n(reinterpret_cast<std::uint16_t*>(block.data() + cells), cells, encodeVarianceRatio(1.0F));
@@ -483,7 +473,7 @@ bool BandedOgf::applyMeasurement(float* const* records, int y) {
   const float* self = records[band_.self];
   const double mean = static_cast<double>(self[0]);
   const double var = static_cast<double>(
-      compact_ ? priorVariance_ * decodeVarianceRatio(*reinterpret_cast<const std::uint16_t*>(
+      compact() ? priorVariance_ * decodeVarianceRatio(*reinterpret_cast<const std::uint16_t*>(
                                       records[band_.cells + band_.self]))
                : self[1]);
   const double tolerance = config_.skipTolerance;
@@ -572,7 +562,7 @@ double BandedOgf::covariance(const CellKey& a, const CellKey& b) const {
   if (slot < 0) {
     return 0.0;
   }
-  if (config_.covariance == CovarianceStorage::kCompact) {
+  if (compact()) {
     // The prior's covariance scaled by both cells' variance ratios (FilterConfig::covariance).
     const double v0 = prior_.variance();
     return prior_(o) * (estimate(a).variance / v0) * (estimate(b).variance / v0);
@@ -633,7 +623,7 @@ std::vector<float> BandedOgf::blockValues(const CellKey& blockKey) const {
   if (b == nullptr) {
     return {};
   }
-  if (!compact_) {
+  if (!compact()) {
     return {b->values().begin(), b->values().end()};
   }
   std::vector<float> values;
@@ -672,7 +662,7 @@ Status BandedOgf::restoreBlock(const CellKey& blockKey, std::span<const float> v
   }
   bool fresh = false;
   Block& b = storage_.obtain(blockKey, fresh);
-  if (compact_) {
+  if (compact()) {
     auto* codes = reinterpret_cast<std::uint16_t*>(b.data() + b.cells());
     for (std::size_t l = 0; l < b.cells(); ++l) {
       b.data()[l] = values[2 * l];

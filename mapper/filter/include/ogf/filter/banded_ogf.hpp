@@ -29,6 +29,7 @@
 #include "ogf/filter/published_state.hpp"
 #include "ogf/filter/result.hpp"
 #include "ogf/filter/stencil.hpp"
+#include "ogf/filter/variance_code.hpp"
 
 namespace ogf::filter {
 
@@ -100,12 +101,22 @@ class BandedOgf {
   explicit BandedOgf(const FilterConfig& resolved);
   static std::size_t floatsPerBlockOf(int dimensions, CovarianceStorage storage, const Stencil& stencil);
   // Floats per cell in the banded layout and in the exchange format (2 when compact).
-  std::size_t floatsPerCell() const { return 2 + (compact_ ? 0 : stencil_.forwardOffsets().size()); }
+  bool compact() const { return config_.covariance == CovarianceStorage::kCompact; }
+  std::size_t floatsPerCell() const { return 2 + (compact() ? 0 : stencil_.forwardOffsets().size()); }
   struct Moments {
     float mean = 0.0F;
     float variance = 0.0F;
   };
-  Moments momentsAt(const float* blockData, std::size_t local) const;
+  // The mean and variance of the cell at `local` in a block's values (either layout); inline, as the change
+  // detection calls it for every touched cell.
+  Moments momentsAt(const float* blockData, std::size_t local) const {
+    if (compact()) {
+      const auto* codes = reinterpret_cast<const std::uint16_t*>(blockData + storage_.cellsPerBlock());
+      return {blockData[local], priorVariance_ * decodeVarianceRatio(codes[local])};
+    }
+    const float* d = blockData + local * floatsPerCell();
+    return {d[0], d[1]};
+  }
   Block& obtainBlock(const CellKey& blockKey, std::size_t& allocated);
   void initialiseBlock(Block& block);
   // A block the batch's updates reach, and which of its cells they can change (bit per position).
@@ -163,7 +174,6 @@ class BandedOgf {
   BandTables band_;                           // where the stencil cells and their pairs are
   BandLocate locate_ = nullptr;               // the records of a measurement's stencil cells, prefetched
   BandKernel kernel_ = nullptr;               // eq. (5) in the band (compiled for common stencils)
-  bool compact_ = false;                      // CovarianceStorage::kCompact
   const InverseMillsTable* lambda_ = &inverseMillsTable();  // λ(z) of eq. (5), tabulated
   bool parallelSafe_ = false;
   Batch scratch_;
