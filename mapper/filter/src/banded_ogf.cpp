@@ -228,6 +228,9 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
       lastBlock = block;
       if (inserted) {
         Block* existing = occupiedPriority ? storage_.find(block) : nullptr;
+        if (existing != nullptr) {
+          existing->changed();  // holding back free measurements counts on the marks
+        }
         groups.push_back({block, colourOf(block), 0, 0, 0, existing != nullptr ? existing->marks().data() : nullptr});
       }
     }
@@ -598,7 +601,28 @@ std::size_t BandedOgf::memoryBytes() const {
          stencil_.pairs().size() * sizeof(StencilPair);
 }
 
-std::uint64_t BandedOgf::checksum() const {
+std::uint64_t BandedOgf::blockHash(const CellKey& key, const Block& block) const {
+  if (!block.hashKnown()) {
+    block.setHash(blockChecksum(key, block.values(), block.marks()));
+  }
+  return block.hash();
+}
+
+std::uint64_t BandedOgf::blockHash(const CellKey& blockKey) const {
+  const Block* b = storage_.find(blockKey);
+  return b == nullptr ? 0 : blockHash(blockKey, *b);
+}
+
+BlockHashSum BandedOgf::blockHashSum() const {
+  BlockHashSum total;
+  storage_.forEachBlock([&](const CellKey& key, const Block& block) {
+    total.sum += blockHash(key, block);
+    ++total.blocks;
+  });
+  return total;
+}
+
+std::uint64_t BandedOgf::checksum(const BlockHashSum& heldElsewhere) const {
   MapChecksum sum;
   sum.addValue(config_.dimensions);
   sum.addValue(config_.resolution);
@@ -609,12 +633,11 @@ std::uint64_t BandedOgf::checksum() const {
   if (config_.covariance != CovarianceStorage::kBanded) {
     sum.addValue(static_cast<int>(config_.covariance));
   }
-  for (const CellKey& key : storage_.sortedKeys()) {
-    const Block* b = storage_.find(key);
-    sum.addValue(key);
-    sum.add(std::as_bytes(b->values()));
-    sum.add(std::as_bytes(b->marks()));
-  }
+  BlockHashSum blocks = blockHashSum();
+  blocks.sum += heldElsewhere.sum;
+  blocks.blocks += heldElsewhere.blocks;
+  sum.addValue(blocks.blocks);
+  sum.addValue(blocks.sum);
   return sum.value();
 }
 
@@ -641,24 +664,47 @@ std::span<const std::uint8_t> BandedOgf::blockMarks(const CellKey& blockKey) con
   return b == nullptr ? std::span<const std::uint8_t>{} : b->marks();
 }
 
-Status BandedOgf::restoreBlock(const CellKey& blockKey, std::span<const float> values,
-                               std::span<const std::uint8_t> marks) {
-  if (!marks.empty() && marks.size() != storage_.cellsPerBlock()) {
-    return Error{"block " + std::to_string(blockKey.x) + "," + std::to_string(blockKey.y) + "," +
-                 std::to_string(blockKey.z) + ": " + std::to_string(marks.size()) + " cell marks, expected " +
+Status BandedOgf::checkRestorable(const CellKey& blockKey, std::size_t values, std::size_t expected,
+                                  std::size_t marks) const {
+  const std::string block =
+      "block " + std::to_string(blockKey.x) + "," + std::to_string(blockKey.y) + "," + std::to_string(blockKey.z);
+  if (marks != 0 && marks != storage_.cellsPerBlock()) {
+    return Error{block + ": " + std::to_string(marks) + " cell marks, expected " +
                  std::to_string(storage_.cellsPerBlock())};
   }
-  if (values.size() != floatsPerBlock()) {
-    return Error{"block " + std::to_string(blockKey.x) + "," + std::to_string(blockKey.y) + "," +
-                 std::to_string(blockKey.z) + ": " + std::to_string(values.size()) + " values, expected " +
-                 std::to_string(floatsPerBlock())};
+  if (values != expected) {
+    return Error{block + ": " + std::to_string(values) + " values, expected " + std::to_string(expected)};
   }
   if (config_.dimensions == 2 && blockKey.z != 0) {
     return Error{"block z = " + std::to_string(blockKey.z) + " in a 2-D map"};
   }
   if (storage_.find(blockKey) != nullptr) {
-    return Error{"block " + std::to_string(blockKey.x) + "," + std::to_string(blockKey.y) + "," +
-                 std::to_string(blockKey.z) + " appears twice"};
+    return Error{block + " appears twice"};
+  }
+  return okStatus();
+}
+
+std::span<const float> BandedOgf::storedValues(const CellKey& blockKey) const {
+  const Block* b = storage_.find(blockKey);
+  return b == nullptr ? std::span<const float>{} : b->values();
+}
+
+Status BandedOgf::restoreStoredBlock(const CellKey& blockKey, std::span<const float> stored,
+                                     std::span<const std::uint8_t> marks) {
+  if (auto st = checkRestorable(blockKey, stored.size(), storage_.floatsPerBlock(), marks.size()); !st) {
+    return st;
+  }
+  bool fresh = false;
+  Block& b = storage_.obtain(blockKey, fresh);
+  std::copy(stored.begin(), stored.end(), b.data());
+  std::copy(marks.begin(), marks.end(), b.marks().begin());
+  return okStatus();
+}
+
+Status BandedOgf::restoreBlock(const CellKey& blockKey, std::span<const float> values,
+                               std::span<const std::uint8_t> marks) {
+  if (auto st = checkRestorable(blockKey, values.size(), floatsPerBlock(), marks.size()); !st) {
+    return st;
   }
   bool fresh = false;
   Block& b = storage_.obtain(blockKey, fresh);

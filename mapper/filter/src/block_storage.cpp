@@ -32,6 +32,7 @@ Block& BlockStorage::obtain(const CellKey& blockKey, bool& fresh) {
   if (fresh) {
     slot = std::make_unique<Block>(cellsPerBlock_, floatsPerBlock_);
   }
+  slot->changed();  // handed out for writing
   return *slot;
 }
 

@@ -31,4 +31,12 @@ std::uint64_t MapChecksum::value() const {
   return h;
 }
 
+std::uint64_t blockChecksum(const CellKey& key, std::span<const float> stored, std::span<const std::uint8_t> marks) {
+  MapChecksum sum;
+  sum.addValue(key);
+  sum.add(std::as_bytes(stored));
+  sum.add(std::as_bytes(marks));
+  return sum.value();
+}
+
 }  // namespace ogf::filter

@@ -41,6 +41,12 @@ struct UpdateStats {
   std::size_t blocksAllocated = 0;  // new blocks this batch
 };
 
+// The wrapping sum of block hashes (BandedOgf::blockHash) over some blocks, and how many.
+struct BlockHashSum {
+  std::uint64_t sum = 0;
+  std::size_t blocks = 0;
+};
+
 // Latent mean and variance of one cell; the prior (0, Σ0_ii) for cells never allocated.
 struct CellEstimate {
   double mean = 0.0;
@@ -67,8 +73,14 @@ class BandedOgf {
   void forEachCell(const std::function<void(const CellKey&, float mean, float variance)>& visit) const;
   std::size_t allocatedCells() const { return storage_.size() * storage_.cellsPerBlock(); }
   std::size_t memoryBytes() const;
-  // 64-bit checksum of the configuration and every stored value, in the deterministic order.
-  std::uint64_t checksum() const;
+  // 64-bit checksum of the configuration and every stored value: the structure's fields, then the number of
+  // blocks and the wrapping sum of their hashes. A sum does not depend on the order of the blocks, so
+  // blocks held outside the map (paged out) count with their hashes in `heldElsewhere`, and a block's hash
+  // is kept until an update writes the block: a checksum after a scan rehashes only what the scan reached.
+  std::uint64_t checksum(const BlockHashSum& heldElsewhere = {}) const;
+  // Hash of one block's key, stored values and marks (0 when it is not allocated), and their sum over the map.
+  std::uint64_t blockHash(const CellKey& blockKey) const;
+  BlockHashSum blockHashSum() const;
 
   const FilterConfig& config() const { return config_; }
   const Stencil& stencil() const { return stencil_; }
@@ -96,6 +108,20 @@ class BandedOgf {
   Status restoreBlock(const CellKey& blockKey, std::span<const float> values,
                       std::span<const std::uint8_t> marks = {});
 
+  // A block as it is stored (Block's layout for this storage, storedFloatsPerBlock() floats; empty when not
+  // allocated), put back bit for bit by restoreStoredBlock (same errors as restoreBlock), and dropped from
+  // the map by eraseBlock (false when not allocated): for holding blocks outside the map (paging).
+  std::span<const float> storedValues(const CellKey& blockKey) const;
+  std::size_t storedFloatsPerBlock() const { return storage_.floatsPerBlock(); }
+  Status restoreStoredBlock(const CellKey& blockKey, std::span<const float> stored,
+                            std::span<const std::uint8_t> marks);
+  bool eraseBlock(const CellKey& blockKey) { return storage_.erase(blockKey); }
+  // Every allocated block's key, in no particular order.
+  template <class Visit>
+  void forEachBlockKey(Visit visit) const {
+    storage_.forEachBlock([&](const CellKey& key, const Block&) { visit(key); });
+  }
+
  private:
   struct Group;
   explicit BandedOgf(const FilterConfig& resolved);
@@ -118,6 +144,10 @@ class BandedOgf {
     return {d[0], d[1]};
   }
   Block& obtainBlock(const CellKey& blockKey, std::size_t& allocated);
+  // restoreBlock's checks of a block about to be restored with `values` floats (of `expected`) and marks.
+  Status checkRestorable(const CellKey& blockKey, std::size_t values, std::size_t expected,
+                         std::size_t marks) const;
+  std::uint64_t blockHash(const CellKey& key, const Block& block) const;
   void initialiseBlock(Block& block);
   // A block the batch's updates reach, and which of its cells they can change (bit per position).
   struct TouchedBlock {

@@ -44,11 +44,22 @@ class Block {
   std::span<const std::uint8_t> marks() const {
     return {reinterpret_cast<const std::uint8_t*>(data_.get() + size_), cells_};
   }
+  // The block's hash for the map checksum, kept until the block may have changed: whoever hands out its
+  // data for writing calls changed(), so a checksum rehashes only the blocks written since the last one.
+  void changed() { hashKnown_ = false; }
+  bool hashKnown() const { return hashKnown_; }
+  std::uint64_t hash() const { return hash_; }
+  void setHash(std::uint64_t h) const {
+    hash_ = h;
+    hashKnown_ = true;
+  }
 
  private:
   std::size_t cells_;
   std::size_t size_;
   std::unique_ptr<float[]> data_;
+  mutable std::uint64_t hash_ = 0;
+  mutable bool hashKnown_ = false;
 };
 
 // A cell's mark: bit 7 set once an occupied measurement reached the cell, cleared when free measurements
@@ -69,8 +80,17 @@ class BlockStorage {
   // The block, allocated (and `fresh` set) when missing. Not thread-safe.
   Block& obtain(const CellKey& blockKey, bool& fresh);
   std::size_t size() const { return blocks_.size(); }
-  // Keys of all blocks, sorted: the deterministic order of iteration, checksums and files.
+  // Keys of all blocks, sorted: the deterministic order of iteration and files.
   std::vector<CellKey> sortedKeys() const;
+  // Every block in the table's order (not deterministic: for order-independent sums and for selections).
+  template <class Visit>
+  void forEachBlock(Visit visit) const {
+    for (const auto& [key, block] : blocks_) {
+      visit(key, *block);
+    }
+  }
+  // Removes a block; false when there is none.
+  bool erase(const CellKey& blockKey) { return blocks_.erase(blockKey) != 0; }
   // Bytes in use: block arrays and marks, block headers and the hash table.
   std::size_t memoryBytes() const;
   // Key of the cell at `local` in block `blockKey`.

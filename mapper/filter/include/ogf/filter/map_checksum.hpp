@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <span>
 
+#include <ogf/core/cell_key.hpp>
+
 namespace ogf::filter {
 
 class MapChecksum {
@@ -21,5 +23,8 @@ class MapChecksum {
   std::uint64_t state_ = 0xCBF29CE484222325ULL;
   std::uint64_t length_ = 0;
 };
+
+// The hash of one block for BandedOgf::checksum: its key, its stored values and its cell marks.
+std::uint64_t blockChecksum(const CellKey& key, std::span<const float> stored, std::span<const std::uint8_t> marks);
 
 }  // namespace ogf::filter
