@@ -15,7 +15,9 @@ namespace ogf::persistence {
 namespace {
 
 constexpr char kMagic[8] = {'O', 'G', 'F', 'S', 'N', 'A', 'P', '1'};
+// Version 2 adds the pages that hold the rest of the map; a snapshot without pages is written as version 1.
 constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersionWithPages = 2;
 constexpr std::size_t kFixed = 8 + 4 + 8 + 8 + 8;
 
 template <class T>
@@ -30,37 +32,72 @@ T get(const std::byte* p) {
 
 }  // namespace
 
-std::vector<std::byte> encodeSnapshot(std::int64_t map_id, std::int64_t seq, std::span<const std::uint8_t> map_bytes) {
+std::vector<std::byte> encodeSnapshot(std::int64_t map_id, std::int64_t seq, std::span<const std::uint8_t> map_bytes,
+                                      std::span<const std::string> pages) {
   std::vector<std::byte> out;
   out.reserve(kFixed + map_bytes.size() + 4);
   for (char c : kMagic) out.push_back(static_cast<std::byte>(c));
-  put<std::uint32_t>(out, kVersion);
+  put<std::uint32_t>(out, pages.empty() ? kVersion : kVersionWithPages);
   put<std::int64_t>(out, map_id);
   put<std::int64_t>(out, seq);
   put<std::uint64_t>(out, map_bytes.size());
   for (std::uint8_t b : map_bytes) out.push_back(static_cast<std::byte>(b));
+  if (!pages.empty()) {
+    put<std::uint32_t>(out, static_cast<std::uint32_t>(pages.size()));
+    for (const std::string& name : pages) {
+      put<std::uint16_t>(out, static_cast<std::uint16_t>(name.size()));
+      for (char c : name) out.push_back(static_cast<std::byte>(c));
+    }
+  }
   put<std::uint32_t>(out, crc32(out.data(), out.size()));
   return out;
 }
 
 Result<Snapshot> decodeSnapshot(std::span<const std::byte> bytes, const std::string& source) {
-  if (bytes.size() < kFixed + 4) return Error{source + ": offset 0: snapshot truncated (" + std::to_string(bytes.size()) + " bytes)"};
-  if (std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) return Error{source + ": offset 0: not an ogf snapshot (bad magic)"};
-  if (const auto v = get<std::uint32_t>(bytes.data() + 8); v != kVersion)
-    return Error{source + ": offset 8: unsupported snapshot version " + std::to_string(v)};
+  const auto fail = [&](std::size_t offset, const std::string& what) {
+    return Error{source + ": offset " + std::to_string(offset) + ": " + what};
+  };
+  if (bytes.size() < kFixed + 4) return fail(0, "snapshot truncated (" + std::to_string(bytes.size()) + " bytes)");
+  if (std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) return fail(0, "not an ogf snapshot (bad magic)");
+  const auto version = get<std::uint32_t>(bytes.data() + 8);
+  if (version != kVersion && version != kVersionWithPages)
+    return fail(8, "unsupported snapshot version " + std::to_string(version));
+  const std::size_t crcAt = bytes.size() - 4;
   const auto n = get<std::uint64_t>(bytes.data() + 28);
-  if (n != bytes.size() - kFixed - 4)
-    return Error{source + ": offset 28: map length " + std::to_string(n) + " does not match the file (" +
-                 std::to_string(bytes.size() - kFixed - 4) + " bytes follow): truncated or corrupt"};
-  if (get<std::uint32_t>(bytes.data() + bytes.size() - 4) != crc32(bytes.data(), bytes.size() - 4))
-    return Error{source + ": offset " + std::to_string(bytes.size() - 4) + ": snapshot checksum mismatch"};
+  if (version == kVersion ? n != crcAt - kFixed : n > crcAt - kFixed)
+    return fail(28, "map length " + std::to_string(n) + " does not match the file (" + std::to_string(crcAt - kFixed) +
+                        " bytes follow): truncated or corrupt");
+  if (get<std::uint32_t>(bytes.data() + crcAt) != crc32(bytes.data(), crcAt))
+    return fail(crcAt, "snapshot checksum mismatch");
   Snapshot s;
   s.map_id = get<std::int64_t>(bytes.data() + 12);
   s.seq = get<std::int64_t>(bytes.data() + 20);
   s.map_bytes.resize(n);
   std::memcpy(s.map_bytes.data(), bytes.data() + kFixed, n);
+  if (version == kVersionWithPages) {
+    std::size_t at = kFixed + n;
+    if (crcAt - at < 4) return fail(at, "page count: snapshot truncated");
+    const auto count = get<std::uint32_t>(bytes.data() + at);
+    at += 4;
+    for (std::uint32_t i = 0; i < count; ++i) {
+      if (crcAt - at < 2) return fail(at, "page name " + std::to_string(i) + ": snapshot truncated");
+      const auto len = get<std::uint16_t>(bytes.data() + at);
+      at += 2;
+      if (crcAt - at < len) return fail(at, "page name " + std::to_string(i) + ": snapshot truncated");
+      std::string name(reinterpret_cast<const char*>(bytes.data() + at), len);
+      if (name.empty() || name.find('/') != std::string::npos || name.front() == '.')
+        return fail(at, "page name '" + name + "' is not a file name");
+      s.pages.push_back(std::move(name));
+      at += len;
+    }
+    if (at != crcAt) return fail(at, std::to_string(crcAt - at) + " bytes after the page names");
+  }
   return s;
 }
+
+namespace {
+std::optional<Result<Snapshot>> loadSnapshot(const std::filesystem::path& path);
+}  // namespace
 
 Result<StateDirectory> StateDirectory::open(const std::filesystem::path& dir) {
   std::error_code ec;
@@ -82,6 +119,12 @@ Result<RecoveredState> StateDirectory::recover(std::int64_t new_map_id, std::int
   if (!state) return state.error();
   RecoveredState& out = *state;
   map_id_ = out.map_id;
+  current_pages_ = out.pages;
+  previous_pages_.clear();
+  if (!out.snapshot_fallback) {
+    // The previous generation may still be restored from (should the next snapshot be damaged).
+    if (auto previous = loadSnapshot(previousSnapshotPath()); previous && *previous) previous_pages_ = (*previous)->pages;
+  }
   writer_.reset();
   std::error_code ec;
   if (!out.damaged_files.empty()) {
@@ -133,6 +176,11 @@ Result<std::filesystem::path> StateDirectory::setAside(std::int64_t wall_utime) 
     std::filesystem::rename(f, aside / f.filename(), ec);
     if (ec) return Error{f.string() + ": cannot move it to " + aside.string() + ": " + ec.message()};
   }
+  if (std::filesystem::exists(pagesDir(), ec)) {
+    // The pages belong to the snapshots set aside.
+    std::filesystem::rename(pagesDir(), aside / "pages", ec);
+    if (ec) return Error{pagesDir().string() + ": cannot move it to " + aside.string() + ": " + ec.message()};
+  }
   return aside;
 }
 
@@ -183,6 +231,7 @@ Result<RecoveredState> StateDirectory::readState(std::int64_t new_map_id,
     out.map_id = snapshot->map_id;
     out.snapshot_seq = snapshot->seq;
     out.snapshot_map = std::move(snapshot->map_bytes);
+    out.pages = std::move(snapshot->pages);
   }
   out.last_seq = out.snapshot_seq;
 
@@ -277,8 +326,9 @@ Status keepAs(const std::filesystem::path& from, const std::filesystem::path& to
 
 }  // namespace
 
-Status StateDirectory::snapshot(std::int64_t seq, std::span<const std::uint8_t> map_bytes) {
-  const auto bytes = encodeSnapshot(map_id_, seq, map_bytes);
+Status StateDirectory::snapshot(std::int64_t seq, std::span<const std::uint8_t> map_bytes,
+                                std::span<const std::string> pages) {
+  const auto bytes = encodeSnapshot(map_id_, seq, map_bytes, pages);
   // The current generation becomes the previous one: a damaged new snapshot then falls back to it and
   // the two journals. A crash in between leaves both names on the same files, which recovery reads alike;
   // the snapshot goes first, so that the previous journal then still reaches it.
@@ -296,7 +346,15 @@ Status StateDirectory::snapshot(std::int64_t seq, std::span<const std::uint8_t> 
   if (ec) return Error{journal.string() + ": cannot replace the journal: " + ec.message()};
   w->renamedTo(journal);  // so a later write error names the file that is there
   writer_.emplace(std::move(*w));
+  previous_pages_ = std::move(current_pages_);
+  current_pages_.assign(pages.begin(), pages.end());
   return okStatus();
+}
+
+std::vector<std::string> StateDirectory::referencedPages() const {
+  std::vector<std::string> names = current_pages_;
+  names.insert(names.end(), previous_pages_.begin(), previous_pages_.end());
+  return names;
 }
 
 }  // namespace ogf::persistence

@@ -4,7 +4,11 @@
 // (write-ahead), a crash at any instant loses nothing that was flushed.
 //
 //   <dir>/snapshot.ogfs        "OGFSNAP1" | u32 version=1 | i64 map_id | i64 seq | u64 n | n bytes (the
-//                              filter's map file) | u32 crc32(everything before), written atomically
+//                              filter's map file) | u32 crc32(everything before), written atomically;
+//                              version 2 (a map partly paged out) adds before the crc: u32 count |
+//                              count × (u16 length | the name of a page file in <dir>/pages)
+//   <dir>/pages/               the regions paged out (map_pager.hpp): the snapshot's map file holds the
+//                              blocks in memory, the pages it names the rest
 //   <dir>/journal.ogfj         see journal.hpp; its base_seq is the seq of the snapshot it continues
 //   <dir>/snapshot.prev.ogfs   the snapshot before, and the journal that continued it up to the newest
 //   <dir>/journal.prev.ogfj    snapshot (hard links, or copies where the file system has none)
@@ -35,6 +39,7 @@ struct RecoveredState {
   std::int64_t map_id = 0;         // 0 when the directory held nothing (a new map)
   std::int64_t snapshot_seq = 0;   // seq of the snapshot (0 without one)
   std::vector<std::uint8_t> snapshot_map;  // the filter's map file bytes; empty without a snapshot
+  std::vector<std::string> pages;          // the page files in pages/ holding the rest of that map
   std::vector<JournalRecord> replay;       // records after the snapshot, in order
   std::int64_t last_seq = 0;       // snapshot_seq or the last record's seq
   std::vector<std::string> notes;  // what recovery skipped or cut, for the log
@@ -68,8 +73,11 @@ class StateDirectory {
   // Appends one applied measurement set (write-ahead: call before the filter sees it) and flushes.
   Status journal(std::int64_t seq, std::int64_t utime, std::span<const Measurement> measurements);
 
-  // Writes a snapshot of the map at `seq` atomically and starts an empty journal after it.
-  Status snapshot(std::int64_t seq, std::span<const std::uint8_t> map_bytes);
+  // Writes a snapshot of the map at `seq` atomically and starts an empty journal after it. `pages` names the
+  // files in pagesDir() that hold the blocks of the map not in `map_bytes`; they must be on disk already.
+  Status snapshot(std::int64_t seq, std::span<const std::uint8_t> map_bytes, std::span<const std::string> pages = {});
+  // The page files the newest snapshot and the one before it name: those a restore may still need.
+  std::vector<std::string> referencedPages() const;
 
   std::int64_t mapId() const { return map_id_; }
   std::uint64_t journalBytes() const { return writer_ ? writer_->bytesWritten() : 0; }
@@ -78,6 +86,7 @@ class StateDirectory {
   std::filesystem::path journalPath() const { return dir_ / "journal.ogfj"; }
   std::filesystem::path previousSnapshotPath() const { return dir_ / "snapshot.prev.ogfs"; }
   std::filesystem::path previousJournalPath() const { return dir_ / "journal.prev.ogfj"; }
+  std::filesystem::path pagesDir() const { return dir_ / "pages"; }
 
  private:
   explicit StateDirectory(std::filesystem::path dir) : dir_(std::move(dir)) {}
@@ -87,14 +96,18 @@ class StateDirectory {
   std::filesystem::path dir_;
   std::int64_t map_id_ = 0;
   std::optional<JournalWriter> writer_;
+  std::vector<std::string> current_pages_;
+  std::vector<std::string> previous_pages_;
 };
 
 // Encodes and decodes the snapshot container (exposed for tests and tools).
-std::vector<std::byte> encodeSnapshot(std::int64_t map_id, std::int64_t seq, std::span<const std::uint8_t> map_bytes);
+std::vector<std::byte> encodeSnapshot(std::int64_t map_id, std::int64_t seq, std::span<const std::uint8_t> map_bytes,
+                                      std::span<const std::string> pages = {});
 struct Snapshot {
   std::int64_t map_id = 0;
   std::int64_t seq = 0;
   std::vector<std::uint8_t> map_bytes;
+  std::vector<std::string> pages;
 };
 Result<Snapshot> decodeSnapshot(std::span<const std::byte> bytes, const std::string& source);
 

@@ -1,0 +1,107 @@
+// The far parts of a long mission's map held on disk. The map is cut into regions of 4×4×4 blocks (32 cells
+// on a side); sendAway() writes every region whose nearest point lies farther than a distance from the
+// sensor to a page file (page_file.hpp) and drops its blocks from the filter; bringIn(), called before an
+// update, reads back every paged-out region the update can reach. The filter's update of a measurement
+// writes only the blocks within one block of the measured cell's (the stencil's reach, banded_ogf.hpp), so
+// a map mapped with paging is bit-identical to one mapped without, whatever the distance (tested).
+//
+// Page files are never rewritten: a region paged out again gets a new file, so a snapshot can name the
+// pages that hold the rest of its map (state_directory.hpp), and they stay valid after the region has come
+// back; collect() deletes the files that neither the pager nor a kept snapshot names.
+#pragma once
+
+#include <ogf/filter/banded_ogf.hpp>
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "ogf/common/result.hpp"
+#include "ogf/core/measurement.hpp"
+
+namespace ogf::persistence {
+
+struct PagerCounts {
+  std::size_t regions_out = 0;   // regions on disk now
+  std::size_t blocks_out = 0;    // their blocks
+  std::uint64_t bytes_out = 0;   // their page files' bytes
+  std::size_t pages_written = 0;  // regions paged out so far
+  std::size_t pages_read = 0;     // regions brought back so far
+};
+
+// A page that could not be read back (missing, truncated, corrupt, of another map's layout): its region is
+// lost, the rest of the map is not.
+struct PageDamage {
+  std::filesystem::path file;
+  std::string reason;
+};
+
+class MapPager {
+ public:
+  static constexpr int kRegionShift = 2;  // a region is 2^kRegionShift blocks on a side
+
+  // Pages in `dir`, created when missing. Error (with the system's reason) when it cannot be.
+  static Result<MapPager> open(const std::filesystem::path& dir);
+
+  // Takes over the pages a snapshot names (file names in dir): their regions count as paged out. Each file
+  // is read once, to check it and to learn its blocks' checksum term; the damaged ones are returned and
+  // their regions left to the prior.
+  std::vector<PageDamage> adopt(std::span<const std::string> names, const filter::BandedOgf& map);
+
+  // Reads back every paged-out region an update with `measurements` can reach. Damaged pages are returned
+  // (their regions are then prior, and no longer paged out).
+  std::vector<PageDamage> bringIn(filter::BandedOgf& map, std::span<const Measurement> measurements);
+  // Reads back every paged-out region that holds cells of the box [lo, hi] (map frame, metres).
+  std::vector<PageDamage> bringInBox(filter::BandedOgf& map, const std::array<double, 3>& lo,
+                                     const std::array<double, 3>& hi);
+  // Reads back every region (before a save or export of the whole map).
+  std::vector<PageDamage> bringInAll(filter::BandedOgf& map);
+
+  // Pages out the regions of `map` whose nearest point lies farther than `distance_m` from `position` (map
+  // frame, metres); a no-op until the position has moved a quarter of a region since the last call that
+  // looked, or a region was brought back since. Error (nothing dropped from the map for the region that failed) when a page cannot be written.
+  // A page is written under a name no file had, and not flushed: sync() makes it durable.
+  Status sendAway(filter::BandedOgf& map, const std::array<double, 3>& position, double distance_m);
+  // Flushes (fsync) the pages written since the last sync and still paged out, and the directory: call it
+  // before a snapshot names them. A crash before leaves pages that no snapshot names; collect() removes them.
+  Status sync();
+
+  // The file names of the paged-out regions, sorted: what a snapshot must name with the map it holds.
+  std::vector<std::string> files() const;
+  // Checksum term of the paged-out blocks, for BandedOgf::checksum.
+  filter::BlockHashSum heldBlocks() const { return held_; }
+  std::size_t heldCells(const filter::BandedOgf& map) const { return held_.blocks * map.cellsPerBlock(); }
+  const PagerCounts& counts() const { return counts_; }
+  const std::filesystem::path& dir() const { return dir_; }
+
+  // Deletes the page files in dir that are not paged out now and not in `keep` (the names a snapshot that
+  // may still be restored refers to); returns how many.
+  std::size_t collect(std::span<const std::string> keep);
+
+ private:
+  struct PagedRegion {
+    std::string file;
+    filter::BlockHashSum blocks;
+    std::uint64_t bytes = 0;
+  };
+  explicit MapPager(std::filesystem::path dir, std::uint64_t next) : dir_(std::move(dir)), next_(next) {}
+  // Reads one region back into `map`; on damage the region is forgotten all the same.
+  void load(filter::BandedOgf& map, const CellKey& region, std::vector<PageDamage>& damage);
+  void forget(const CellKey& region);
+
+  std::filesystem::path dir_;
+  std::uint64_t next_ = 0;  // number of the next page file, above every one in dir
+  std::unordered_map<CellKey, PagedRegion, CellKeyHash> paged_;
+  std::vector<std::string> unsynced_;
+  filter::BlockHashSum held_;
+  PagerCounts counts_;
+  std::array<double, 3> last_position_{};
+  std::size_t read_at_look_ = 0;
+  bool looked_ = false;
+};
+
+}  // namespace ogf::persistence

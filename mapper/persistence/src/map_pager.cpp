@@ -1,0 +1,336 @@
+#include "ogf/persistence/map_pager.hpp"
+
+#include <ogf/filter/block_storage.hpp>
+#include <ogf/filter/map_checksum.hpp>
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <set>
+
+#include "ogf/persistence/page_file.hpp"
+
+namespace ogf::persistence {
+namespace {
+
+constexpr const char* kSuffix = ".ogfp";
+
+CellKey regionOf(const CellKey& block, bool flat) {
+  return {block.x >> MapPager::kRegionShift, block.y >> MapPager::kRegionShift,
+          flat ? 0 : block.z >> MapPager::kRegionShift};
+}
+
+// The number in a page file's name ("r<x>_<y>_<z>-<n>.ogfp"), or 0 when it is not one.
+std::uint64_t pageNumber(const std::string& name) {
+  const auto dash = name.rfind('-');
+  if (name.size() < 6 || name.compare(name.size() - 5, 5, kSuffix) != 0 || dash == std::string::npos) return 0;
+  try {
+    return std::stoull(name.substr(dash + 1, name.size() - 5 - dash - 1));
+  } catch (...) {
+    return 0;
+  }
+}
+
+std::vector<std::byte> readAll(const std::filesystem::path& path, std::string& why) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    why = "cannot read the page";
+    return {};
+  }
+  const std::vector<char> raw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<std::byte> bytes(raw.size());
+  std::memcpy(bytes.data(), raw.data(), raw.size());
+  return bytes;
+}
+
+// Writes `bytes` to a new file at `path` (not flushed).
+Status writeNewFile(const std::filesystem::path& path, std::span<const std::byte> bytes) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) return Error{path.string() + ": cannot create the page: " + std::strerror(errno)};
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const std::string why = n < 0 ? std::strerror(errno) : "no progress";
+      ::close(fd);
+      ::unlink(path.c_str());
+      return Error{path.string() + ": write failed at offset " + std::to_string(done) + ": " + why};
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  if (::close(fd) != 0) {
+    const std::string why = std::strerror(errno);
+    ::unlink(path.c_str());
+    return Error{path.string() + ": close failed: " + why};
+  }
+  return okStatus();
+}
+
+Status flushFile(const std::filesystem::path& path, int flags) {
+  const int fd = ::open(path.c_str(), flags | O_CLOEXEC);
+  if (fd < 0) return Error{path.string() + ": cannot open to flush: " + std::strerror(errno)};
+  const int rc = ::fsync(fd);
+  const std::string why = rc != 0 ? std::strerror(errno) : "";
+  ::close(fd);
+  if (rc != 0) return Error{path.string() + ": fsync failed: " + why};
+  return okStatus();
+}
+
+// The page at `path` when it holds blocks of `map`'s layout, else the reason.
+Result<Page> readPage(const std::filesystem::path& path, const filter::BandedOgf& map) {
+  std::string why;
+  const auto bytes = readAll(path, why);
+  if (!why.empty()) return Error{path.string() + ": " + why};
+  auto page = decodePage(bytes, path.string());
+  if (!page) return page.error();
+  if (page->floats_per_block != map.storedFloatsPerBlock() || page->cells_per_block != map.cellsPerBlock())
+    return Error{path.string() + ": offset 28: blocks of " + std::to_string(page->floats_per_block) + " floats and " +
+                 std::to_string(page->cells_per_block) + " cells, the map stores " +
+                 std::to_string(map.storedFloatsPerBlock()) + " and " + std::to_string(map.cellsPerBlock())};
+  return page;
+}
+
+}  // namespace
+
+Result<MapPager> MapPager::open(const std::filesystem::path& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) return Error{dir.string() + ": cannot create the page directory: " + ec.message()};
+  std::uint64_t next = 1;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    next = std::max(next, pageNumber(entry.path().filename().string()) + 1);
+  }
+  if (ec) return Error{dir.string() + ": cannot list the page directory: " + ec.message()};
+  return MapPager(dir, next);
+}
+
+std::vector<PageDamage> MapPager::adopt(std::span<const std::string> names, const filter::BandedOgf& map) {
+  std::vector<PageDamage> damage;
+  for (const std::string& name : names) {
+    const std::filesystem::path path = dir_ / name;
+    auto page = readPage(path, map);
+    if (!page) {
+      damage.push_back({path, page.error().message});
+      continue;
+    }
+    PagedRegion region{name, {}, 0};
+    for (const PageBlock& b : page->blocks) {
+      region.blocks.sum += filter::blockChecksum(b.key, b.stored, b.marks);
+      ++region.blocks.blocks;
+    }
+    std::error_code ec;
+    region.bytes = std::filesystem::file_size(path, ec);
+    if (paged_.contains(page->region)) {
+      damage.push_back({path, "region " + std::to_string(page->region.x) + "," + std::to_string(page->region.y) +
+                                  "," + std::to_string(page->region.z) + " is named twice"});
+      continue;
+    }
+    held_.sum += region.blocks.sum;
+    held_.blocks += region.blocks.blocks;
+    counts_.blocks_out += region.blocks.blocks;
+    counts_.bytes_out += region.bytes;
+    ++counts_.regions_out;
+    paged_.emplace(page->region, std::move(region));
+  }
+  return damage;
+}
+
+void MapPager::forget(const CellKey& region) {
+  const auto it = paged_.find(region);
+  held_.sum -= it->second.blocks.sum;
+  held_.blocks -= it->second.blocks.blocks;
+  counts_.blocks_out -= it->second.blocks.blocks;
+  counts_.bytes_out -= it->second.bytes;
+  --counts_.regions_out;
+  paged_.erase(it);
+}
+
+void MapPager::load(filter::BandedOgf& map, const CellKey& region, std::vector<PageDamage>& damage) {
+  const std::filesystem::path path = dir_ / paged_.at(region).file;
+  forget(region);
+  auto page = readPage(path, map);
+  if (!page) {
+    damage.push_back({path, page.error().message});
+    return;
+  }
+  for (const PageBlock& b : page->blocks) {
+    if (auto st = map.restoreStoredBlock(b.key, b.stored, b.marks); !st) {
+      damage.push_back({path, st.error().message});
+    }
+  }
+  ++counts_.pages_read;
+}
+
+std::vector<PageDamage> MapPager::bringIn(filter::BandedOgf& map, std::span<const Measurement> measurements) {
+  std::vector<PageDamage> damage;
+  if (paged_.empty()) return damage;
+  const bool flat = map.config().dimensions == 2;
+  std::set<CellKey> wanted;
+  CellKey last{};
+  bool first = true;
+  for (const Measurement& m : measurements) {
+    const CellKey block = filter::blockKeyOf(m.key);
+    if (!first && block == last) continue;
+    first = false;
+    last = block;
+    // The blocks one block around the measured one, and the regions they lie in.
+    const CellKey lo = regionOf(block - CellKey{1, 1, 1}, flat);
+    const CellKey hi = regionOf(block + CellKey{1, 1, 1}, flat);
+    for (int z = lo.z; z <= hi.z; ++z)
+      for (int y = lo.y; y <= hi.y; ++y)
+        for (int x = lo.x; x <= hi.x; ++x)
+          if (paged_.contains(CellKey{x, y, z})) wanted.insert(CellKey{x, y, z});
+  }
+  for (const CellKey& region : wanted) load(map, region, damage);
+  return damage;
+}
+
+std::vector<PageDamage> MapPager::bringInBox(filter::BandedOgf& map, const std::array<double, 3>& lo,
+                                             const std::array<double, 3>& hi) {
+  std::vector<PageDamage> damage;
+  if (paged_.empty()) return damage;
+  const bool flat = map.config().dimensions == 2;
+  const double res = map.config().resolution;
+  // Cell i spans [i·res, (i+1)·res); one cell of margin either side for rounding.
+  const auto regionAt = [&](const std::array<double, 3>& p, int margin) {
+    CellKey cell;
+    int* c[3] = {&cell.x, &cell.y, &cell.z};
+    for (std::size_t a = 0; a < 3; ++a) {
+      const double v = std::clamp(std::floor(p[a] / res), -1e9, 1e9);
+      *c[a] = static_cast<int>(v) + margin;
+    }
+    return regionOf(filter::blockKeyOf(cell), flat);
+  };
+  if (!(std::isfinite(lo[0]) && std::isfinite(lo[1]) && std::isfinite(lo[2]) && std::isfinite(hi[0]) &&
+        std::isfinite(hi[1]) && std::isfinite(hi[2])))
+    return damage;
+  const CellKey a = regionAt(lo, -1);
+  const CellKey b = regionAt(hi, 1);
+  std::vector<CellKey> wanted;
+  for (const auto& [region, paged] : paged_) {
+    if (region.x >= a.x && region.x <= b.x && region.y >= a.y && region.y <= b.y && region.z >= a.z &&
+        region.z <= b.z)
+      wanted.push_back(region);
+  }
+  std::sort(wanted.begin(), wanted.end());
+  for (const CellKey& region : wanted) load(map, region, damage);
+  return damage;
+}
+
+std::vector<PageDamage> MapPager::bringInAll(filter::BandedOgf& map) {
+  std::vector<PageDamage> damage;
+  std::vector<CellKey> regions;
+  for (const auto& [region, paged] : paged_) regions.push_back(region);
+  std::sort(regions.begin(), regions.end());
+  for (const CellKey& region : regions) load(map, region, damage);
+  return damage;
+}
+
+Status MapPager::sendAway(filter::BandedOgf& map, const std::array<double, 3>& position, double distance_m) {
+  const bool flat = map.config().dimensions == 2;
+  const double side = map.config().resolution * filter::kBlockSide * (1 << kRegionShift);
+  if (looked_ && counts_.pages_read == read_at_look_) {
+    const double moved = std::hypot(position[0] - last_position_[0], position[1] - last_position_[1],
+                                    flat ? 0.0 : position[2] - last_position_[2]);
+    if (moved < side / 4) return okStatus();
+  }
+  looked_ = true;
+  last_position_ = position;
+  read_at_look_ = counts_.pages_read;
+  // The resident blocks of every region whose nearest point is beyond the distance.
+  std::unordered_map<CellKey, std::vector<CellKey>, CellKeyHash> far;
+  map.forEachBlockKey([&](const CellKey& block) {
+    const CellKey region = regionOf(block, flat);
+    const int r[3] = {region.x, region.y, region.z};
+    double d2 = 0.0;
+    for (int a = 0; a < (flat ? 2 : 3); ++a) {
+      const double lo = r[a] * side;
+      const double gap = std::max({lo - position[static_cast<std::size_t>(a)], 0.0,
+                                   position[static_cast<std::size_t>(a)] - (lo + side)});
+      d2 += gap * gap;
+    }
+    if (d2 > distance_m * distance_m) far[region].push_back(block);
+  });
+  std::vector<CellKey> regions;
+  for (const auto& [region, blocks] : far) regions.push_back(region);
+  std::sort(regions.begin(), regions.end());
+  for (const CellKey& region : regions) {
+    std::vector<CellKey>& keys = far[region];
+    std::sort(keys.begin(), keys.end());
+    Page page;
+    page.region = region;
+    page.floats_per_block = static_cast<std::uint32_t>(map.storedFloatsPerBlock());
+    page.cells_per_block = static_cast<std::uint32_t>(map.cellsPerBlock());
+    PagedRegion paged;
+    for (const CellKey& key : keys) {
+      const auto stored = map.storedValues(key);
+      const auto marks = map.blockMarks(key);
+      page.blocks.push_back({key, {stored.begin(), stored.end()}, {marks.begin(), marks.end()}});
+      paged.blocks.sum += map.blockHash(key);
+      ++paged.blocks.blocks;
+    }
+    paged.file = "r" + std::to_string(region.x) + "_" + std::to_string(region.y) + "_" + std::to_string(region.z) +
+                 "-" + std::to_string(next_++) + kSuffix;
+    const auto bytes = encodePage(page);
+    if (auto st = writeNewFile(dir_ / paged.file, bytes); !st) return st;
+    unsynced_.push_back(paged.file);
+    paged.bytes = bytes.size();
+    for (const CellKey& key : keys) map.eraseBlock(key);
+    held_.sum += paged.blocks.sum;
+    held_.blocks += paged.blocks.blocks;
+    counts_.blocks_out += paged.blocks.blocks;
+    counts_.bytes_out += paged.bytes;
+    ++counts_.regions_out;
+    ++counts_.pages_written;
+    paged_.emplace(region, std::move(paged));
+  }
+  return okStatus();
+}
+
+Status MapPager::sync() {
+  if (unsynced_.empty()) return okStatus();
+  std::set<std::string> out;
+  for (const auto& [region, paged] : paged_) out.insert(paged.file);
+  for (const std::string& name : unsynced_) {
+    if (!out.contains(name)) continue;  // back in memory: no snapshot will name it
+    if (auto st = flushFile(dir_ / name, O_RDONLY); !st) return st;
+  }
+  if (auto st = flushFile(dir_, O_RDONLY | O_DIRECTORY); !st) return st;
+  unsynced_.clear();
+  return okStatus();
+}
+
+std::vector<std::string> MapPager::files() const {
+  std::vector<std::string> names;
+  names.reserve(paged_.size());
+  for (const auto& [region, paged] : paged_) names.push_back(paged.file);
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::size_t MapPager::collect(std::span<const std::string> keep) {
+  std::set<std::string> named(keep.begin(), keep.end());
+  for (const auto& [region, paged] : paged_) named.insert(paged.file);
+  std::size_t removed = 0;
+  std::error_code ec;
+  std::vector<std::filesystem::path> doomed;
+  for (const auto& entry : std::filesystem::directory_iterator(dir_, ec)) {
+    const std::string name = entry.path().filename().string();
+    const bool page = pageNumber(name) != 0;
+    const bool leftover = name.ends_with(".tmp");
+    if ((page && !named.contains(name)) || leftover) doomed.push_back(entry.path());
+  }
+  for (const auto& path : doomed) {
+    if (std::filesystem::remove(path, ec)) ++removed;
+  }
+  return removed;
+}
+
+}  // namespace ogf::persistence

@@ -1,0 +1,81 @@
+#include "ogf/persistence/page_file.hpp"
+
+#include <bit>
+#include <cstring>
+
+#include "ogf/common/crc32.hpp"
+#include "ogf/common/little_endian.hpp"
+
+namespace ogf::persistence {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "pages store floats as the host holds them");
+
+constexpr char kMagic[8] = {'O', 'G', 'F', 'P', 'A', 'G', 'E', '1'};
+constexpr std::uint32_t kVersion = 1;
+constexpr std::size_t kHeader = 8 + 4 + 3 * 4 + 3 * 4;
+
+}  // namespace
+
+std::vector<std::byte> encodePage(const Page& page) {
+  std::vector<std::byte> out;
+  out.reserve(kHeader + page.blocks.size() * (12 + page.floats_per_block * sizeof(float) + page.cells_per_block) + 4);
+  for (char c : kMagic) out.push_back(static_cast<std::byte>(c));
+  putLittleEndian<std::uint32_t>(out, kVersion);
+  putLittleEndian<std::int32_t>(out, page.region.x);
+  putLittleEndian<std::int32_t>(out, page.region.y);
+  putLittleEndian<std::int32_t>(out, page.region.z);
+  putLittleEndian<std::uint32_t>(out, static_cast<std::uint32_t>(page.blocks.size()));
+  putLittleEndian<std::uint32_t>(out, page.floats_per_block);
+  putLittleEndian<std::uint32_t>(out, page.cells_per_block);
+  for (const PageBlock& b : page.blocks) {
+    putLittleEndian<std::int32_t>(out, b.key.x);
+    putLittleEndian<std::int32_t>(out, b.key.y);
+    putLittleEndian<std::int32_t>(out, b.key.z);
+    const auto* v = reinterpret_cast<const std::byte*>(b.stored.data());
+    out.insert(out.end(), v, v + b.stored.size() * sizeof(float));
+    const auto* m = reinterpret_cast<const std::byte*>(b.marks.data());
+    out.insert(out.end(), m, m + b.marks.size());
+  }
+  putLittleEndian<std::uint32_t>(out, crc32(out.data(), out.size()));
+  return out;
+}
+
+Result<Page> decodePage(std::span<const std::byte> bytes, const std::string& source) {
+  const auto fail = [&](std::size_t offset, const std::string& what) {
+    return Error{source + ": offset " + std::to_string(offset) + ": " + what};
+  };
+  if (bytes.size() < kHeader + 4) return fail(0, "page truncated (" + std::to_string(bytes.size()) + " bytes)");
+  if (std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) return fail(0, "not an ogf page (bad magic)");
+  if (const auto v = getLittleEndian<std::uint32_t>(bytes.data() + 8); v != kVersion)
+    return fail(8, "unsupported page version " + std::to_string(v));
+  const std::size_t crcAt = bytes.size() - 4;
+  if (getLittleEndian<std::uint32_t>(bytes.data() + crcAt) != crc32(bytes.data(), crcAt))
+    return fail(crcAt, "page checksum mismatch (truncated or corrupt)");
+  Page page;
+  page.region = {getLittleEndian<std::int32_t>(bytes.data() + 12), getLittleEndian<std::int32_t>(bytes.data() + 16),
+                 getLittleEndian<std::int32_t>(bytes.data() + 20)};
+  const auto count = getLittleEndian<std::uint32_t>(bytes.data() + 24);
+  page.floats_per_block = getLittleEndian<std::uint32_t>(bytes.data() + 28);
+  page.cells_per_block = getLittleEndian<std::uint32_t>(bytes.data() + 32);
+  const std::size_t perBlock = 12 + std::size_t{page.floats_per_block} * sizeof(float) + page.cells_per_block;
+  if (std::size_t{count} * perBlock != crcAt - kHeader)
+    return fail(24, std::to_string(count) + " blocks of " + std::to_string(perBlock) + " bytes do not fill the " +
+                        std::to_string(crcAt - kHeader) + " bytes of blocks");
+  page.blocks.resize(count);
+  const std::byte* p = bytes.data() + kHeader;
+  for (PageBlock& b : page.blocks) {
+    b.key = {getLittleEndian<std::int32_t>(p), getLittleEndian<std::int32_t>(p + 4),
+             getLittleEndian<std::int32_t>(p + 8)};
+    p += 12;
+    b.stored.resize(page.floats_per_block);
+    std::memcpy(b.stored.data(), p, b.stored.size() * sizeof(float));
+    p += b.stored.size() * sizeof(float);
+    b.marks.resize(page.cells_per_block);
+    std::memcpy(b.marks.data(), p, b.marks.size());
+    p += b.marks.size();
+  }
+  return page;
+}
+
+}  // namespace ogf::persistence

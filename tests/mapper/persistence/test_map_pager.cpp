@@ -1,0 +1,251 @@
+// Paging the far regions of a map to disk: a map mapped with paging is bit-identical to one mapped
+// without, whatever the distance; memory holds only the regions near the sensor; pages are checked when read
+// and damage names the file; snapshots name the pages that hold the rest of their map.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <vector>
+
+#include "ogf/filter/banded_ogf.hpp"
+#include "ogf/persistence/map_pager.hpp"
+#include "ogf/persistence/page_file.hpp"
+#include "ogf/persistence/state_directory.hpp"
+
+namespace {
+
+using namespace ogf;
+using namespace ogf::persistence;
+namespace fs = std::filesystem;
+
+class MapPagerTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("ogf-pager-" + std::to_string(::getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  static filter::BandedOgf makeMap(int dimensions, filter::CovarianceStorage storage) {
+    filter::FilterConfig c;
+    c.dimensions = dimensions;
+    c.resolution = 0.1;
+    c.covariance = storage;
+    auto map = filter::BandedOgf::create(c);
+    EXPECT_TRUE(map.ok()) << map.error().message;
+    return std::move(*map);
+  }
+
+  // A "scan" seen from x = position: free cells along a ray to a wall 3 m ahead, occupied cells on it,
+  // and some ground. 3-D keys unless `flat`.
+  static std::vector<Measurement> scanAt(double position, bool flat, std::mt19937& rng) {
+    std::vector<Measurement> out;
+    const int x0 = static_cast<int>(position / 0.1);
+    std::uniform_int_distribution<int> jitter(-3, 3);
+    for (int ray = -20; ray <= 20; ++ray) {
+      const int y = ray * 2 + jitter(rng);
+      for (int step = 0; step < 30; ++step) out.push_back({{x0 + step, y, flat ? 0 : 5}, Measurement::kFree});
+      out.push_back({{x0 + 30, y, flat ? 0 : 5}, Measurement::kOccupied});
+      if (!flat) out.push_back({{x0 + 5, y, -1}, Measurement::kOccupied});
+    }
+    // One cell per key, as a measurement set holds.
+    std::sort(out.begin(), out.end(), [](const Measurement& a, const Measurement& b) { return a.key < b.key; });
+    out.erase(std::unique(out.begin(), out.end(),
+                          [](const Measurement& a, const Measurement& b) { return a.key == b.key; }),
+              out.end());
+    return out;
+  }
+  // Scans 0 .. `steps` m along x, each region farther than `distance` paged out after every scan.
+  static void mapWithPaging(filter::BandedOgf& map, MapPager& pager, unsigned seed, int steps, double distance) {
+    std::mt19937 rng(seed);
+    for (int step = 0; step <= steps; ++step) {
+      const auto scan = scanAt(step, map.config().dimensions == 2, rng);
+      ASSERT_TRUE(pager.bringIn(map, scan).empty());
+      map.update(scan);
+      ASSERT_TRUE(pager.sendAway(map, {static_cast<double>(step), 0, 0.5}, distance).ok());
+    }
+  }
+
+  // Drives out 40 m and back, paging out every region farther than `distance` from the sensor: after every
+  // scan the checksum of the paged map (its pages counted) equals the map's without paging, and brought back
+  // at the end the two are the same block for block. Returns the most blocks held in memory while paging.
+  std::size_t driveOutAndBack(int dimensions, filter::CovarianceStorage storage, double distance) {
+    auto plain = makeMap(dimensions, storage);
+    auto paged = makeMap(dimensions, storage);
+    auto pager = MapPager::open(dir_ / "pages");
+    EXPECT_TRUE(pager.ok()) << pager.error().message;
+    std::mt19937 rng(7);
+    std::size_t most = 0;
+    const bool flat = dimensions == 2;
+    for (int step = 0; step <= 80; ++step) {
+      const double x = step <= 40 ? step : 80 - step;
+      const auto scan = scanAt(x, flat, rng);
+      plain.update(scan);
+      EXPECT_TRUE(pager->bringIn(paged, scan).empty());
+      paged.update(scan);
+      const auto st = pager->sendAway(paged, {x, 0.0, 0.5}, distance);
+      EXPECT_TRUE(st.ok()) << st.error().message;
+      EXPECT_EQ(paged.checksum(pager->heldBlocks()), plain.checksum()) << "after scan " << step;
+      EXPECT_EQ(paged.allocatedCells() + pager->heldCells(paged), plain.allocatedCells());
+      most = std::max(most, paged.blockKeys().size());
+    }
+    EXPECT_GT(pager->counts().pages_written, 0u);
+    EXPECT_GT(pager->counts().pages_read, 0u) << "the way back must bring pages in";
+    EXPECT_TRUE(pager->bringInAll(paged).empty());
+    EXPECT_EQ(pager->counts().regions_out, 0u);
+    EXPECT_EQ(paged.blockKeys(), plain.blockKeys());
+    for (const CellKey& key : plain.blockKeys()) {
+      const auto a = plain.storedValues(key);
+      const auto b = paged.storedValues(key);
+      EXPECT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end())) << "block " << key.x << "," << key.y;
+      const auto ma = plain.blockMarks(key);
+      const auto mb = paged.blockMarks(key);
+      EXPECT_TRUE(std::equal(ma.begin(), ma.end(), mb.begin(), mb.end()));
+    }
+    EXPECT_EQ(paged.checksum(), plain.checksum());
+    return most;
+  }
+  fs::path dir_;
+};
+
+TEST_F(MapPagerTest, PagedMapIsBitIdenticalAndSmallerIn3DCompactStorage) {
+  const std::size_t most = driveOutAndBack(3, filter::CovarianceStorage::kCompact, 8.0);
+  auto plain = makeMap(3, filter::CovarianceStorage::kCompact);
+  std::mt19937 rng(7);
+  for (int step = 0; step <= 40; ++step) plain.update(scanAt(step, false, rng));
+  EXPECT_LT(most * 2, plain.blockKeys().size()) << "paging must hold less than half of a 40 m drive's blocks";
+}
+
+TEST_F(MapPagerTest, PagedMapIsBitIdenticalIn3DBandedStorage) {
+  driveOutAndBack(3, filter::CovarianceStorage::kBanded, 8.0);
+}
+
+TEST_F(MapPagerTest, PagedMapIsBitIdenticalIn2D) { driveOutAndBack(2, filter::CovarianceStorage::kCompact, 8.0); }
+
+TEST_F(MapPagerTest, PagingCloserThanTheScansReachIsStillExact) {
+  // The scans reach 3 m; regions beyond 1 m go out after every scan and come straight back.
+  driveOutAndBack(3, filter::CovarianceStorage::kCompact, 1.0);
+}
+
+TEST_F(MapPagerTest, PageRoundTripsAndDamageNamesTheFileAndOffset) {
+  Page page;
+  page.region = {-3, 4, -1};
+  page.floats_per_block = 3;
+  page.cells_per_block = 2;
+  page.blocks.push_back({{-12, 16, -4}, {1.5F, -2.0F, 3.25F}, {0x80, 7}});
+  page.blocks.push_back({{-11, 16, -4}, {0.0F, 1.0F, 2.0F}, {0, 0}});
+  auto bytes = encodePage(page);
+  auto back = decodePage(bytes, "p.ogfp");
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  EXPECT_EQ(back->region, page.region);
+  ASSERT_EQ(back->blocks.size(), 2u);
+  EXPECT_EQ(back->blocks[0].key, page.blocks[0].key);
+  EXPECT_EQ(back->blocks[0].stored, page.blocks[0].stored);
+  EXPECT_EQ(back->blocks[0].marks, page.blocks[0].marks);
+  for (std::size_t i = 0; i < bytes.size(); i += 7) {
+    auto damaged = bytes;
+    damaged[i] ^= std::byte{0x10};
+    const auto r = decodePage(damaged, "p.ogfp");
+    ASSERT_FALSE(r.ok()) << "byte " << i;
+    EXPECT_NE(r.error().message.find("p.ogfp: offset "), std::string::npos) << r.error().message;
+  }
+  const auto cut = decodePage(std::span(bytes).first(bytes.size() - 5), "p.ogfp");
+  ASSERT_FALSE(cut.ok());
+}
+
+TEST_F(MapPagerTest, DamagedPageLosesOnlyItsRegionAndSaysWhich) {
+  auto map = makeMap(3, filter::CovarianceStorage::kCompact);
+  auto pager = MapPager::open(dir_);
+  ASSERT_TRUE(pager.ok());
+  mapWithPaging(map, *pager, 3, 20, 5.0);
+  const auto files = pager->files();
+  ASSERT_GE(files.size(), 2u);
+  {
+    std::fstream f(dir_ / files.front(), std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(100);
+    f.put('\x5A');
+  }
+  const std::size_t out = pager->counts().regions_out;
+  const auto damage = pager->bringInAll(map);
+  ASSERT_EQ(damage.size(), 1u);
+  EXPECT_EQ(damage[0].file, dir_ / files.front());
+  EXPECT_NE(damage[0].reason.find(files.front()), std::string::npos) << damage[0].reason;
+  EXPECT_NE(damage[0].reason.find("checksum"), std::string::npos) << damage[0].reason;
+  EXPECT_EQ(pager->counts().regions_out, 0u);
+  EXPECT_EQ(pager->counts().pages_read, out - 1);
+}
+
+TEST_F(MapPagerTest, AdoptedPagesComeBackAndCollectKeepsWhatASnapshotNames) {
+  auto map = makeMap(3, filter::CovarianceStorage::kCompact);
+  auto pager = MapPager::open(dir_);
+  ASSERT_TRUE(pager.ok());
+  mapWithPaging(map, *pager, 5, 20, 5.0);
+  ASSERT_TRUE(pager->sync().ok());
+  const auto names = pager->files();
+  const auto whole = map.checksum(pager->heldBlocks());
+  // A restart: the resident blocks from a map file (here: copied), the rest from the pages a snapshot names.
+  auto restored = makeMap(3, filter::CovarianceStorage::kCompact);
+  for (const CellKey& key : map.blockKeys())
+    ASSERT_TRUE(restored.restoreStoredBlock(key, map.storedValues(key), map.blockMarks(key)).ok());
+  auto again = MapPager::open(dir_);
+  ASSERT_TRUE(again.ok());
+  EXPECT_TRUE(again->adopt(names, restored).empty());
+  EXPECT_EQ(restored.checksum(again->heldBlocks()), whole);
+  // A stray file from a run that crashed before its snapshot, and the pages the snapshot names.
+  { std::ofstream(dir_ / "r9_9_9-999999.ogfp") << "torn"; }
+  EXPECT_EQ(again->collect(names), 1u);
+  EXPECT_FALSE(fs::exists(dir_ / "r9_9_9-999999.ogfp"));
+  EXPECT_TRUE(again->bringInAll(restored).empty());
+  EXPECT_EQ(restored.checksum(), whole);
+  // Back in memory and named by no snapshot: collected.
+  EXPECT_EQ(again->collect({}), names.size());
+  EXPECT_TRUE(fs::is_empty(dir_));
+}
+
+TEST_F(MapPagerTest, PagesOfAnotherLayoutAreRefused) {
+  auto banded = makeMap(3, filter::CovarianceStorage::kBanded);
+  auto pager = MapPager::open(dir_);
+  mapWithPaging(banded, *pager, 1, 12, 3.0);
+  ASSERT_TRUE(pager->sync().ok());
+  auto compact = makeMap(3, filter::CovarianceStorage::kCompact);
+  auto other = MapPager::open(dir_);
+  const auto damage = other->adopt(pager->files(), compact);
+  ASSERT_EQ(damage.size(), pager->files().size());
+  EXPECT_NE(damage[0].reason.find("the map stores"), std::string::npos) << damage[0].reason;
+}
+
+TEST_F(MapPagerTest, SnapshotNamesItsPagesAndRecoveryGivesThemBack) {
+  {
+    auto sd = StateDirectory::open(dir_);
+    ASSERT_TRUE(sd.ok());
+    ASSERT_TRUE(sd->recover(5).ok());
+    const std::vector<std::uint8_t> map = {1, 2, 3};
+    const std::vector<std::string> pages = {"r0_0_0-1.ogfp", "r-1_2_0-7.ogfp"};
+    ASSERT_TRUE(sd->snapshot(4, map, pages).ok());
+    EXPECT_EQ(sd->referencedPages(), pages);
+    ASSERT_TRUE(sd->snapshot(5, map, std::vector<std::string>{"r3_0_0-9.ogfp"}).ok());
+    const std::vector<std::string> both = {"r3_0_0-9.ogfp", "r0_0_0-1.ogfp", "r-1_2_0-7.ogfp"};
+    EXPECT_EQ(sd->referencedPages(), both) << "the previous snapshot's pages are kept too";
+  }
+  auto sd = StateDirectory::open(dir_);
+  auto r = sd->recover(1);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r->snapshot_seq, 5);
+  EXPECT_EQ(r->pages, std::vector<std::string>{"r3_0_0-9.ogfp"});
+  // A snapshot without pages is the container's first version, which older readers read.
+  const auto plain = encodeSnapshot(1, 2, std::vector<std::uint8_t>{9});
+  EXPECT_EQ(static_cast<int>(plain[8]), 1);
+  const auto named = encodeSnapshot(1, 2, std::vector<std::uint8_t>{9}, std::vector<std::string>{"a.ogfp"});
+  EXPECT_EQ(static_cast<int>(named[8]), 2);
+  for (std::size_t i = 0; i < named.size(); ++i) {
+    auto damaged = named;
+    damaged[i] ^= std::byte{0x01};
+    EXPECT_FALSE(decodeSnapshot(damaged, "s").ok()) << "byte " << i;
+  }
+}
+
+}  // namespace
+
