@@ -2,7 +2,8 @@
 // - ogf-map-client rebuilds exactly the daemon's published map over 1000 scans although the daemon drops
 //   a share of its delta updates (gap injection): the client notices every gap and recovers by keyframe;
 // - after kill -9 at random instants the restarted daemon resumes with exactly the map an uninterrupted
-//   run has at the same update (same filter checksum) and never behind what it had acknowledged.
+//   run has at the same update (same filter checksum) and never behind what it had acknowledged, also
+//   while regions of the map are paged out to the state directory and back.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -78,6 +79,12 @@ class StatusListener {
   ogf::testing::LcmThread bus_;  // last: its thread stops before the state above is gone
 };
 
+// A feed step on the bus: its odometry, then its scan.
+void publishStep(lcm::LCM& lcm, const ogf::testing::FeedStep& step) {
+  for (const auto& p : step.poses) lcm.publish("POSE", &p);
+  lcm.publish("VELODYNE_SCAN", &step.scan);
+}
+
 class MapperDaemonTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -90,10 +97,6 @@ class MapperDaemonTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  static void publishStep(lcm::LCM& lcm, const ogf::testing::FeedStep& step) {
-    for (const auto& p : step.poses) lcm.publish("POSE", &p);
-    lcm.publish("VELODYNE_SCAN", &step.scan);
-  }
   fs::path dir_;
 };
 
@@ -164,9 +167,11 @@ TEST_F(MapperDaemonTest, ClientRebuildsTheDaemonsMapOver1000ScansWithGapsInjecte
   EXPECT_EQ(mapper.wait(20s), 0) << mapper.log();
 }
 
-TEST_F(MapperDaemonTest, KillNineAtRandomInstantsResumesExactlyTheAcknowledgedMap) {
+// Kills the daemon (kill -9) at random instants over `rounds` rounds of scans, restarting it each time on its
+// state directory; `config` is added to its configuration.
+void killNineAtRandomInstants(const fs::path& dir, int channel, const std::string& config) {
   const int rounds = std::getenv("OGF_KILL_ROUNDS") ? std::atoi(std::getenv("OGF_KILL_ROUNDS")) : 5;
-  const std::string url = ogf::testing::loopbackUdpmUrl(32);
+  const std::string url = ogf::testing::loopbackUdpmUrl(channel);
   StatusListener status(url);
   lcm::LCM lcm(url);
 
@@ -197,8 +202,8 @@ TEST_F(MapperDaemonTest, KillNineAtRandomInstantsResumesExactlyTheAcknowledgedMa
   // (scans_dropped_behind): the restarted map lacks that scan and differs from the reference. A queue that
   // holds a whole round makes the scans wait for the mapper instead, as in the fault tests' kill -9.
   constexpr int kMaxScansPerRound = 25;
-  std::ofstream(dir_ / "mapper.yaml", std::ios::app)
-      << "fusion:\n  max_pending_scans: " << kMaxScansPerRound << "\n";
+  std::ofstream(dir / "mapper.yaml", std::ios::app)
+      << "fusion:\n  max_pending_scans: " << kMaxScansPerRound << "\n" << config;
 
   // The first status of a restarted daemon, not one the killed daemon sent just before the kill that
   // arrives after status.reset(): its counters run from its start, and no scan is sent before this status.
@@ -209,9 +214,9 @@ TEST_F(MapperDaemonTest, KillNineAtRandomInstantsResumesExactlyTheAcknowledgedMa
   int next_scan = 0;
   for (int round = 0; round < rounds; ++round) {
     status.reset();
-    ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir_ / "state").string(), "--config",
-                         (dir_ / "mapper.yaml").string(), "--snapshot-interval", "0.4", "--log-level", "warn"},
-                        (dir_ / ("mapper-" + std::to_string(round) + ".log")).string());
+    ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir / "state").string(), "--config",
+                         (dir / "mapper.yaml").string(), "--snapshot-interval", "0.4", "--log-level", "warn"},
+                        (dir / ("mapper-" + std::to_string(round) + ".log")).string());
     const auto first = status.waitFor(fromThisDaemon, 10s);
     ASSERT_TRUE(first) << mapper.log();
     const std::int64_t restored = first->delta_seq;
@@ -244,9 +249,9 @@ TEST_F(MapperDaemonTest, KillNineAtRandomInstantsResumesExactlyTheAcknowledgedMa
   // And a clean stop keeps everything: the final snapshot then a restart at the same seq.
   status.reset();
   {
-    ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir_ / "state").string(), "--config",
-                         (dir_ / "mapper.yaml").string(), "--log-level", "warn"},
-                        (dir_ / "mapper-final.log").string());
+    ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir / "state").string(), "--config",
+                         (dir / "mapper.yaml").string(), "--log-level", "warn"},
+                        (dir / "mapper-final.log").string());
     const auto s = status.waitFor(fromThisDaemon, 10s);
     ASSERT_TRUE(s);
     extendReference(static_cast<int>(s->delta_seq));
@@ -254,6 +259,19 @@ TEST_F(MapperDaemonTest, KillNineAtRandomInstantsResumesExactlyTheAcknowledgedMa
     mapper.signal(SIGTERM);
     EXPECT_EQ(mapper.wait(20s), 0) << mapper.log();
   }
+}
+
+TEST_F(MapperDaemonTest, KillNineAtRandomInstantsResumesExactlyTheAcknowledgedMap) {
+  killNineAtRandomInstants(dir_, 32, "");
+}
+
+TEST_F(MapperDaemonTest, KillNineWhileRegionsArePagedOutAndInResumesExactlyTheAcknowledgedMap) {
+  // Regions 1 m beyond the robot leave memory after a scan and come back for the next one that reaches
+  // them, so every snapshot names pages and every restart reads them back (the journal's scans too).
+  killNineAtRandomInstants(dir_, 35, "page_out_distance_m: 1.0\n");
+  std::size_t pages = 0;
+  for (const auto& e : fs::directory_iterator(dir_ / "state" / "pages")) pages += e.path().extension() == ".ogfp";
+  EXPECT_GT(pages, 0u) << "the snapshots must have named pages";
 }
 
 }  // namespace

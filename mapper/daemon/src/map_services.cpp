@@ -76,6 +76,17 @@ void MapperDaemon::enqueueService(ServiceRequest request) {
 void MapperDaemon::serve(std::deque<ServiceRequest>& requests) {
   for (const ServiceRequest& request : requests) {
     if (const auto* q = std::get_if<ogf::map_query_t>(&request)) {
+      if (pager_) {
+        // The regions the query asks about, back from their pages (they go out again as the robot moves).
+        const auto& f = *q;
+        if (f.kind == ogf::map_query_t::KIND_BOX) {
+          reportPageDamage(pager_->bringInBox(mapper_.filter(), {f.box_min[0], f.box_min[1], f.box_min[2]},
+                                              {f.box_max[0], f.box_max[1], f.box_max[2]}));
+        } else {
+          for (const auto& p : f.points)
+            reportPageDamage(pager_->bringInBox(mapper_.filter(), {p[0], p[1], p[2]}, {p[0], p[1], p[2]}));
+        }
+      }
       const auto reply = answerQuery(*q, mapper_.filter(), deltas_.mapId(), deltas_.seq(), wallUtime());
       if (reply.status != ogf::map_query_reply_t::STATUS_OK) {
         std::lock_guard lk(mu_);
@@ -119,6 +130,7 @@ void MapperDaemon::carryOut(const ogf::map_command_t& command) {
       fail(ogf::map_command_reply_t::STATUS_REFUSED, "format '" + f + "': ogfm, ply, pcd, csv or bt");
     } else {
       Status st = okStatus();
+      if (pager_) reportPageDamage(pager_->bringInAll(mapper_.filter()));  // an export holds the whole map
       if (f == "ogfm") {
         st = filter::saveMapFile(mapper_.filter(), path);
       } else {
@@ -165,7 +177,9 @@ void MapperDaemon::resetMap() {
     std::error_code ec;
     std::filesystem::create_directories(aside, ec);
     const std::filesystem::path files[] = {state_->snapshotPath(), state_->journalPath(),
-                                           state_->previousSnapshotPath(), state_->previousJournalPath()};
+                                           state_->previousSnapshotPath(), state_->previousJournalPath(),
+                                           state_->pagesDir()};
+    pager_.reset();
     state_.reset();
     for (const auto& f : files) {
       if (std::filesystem::exists(f, ec)) std::filesystem::rename(f, aside / f.filename(), ec);
@@ -177,6 +191,7 @@ void MapperDaemon::resetMap() {
       persistenceFailed(rec.error().message, true);
     } else {
       state_.emplace(std::move(*dir));
+      openPager(state_->pagesDir());
     }
     spdlog::info("reset: the previous map is kept in {}", aside.string());
   }
@@ -189,9 +204,7 @@ void MapperDaemon::resetMap() {
 void MapperDaemon::refreshMapStats() {
   std::lock_guard lk(mu_);
   stats_.delta_seq = deltas_.seq();
-  stats_.cells = static_cast<std::int64_t>(mapper_.filter().allocatedCells());
-  stats_.memory_bytes = static_cast<std::int64_t>(mapper_.filter().memoryBytes());
-  stats_.filter_checksum = static_cast<std::int64_t>(mapper_.filter().checksum());
+  fillMapStats();
 }
 
 }  // namespace ogf::mapper_daemon

@@ -107,7 +107,22 @@ bool MapperDaemon::applyRecovered(const persistence::RecoveredState& rec, const 
       return false;
     }
   }
-  for (const auto& r : rec.replay) mapper_.apply(r.measurements);
+  if (!rec.pages.empty()) {
+    openPager(options_.state_dir / "pages", true);
+    if (!pager_) {
+      persistenceFailed("the map's pages in " + (options_.state_dir / "pages").string() +
+                            " cannot be read; their regions are lost", false);
+    } else {
+      reportPageDamage(pager_->adopt(rec.pages, mapper_.filter()));
+    }
+  }
+  for (const auto& r : rec.replay) {
+    if (pager_) reportPageDamage(pager_->bringIn(mapper_.filter(), r.measurements));
+    mapper_.apply(r.measurements);
+  }
+  // The first keyframe holds every cell: the whole map comes back for it, and the far regions go out again
+  // after the next scan.
+  if (pager_) reportPageDamage(pager_->bringInAll(mapper_.filter()));
   snapshot_seq_ = rec.snapshot_seq;
   spdlog::info("restored map {} at seq {} (snapshot {} + {} journal records): {} cells, checksum {:016x}", rec.map_id,
                rec.last_seq, rec.snapshot_seq, rec.replay.size(), mapper_.filter().allocatedCells(),
@@ -147,6 +162,7 @@ void MapperDaemon::restore() {
       } else if (applyRecovered(*rec, dir->snapshotPath().string())) {
         seq = rec->last_seq;
         state_.emplace(std::move(*dir));
+        if (!pager_) openPager(state_->pagesDir());
         if (!rec->damage.empty()) {
           // Restored around damage: said until the next snapshot holds the map again.
           spdlog::error("state directory: {}", rec->damage);
@@ -163,9 +179,47 @@ void MapperDaemon::restore() {
   deltas_.reset(cells, seq);
   std::lock_guard lk(mu_);
   stats_.delta_seq = seq;
-  stats_.cells = static_cast<std::int64_t>(mapper_.filter().allocatedCells());
-  stats_.memory_bytes = static_cast<std::int64_t>(mapper_.filter().memoryBytes());
-  stats_.filter_checksum = static_cast<std::int64_t>(mapper_.filter().checksum());
+  fillMapStats();
+}
+
+void MapperDaemon::openPager(const std::filesystem::path& pages_dir, bool holds_pages) {
+  pager_.reset();
+  paging_failed_ = false;
+  if (!(options_.page_out_distance_m > 0) && !holds_pages) return;
+  auto pager = persistence::MapPager::open(pages_dir);
+  if (!pager) {
+    spdlog::error("paging: {}; the whole map stays in memory", pager.error().message);
+    return;
+  }
+  pager_.emplace(std::move(*pager));
+}
+
+void MapperDaemon::reportPageDamage(const std::vector<persistence::PageDamage>& damage) {
+  for (const auto& d : damage) {
+    const std::string what = d.reason + "; the cells of its region are lost";
+    spdlog::error("paging: {}", what);
+    std::lock_guard lk(mu_);
+    stats_.persistence_ok = false;
+    stats_.persistence_error = what;
+  }
+}
+
+void MapperDaemon::pageOut() {
+  if (!pager_ || paging_failed_ || !(options_.page_out_distance_m > 0)) return;
+  const Eigen::Vector3d at = mapper_.sensorOrigin();
+  if (auto st = pager_->sendAway(mapper_.filter(), {at.x(), at.y(), at.z()}, options_.page_out_distance_m); !st) {
+    // The regions not written stay in memory; those already out still come back when needed.
+    paging_failed_ = true;
+    spdlog::error("paging: {}; the map stays in memory from now on", st.error().message);
+  }
+}
+
+void MapperDaemon::fillMapStats() {
+  const auto& map = mapper_.filter();
+  const filter::BlockHashSum held = pager_ ? pager_->heldBlocks() : filter::BlockHashSum{};
+  stats_.cells = static_cast<std::int64_t>(map.allocatedCells() + held.blocks * map.cellsPerBlock());
+  stats_.memory_bytes = static_cast<std::int64_t>(map.memoryBytes());
+  stats_.filter_checksum = static_cast<std::int64_t>(map.checksum(held));
 }
 
 void MapperDaemon::start() {
@@ -363,7 +417,9 @@ void MapperDaemon::mapScan(const ScanPtr& scan) {
     }
   }
   changes_.clear();
+  if (pager_) reportPageDamage(pager_->bringIn(mapper_.filter(), measurements));
   mapper_.apply(measurements, &changes_);
+  pageOut();
   auto msgs = deltas_.update(scan->utime, changes_);
   const bool drop = options_.test_drop_delta_fraction > 0 &&
                     std::uniform_real_distribution<double>(0, 1)(drop_rng_) < options_.test_drop_delta_fraction;
@@ -374,9 +430,7 @@ void MapperDaemon::mapScan(const ScanPtr& scan) {
   ++stats_.scans_mapped;
   stats_.measurements += static_cast<std::int64_t>(measurements.size());
   stats_.delta_seq = deltas_.seq();
-  stats_.cells = static_cast<std::int64_t>(mapper_.filter().allocatedCells());
-  stats_.memory_bytes = static_cast<std::int64_t>(mapper_.filter().memoryBytes());
-  stats_.filter_checksum = static_cast<std::int64_t>(mapper_.filter().checksum());
+  fillMapStats();
 }
 
 void MapperDaemon::publishCorrectedPose(std::int64_t utime, const correction::ScanCorrection& applied) {
@@ -418,14 +472,26 @@ void MapperDaemon::takeSnapshot() {
     if (!rec) return persistenceFailed(rec.error().message, true);
     state_.emplace(std::move(*dir));
     snapshot_seq_ = -1;
+    if (!pager_) openPager(state_->pagesDir());
   }
   if (!state_ || snapshot_seq_ == deltas_.seq()) return;
+  // The map in memory, and the pages holding the rest (on disk already: a page is written before its
+  // region leaves memory).
   const auto bytes = filter::encodeMap(mapper_.filter());
-  if (auto st = state_->snapshot(deltas_.seq(), bytes); !st) {
+  if (pager_) {
+    if (auto st = pager_->sync(); !st) {
+      state_.reset();
+      persistenceFailed(st.error().message, true);
+      return;
+    }
+  }
+  const auto pages = pager_ ? pager_->files() : std::vector<std::string>{};
+  if (auto st = state_->snapshot(deltas_.seq(), bytes, pages); !st) {
     state_.reset();
     persistenceFailed(st.error().message, true);
     return;
   }
+  if (pager_) pager_->collect(state_->referencedPages());
   snapshot_seq_ = deltas_.seq();
   spdlog::info("snapshot at seq {}: {} bytes", snapshot_seq_, bytes.size());
   std::lock_guard lk(mu_);

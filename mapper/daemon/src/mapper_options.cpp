@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -91,6 +92,8 @@ Status MapperOptions::validate() const {
     if (ch->size() > 57) return Error{"channels: '" + *ch + "' must be 1 to 57 characters (its reply adds _REPLY)"};
   }
   if (!(snapshot_interval_s > 0)) return Error{"snapshot_interval_s: must be > 0"};
+  if (!(page_out_distance_m >= 0) || !std::isfinite(page_out_distance_m))
+    return Error{"page_out_distance_m: must be >= 0 (0 keeps the whole map in memory)"};
   if (!(keyframe_interval_s > 0)) return Error{"keyframe_interval_s: must be > 0"};
   if (!(status_interval_s > 0)) return Error{"status_interval_s: must be > 0"};
   if (!(test_drop_delta_fraction >= 0 && test_drop_delta_fraction < 1))
@@ -121,6 +124,7 @@ namespace {
 Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path, MapperOptions& o) {
   if (!root || root.IsNull()) return okStatus();
   OGF_TRY(checkKeys(path, root, "", {"lcm_url", "channels", "time_base", "state_dir", "snapshot_interval_s",
+                                     "page_out_distance_m",
                                      "keyframe_interval_s", "status_interval_s", "map", "filter", "fusion",
                                      "pose_correction"}));
   OGF_TRY(read(path, root, "", "lcm_url", o.lcm_url));
@@ -128,6 +132,7 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
   OGF_TRY(read(path, root, "", "state_dir", state_dir));
   o.state_dir = state_dir;
   OGF_TRY(read(path, root, "", "snapshot_interval_s", o.snapshot_interval_s));
+  OGF_TRY(read(path, root, "", "page_out_distance_m", o.page_out_distance_m));
   OGF_TRY(read(path, root, "", "keyframe_interval_s", o.keyframe_interval_s));
   OGF_TRY(read(path, root, "", "status_interval_s", o.status_interval_s));
   if (const auto tb = root["time_base"]) {
@@ -252,6 +257,8 @@ std::string exampleMapperConfig() {
     << "                           # the driver reports PPS locked, host otherwise)\n"
     << "state_dir: \"\"              # snapshots + journal; empty keeps the map in memory only\n"
     << "snapshot_interval_s: " << d.snapshot_interval_s << "\n"
+    << "page_out_distance_m: " << d.page_out_distance_m
+    << "   # farther map regions wait in <state_dir>/pages; 0 keeps the whole map in memory\n"
     << "keyframe_interval_s: " << d.keyframe_interval_s << "\n"
     << "status_interval_s: " << d.status_interval_s << "\n"
     << "map:\n"

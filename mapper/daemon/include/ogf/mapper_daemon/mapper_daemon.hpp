@@ -33,6 +33,7 @@
 #include "ogf/common/result.hpp"
 #include "ogf/delta/delta_stream.hpp"
 #include "ogf/mapper_daemon/mapper_options.hpp"
+#include "ogf/persistence/map_pager.hpp"
 #include "ogf/persistence/state_directory.hpp"
 #include "ogf/pipeline/scan_mapper.hpp"
 #include "ogf/transport/daemon_loop.hpp"
@@ -77,6 +78,15 @@ class MapperDaemon {
   // each snapshot (an I/O failure), not when writing would replace a saved map that could not be used.
   void persistenceFailed(const std::string& what, bool retry);
   bool applyRecovered(const persistence::RecoveredState& rec, const std::string& snapshot_source);
+  // Paging (page_out_distance_m): the pager on the state directory's pages/, opened with the directory,
+  // and also when paging is off but the saved map has pages (`holds_pages`). Damaged pages lose their
+  // regions: logged and reported in the status like other damage.
+  void openPager(const std::filesystem::path& pages_dir, bool holds_pages = false);
+  void reportPageDamage(const std::vector<persistence::PageDamage>& damage);
+  // Pages the far regions out after a scan; a failure is said once and leaves the map in memory.
+  void pageOut();
+  // Cells, memory and checksum of the whole map, paged-out regions included (mu_ held).
+  void fillMapStats();
   void publishStatus();
   // Compares the scan with the newest pose (mu_ held); logs when the clocks start or stop agreeing.
   void watchClocks(const ogf::lidar_scan_t& scan);
@@ -103,6 +113,8 @@ class MapperDaemon {
   std::optional<correction::ScanPoseCorrection> correction_;  // absent in pose_correction mode none
   delta::DeltaStream deltas_;
   std::optional<persistence::StateDirectory> state_;
+  std::optional<persistence::MapPager> pager_;
+  bool paging_failed_ = false;
   std::vector<delta::PublishedCell> changes_;
   std::int64_t last_snapshot_steady_ = 0;
   std::int64_t last_keyframe_steady_ = 0;

@@ -38,6 +38,9 @@ struct MapperOptions {
   // Where snapshots and the journal live; empty = map in memory only.
   std::filesystem::path state_dir;
   double snapshot_interval_s = 60.0;
+  // Regions of the map farther than this from the sensor move to <state_dir>/pages and come back when a
+  // scan reaches them again (0 = keep the whole map in memory). Needs a state directory.
+  double page_out_distance_m = 150.0;
   double keyframe_interval_s = 30.0;
   double status_interval_s = 1.0;
 

@@ -50,6 +50,10 @@ class ScanMapper {
   // The same for a sensor that does not move (a tripod): every point from one sensor pose.
   void measureStatic(const fusion::ScanPoints& scan, const Eigen::Isometry3d& odom_from_sensor);
   std::span<const Measurement> measurements() const { return measurements_; }
+  // Where the sensor was in the middle of the last scan measured (map frame; the origin before the first).
+  Eigen::Vector3d sensorOrigin() const {
+    return origins_.empty() ? Eigen::Vector3d::Zero() : origins_[origins_.size() / 2];
+  }
   const fusion::RayCounts& rayCounts() const { return set_.counts(); }
 
   // Folds measurements into the filter in the filter's deterministic order. When `changes` is given,
