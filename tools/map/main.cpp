@@ -87,6 +87,8 @@ struct Options {
   bool is_static = false;
   double resolution = 0.2, max_range = 30.0, min_range = 0.4;
   double report_every = 0.0;
+  std::string page_dir;
+  double page_out_distance = 150.0;
   int threads = 1;
   std::string export_ply, export_csv, export_pcd, export_bt, png_dir, from_map;
   std::optional<double> png_zmin, png_zmax;  // default: the walls' band (map_io::wallBand)
@@ -304,6 +306,14 @@ int main(int argc, char** argv) {
                  "Print a row every this many seconds of scan time: scans, mean and largest ms per scan, map MB, "
                  "resident MB, cells")
       ->check(CLI::PositiveNumber);
+  auto* page_dir_opt = app.add_option("--page-dir", o.page_dir,
+                                      "Keep the map's far regions in page files in this folder while mapping (the "
+                                      "map is the same; memory holds the regions near the sensor)");
+  app.add_option("--page-out-distance", o.page_out_distance,
+                 "With --page-dir: regions farther than this from the sensor are paged out, metres")
+      ->check(CLI::PositiveNumber)
+      ->needs(page_dir_opt)
+      ->capture_default_str();
   app.add_option("--log-level", o.log_level, "trace|debug|info|warn|error")->capture_default_str();
   odo_opt->excludes(static_opt);
   pcd_opt->excludes(pcap_opt)->excludes(lcm_opt)->excludes(odo_opt)->excludes(static_opt);
@@ -441,6 +451,12 @@ int main(int argc, char** argv) {
     }
   }
 
+  if (!o.page_dir.empty()) {
+    if (auto st = run.setPaging(o.page_dir, o.page_out_distance); !st) {
+      spdlog::error("--page-dir: {}", st.error().message);
+      return kExitUsage;
+    }
+  }
   const auto& m = config.fusion.measurement;
   spdlog::info("resolution {} m, range {} .. {} m, filter threads {}", m.resolution_m, m.min_range_m, m.max_range_m,
                run.mapper().filter().config().threads);
@@ -460,7 +476,7 @@ int main(int argc, char** argv) {
       const auto& f = run.mapper().filter();
       report->add({scan.points(base).start_utime,
                    std::chrono::duration<double, std::milli>(Clock::now() - began).count(), f.memoryBytes(),
-                   f.allocatedCells()});
+                   f.allocatedCells() + run.pagedBlocks().blocks * f.cellsPerBlock()});
     }
     if (o.is_static) return;
     if (outcome == mio::ScanOutcome::kUncovered && uncovered_told++ < kUncoveredWarnings) {
@@ -562,6 +578,16 @@ int main(int argc, char** argv) {
     if (!path->empty() && !parent.empty()) std::filesystem::create_directories(parent, ec);
   }
   int rc = kExitOk;
+  if (const auto* pager = run.pager()) {
+    const auto& pc = pager->counts();
+    spdlog::info("paging: {} regions written, {} read back; {} regions ({} blocks, {:.1f} MB) on disk at the end",
+                 pc.pages_written, pc.pages_read, pc.regions_out, pc.blocks_out, static_cast<double>(pc.bytes_out) / 1e6);
+    // The map file and the exports hold the whole map.
+    if (auto st = run.bringInAll(); !st) {
+      spdlog::error("--page-dir: {}", st.error().message);
+      return kExitNothingMapped;
+    }
+  }
   const auto& filter = run.mapper().filter();
   if (auto st = ogf::filter::saveMapFile(filter, o.out); !st) {
     spdlog::error("--out: {}", st.error().message);

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include <ogf/filter/map_file.hpp>
+#include <ogf/persistence/map_pager.hpp>
 #include <ogf/persistence/state_directory.hpp>
 
 #include "ogf/map_io/map_loader.hpp"
@@ -48,6 +49,37 @@ TEST(MapLoader, ReadsAMapFileAndASnapshotOfTheSameMapAlike) {
   EXPECT_EQ(b->seq, 42);
   EXPECT_EQ(a->map.checksum(), map.checksum());
   EXPECT_EQ(b->map.checksum(), map.checksum());
+}
+
+TEST(MapLoader, ASnapshotThatNamesPagesIsLoadedWithThemAndRefusedWithoutThem) {
+  ogf::filter::FilterConfig cfg;
+  cfg.resolution = 0.2;
+  auto map = ogf::filter::BandedOgf::create(cfg);
+  ASSERT_TRUE(map.ok());
+  std::vector<ogf::filter::Measurement> batch;
+  for (int x = -100; x <= 100; x += 3) batch.push_back({{x, 2, 3}, x % 2 == 0 ? 1 : -1});
+  map->update(batch);
+  const auto whole = map->checksum();
+  const auto dir = scratch("state");
+  fs::remove_all(dir);
+  auto pager = ogf::persistence::MapPager::open(dir / "pages");
+  ASSERT_TRUE(pager.ok());
+  ASSERT_TRUE(pager->sendAway(*map, {0.0, 0.0, 0.0}, 5.0).ok());  // every block beyond 5 m goes out
+  ASSERT_GT(pager->counts().regions_out, 1u);
+  ASSERT_TRUE(pager->sync().ok());
+  const auto snap = ogf::persistence::encodeSnapshot(7, 42, ogf::filter::encodeMap(*map), pager->files());
+  std::ofstream(dir / "snapshot.ogfs", std::ios::binary)
+      .write(reinterpret_cast<const char*>(snap.data()), static_cast<std::streamsize>(snap.size()));
+
+  auto loaded = ogf::map_io::loadOgfMap(dir / "snapshot.ogfs");
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_EQ(loaded->map.checksum(), whole) << "the pages' regions are part of the map";
+
+  fs::remove(dir / "pages" / pager->files().front());
+  auto partial = ogf::map_io::loadOgfMap(dir / "snapshot.ogfs");
+  fs::remove_all(dir);
+  ASSERT_FALSE(partial.ok()) << "a map with a region missing is never loaded";
+  EXPECT_NE(partial.error().message.find(pager->files().front()), std::string::npos) << partial.error().message;
 }
 
 TEST(MapLoader, RefusesAFileThatIsNeitherNamingIt) {

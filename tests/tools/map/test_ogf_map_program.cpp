@@ -68,15 +68,17 @@ std::pair<std::string, std::vector<Row>> readCsv(const std::filesystem::path& pa
 // The numbers of the summary line, or -1s when there is none.
 struct Summary {
   long long scans = -1, measurements = -1, cells = -1;
+  std::string checksum;
 };
 Summary summaryOf(const std::string& stdout_text) {
   std::smatch m;
-  static const std::regex re(R"(scans (\d+) measurements (\d+) cells (\d+) seconds [0-9.]+)");
+  static const std::regex re(R"(scans (\d+) measurements (\d+) cells (\d+) seconds [0-9.]+ checksum ([0-9a-f]+))");
   Summary s;
   if (std::regex_search(stdout_text, m, re)) {
     s.scans = std::stoll(m[1]);
     s.measurements = std::stoll(m[2]);
     s.cells = std::stoll(m[3]);
+    s.checksum = m[4];
   }
   return s;
 }
@@ -219,6 +221,46 @@ TEST(OgfMapProgram, ReportEveryPrintsARowPerIntervalOfScanTime) {
   EXPECT_GE(rows, 4) << run.stdout_text;
   EXPECT_EQ(scans, summaryOf(run.stdout_text).scans) << run.stdout_text;
   EXPECT_GT(lastCells, firstCells) << run.stdout_text;
+}
+
+TEST(OgfMapProgram, PageDirGivesTheSameMapFileWithLessInMemoryAndLeavesNoPages) {
+  ogf::testing::ScratchDir dir;
+  ASSERT_EQ(runProgram({kSim, "--out", (dir / "sim").string(), "--world", "street", "--duration", "3.0"}, dir.path())
+                .exit_code,
+            0);
+  const std::vector<std::string> input = {kMap, "--pcap", (dir / "sim" / "capture.pcap").string(), "--odometry",
+                                          (dir / "sim" / "odometry.csv").string(), "--report-every", "1"};
+  auto whole_args = input;
+  whole_args.insert(whole_args.end(), {"--out", (dir / "whole.map").string()});
+  auto paged_args = input;
+  // The street capture reaches 30 m: regions 5 m beyond the sensor go out and come back scan by scan.
+  paged_args.insert(paged_args.end(), {"--out", (dir / "paged.map").string(), "--page-dir",
+                                       (dir / "pages").string(), "--page-out-distance", "5"});
+  const auto whole = runProgram(whole_args, dir.path());
+  const auto paged = runProgram(paged_args, dir.path());
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  ASSERT_EQ(paged.exit_code, 0) << paged.output;
+  EXPECT_FALSE(summaryOf(whole.stdout_text).checksum.empty()) << whole.stdout_text;
+  EXPECT_EQ(summaryOf(paged.stdout_text).checksum, summaryOf(whole.stdout_text).checksum);
+  std::ifstream a(dir / "whole.map", std::ios::binary), b(dir / "paged.map", std::ios::binary);
+  const std::string wa((std::istreambuf_iterator<char>(a)), {}), wb((std::istreambuf_iterator<char>(b)), {});
+  EXPECT_TRUE(!wa.empty() && wa == wb) << "the map files differ";
+  EXPECT_NE(paged.output.find("paging: "), std::string::npos) << paged.output;
+  EXPECT_TRUE(std::filesystem::is_empty(dir / "pages")) << "every page is read back before the map file is written";
+  // The map in memory (column 5 of the last report row) is smaller with paging.
+  const auto lastMapMb = [](const std::string& text) {
+    std::istringstream out(text);
+    std::string line;
+    double last = 0.0;
+    while (std::getline(out, line)) {
+      int index = 0;
+      long long n = 0;
+      double mean = 0.0, max = 0.0, mapMb = 0.0;
+      if (std::sscanf(line.c_str(), "%d %lld %lf %lf %lf", &index, &n, &mean, &max, &mapMb) == 5) last = mapMb;
+    }
+    return last;
+  };
+  EXPECT_LT(lastMapMb(paged.stdout_text), 0.8 * lastMapMb(whole.stdout_text)) << paged.stdout_text;
 }
 
 // A tiny LCM log: poses every 50 ms over 1 s (odometry_t, then bot_core.pose_t), two wall scans inside

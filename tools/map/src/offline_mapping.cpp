@@ -28,12 +28,38 @@ std::optional<std::pair<std::int64_t, std::int64_t>> OfflineMapping::odometrySpa
   return std::make_pair(poses_->oldest().utime, poses_->newest().utime);
 }
 
+Status OfflineMapping::setPaging(const std::filesystem::path& dir, double distance_m) {
+  auto pager = persistence::MapPager::open(dir);
+  if (!pager) return pager.error();
+  pager_.emplace(std::move(*pager));
+  page_out_distance_m_ = distance_m;
+  return okStatus();
+}
+
+Status OfflineMapping::bringInAll() {
+  if (!paging_) return paging_;
+  if (!pager_) return okStatus();
+  const auto damage = pager_->bringInAll(mapper_.filter());
+  if (!damage.empty()) return Error{damage.front().reason};
+  pager_->collect({});  // every page is back in memory: the files are of no further use
+  return okStatus();
+}
+
 ScanOutcome OfflineMapping::fold(std::size_t points) {
   if (mapper_.measurements().empty()) {
     ++counts_.scans_empty;
     return ScanOutcome::kEmpty;
   }
+  if (pager_) {
+    if (const auto damage = pager_->bringIn(mapper_.filter(), mapper_.measurements()); !damage.empty()) {
+      paging_ = Error{damage.front().reason};
+    }
+  }
   mapper_.apply(mapper_.measurements());
+  if (pager_ && paging_) {
+    const Eigen::Vector3d at = mapper_.sensorOrigin();
+    paging_ = pager_->sendAway(mapper_.filter(), {at.x(), at.y(), at.z()}, page_out_distance_m_);
+  }
   ++counts_.scans_mapped;
   counts_.points += static_cast<std::int64_t>(points);
   counts_.measurements += static_cast<std::int64_t>(mapper_.measurements().size());

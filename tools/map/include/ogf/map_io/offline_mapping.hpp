@@ -8,11 +8,13 @@
 #include <ogf/common/result.hpp>
 #include <ogf/correction/scan_pose_correction.hpp>
 #include <ogf/fusion/pose_buffer.hpp>
+#include <ogf/persistence/map_pager.hpp>
 #include <ogf/pipeline/scan_mapper.hpp>
 
 #include <Eigen/Geometry>
 
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <span>
 #include <vector>
@@ -56,6 +58,15 @@ class OfflineMapping {
   // Rays from one origin to points given in the map frame (a PCD cloud with its viewpoint).
   ScanOutcome addCloud(const Eigen::Vector3d& origin, std::span<const Eigen::Vector3d> points);
 
+  // Keeps the regions farther than `distance_m` from the sensor in page files in `dir` while mapping
+  // (map_pager.hpp): the map is the same, bit for bit; memory holds only the regions near the sensor.
+  Status setPaging(const std::filesystem::path& dir, double distance_m);
+  // Brings every paged-out region back (before the whole map is saved or exported).
+  Status bringInAll();
+  // The paged-out part: its blocks' checksum term (for BandedOgf::checksum) and its cells; zero without paging.
+  filter::BlockHashSum pagedBlocks() const { return pager_ ? pager_->heldBlocks() : filter::BlockHashSum{}; }
+  const persistence::MapPager* pager() const { return pager_ ? &*pager_ : nullptr; }
+
   const OfflineCounts& counts() const { return counts_; }
   pipeline::ScanMapper& mapper() { return mapper_; }
   const pipeline::ScanMapper& mapper() const { return mapper_; }
@@ -70,6 +81,9 @@ class OfflineMapping {
   std::optional<correction::ScanPoseCorrection> correction_;
   std::vector<fusion::Pose> corrected_;
   ScanRecord cloud_;  // addCloud's points as a sensor-frame scan
+  std::optional<persistence::MapPager> pager_;
+  double page_out_distance_m_ = 0.0;
+  Status paging_ = okStatus();  // the first paging failure; mapping stops paging then
   OfflineCounts counts_;
 };
 
