@@ -4,14 +4,13 @@
 #include <ogf/filter/map_checksum.hpp>
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <set>
 
 #include "ogf/persistence/page_file.hpp"
@@ -38,14 +37,23 @@ std::uint64_t pageNumber(const std::string& name) {
 }
 
 std::vector<std::byte> readAll(const std::filesystem::path& path, std::string& why) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    why = "cannot read the page";
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  struct stat st {};
+  if (fd < 0 || ::fstat(fd, &st) != 0) {
+    why = std::string("cannot read the page: ") + std::strerror(errno);
+    if (fd >= 0) ::close(fd);
     return {};
   }
-  const std::vector<char> raw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::vector<std::byte> bytes(raw.size());
-  std::memcpy(bytes.data(), raw.data(), raw.size());
+  std::vector<std::byte> bytes(static_cast<std::size_t>(st.st_size));
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::read(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;  // a file cut short reads as a truncated page
+    done += static_cast<std::size_t>(n);
+  }
+  ::close(fd);
+  bytes.resize(done);
   return bytes;
 }
 
@@ -173,16 +181,18 @@ std::vector<PageDamage> MapPager::bringIn(filter::BandedOgf& map, std::span<cons
   if (paged_.empty()) return damage;
   const bool flat = map.config().dimensions == 2;
   std::set<CellKey> wanted;
-  CellKey last{};
+  CellKey lastLo{}, lastHi{};
   bool first = true;
   for (const Measurement& m : measurements) {
+    // The blocks one block around the measured one, and the regions they lie in: mostly the same few
+    // regions as for the measurement before.
     const CellKey block = filter::blockKeyOf(m.key);
-    if (!first && block == last) continue;
-    first = false;
-    last = block;
-    // The blocks one block around the measured one, and the regions they lie in.
     const CellKey lo = regionOf(block - CellKey{1, 1, 1}, flat);
     const CellKey hi = regionOf(block + CellKey{1, 1, 1}, flat);
+    if (!first && lo == lastLo && hi == lastHi) continue;
+    first = false;
+    lastLo = lo;
+    lastHi = hi;
     for (int z = lo.z; z <= hi.z; ++z)
       for (int y = lo.y; y <= hi.y; ++y)
         for (int x = lo.x; x <= hi.x; ++x)

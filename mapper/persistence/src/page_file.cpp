@@ -1,9 +1,10 @@
 #include "ogf/persistence/page_file.hpp"
 
+#include <ogf/filter/map_checksum.hpp>
+
 #include <bit>
 #include <cstring>
 
-#include "ogf/common/crc32.hpp"
 #include "ogf/common/little_endian.hpp"
 
 namespace ogf::persistence {
@@ -14,12 +15,20 @@ static_assert(std::endian::native == std::endian::little, "pages store floats as
 constexpr char kMagic[8] = {'O', 'G', 'F', 'P', 'A', 'G', 'E', '1'};
 constexpr std::uint32_t kVersion = 1;
 constexpr std::size_t kHeader = 8 + 4 + 3 * 4 + 3 * 4;
+constexpr std::size_t kTrailer = 8;
+
+// The map file's checksum (several GB/s; a page is read back every time its region is reached again).
+std::uint64_t pageChecksum(std::span<const std::byte> bytes) {
+  filter::MapChecksum sum;
+  sum.add(bytes);
+  return sum.value();
+}
 
 }  // namespace
 
 std::vector<std::byte> encodePage(const Page& page) {
   std::vector<std::byte> out;
-  out.reserve(kHeader + page.blocks.size() * (12 + page.floats_per_block * sizeof(float) + page.cells_per_block) + 4);
+  out.reserve(kHeader + page.blocks.size() * (12 + page.floats_per_block * sizeof(float) + page.cells_per_block) + kTrailer);
   for (char c : kMagic) out.push_back(static_cast<std::byte>(c));
   putLittleEndian<std::uint32_t>(out, kVersion);
   putLittleEndian<std::int32_t>(out, page.region.x);
@@ -37,7 +46,7 @@ std::vector<std::byte> encodePage(const Page& page) {
     const auto* m = reinterpret_cast<const std::byte*>(b.marks.data());
     out.insert(out.end(), m, m + b.marks.size());
   }
-  putLittleEndian<std::uint32_t>(out, crc32(out.data(), out.size()));
+  putLittleEndian<std::uint64_t>(out, pageChecksum(out));
   return out;
 }
 
@@ -45,13 +54,14 @@ Result<Page> decodePage(std::span<const std::byte> bytes, const std::string& sou
   const auto fail = [&](std::size_t offset, const std::string& what) {
     return Error{source + ": offset " + std::to_string(offset) + ": " + what};
   };
-  if (bytes.size() < kHeader + 4) return fail(0, "page truncated (" + std::to_string(bytes.size()) + " bytes)");
+  if (bytes.size() < kHeader + kTrailer)
+    return fail(0, "page truncated (" + std::to_string(bytes.size()) + " bytes)");
   if (std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) return fail(0, "not an ogf page (bad magic)");
   if (const auto v = getLittleEndian<std::uint32_t>(bytes.data() + 8); v != kVersion)
     return fail(8, "unsupported page version " + std::to_string(v));
-  const std::size_t crcAt = bytes.size() - 4;
-  if (getLittleEndian<std::uint32_t>(bytes.data() + crcAt) != crc32(bytes.data(), crcAt))
-    return fail(crcAt, "page checksum mismatch (truncated or corrupt)");
+  const std::size_t checksumAt = bytes.size() - kTrailer;
+  if (getLittleEndian<std::uint64_t>(bytes.data() + checksumAt) != pageChecksum(bytes.first(checksumAt)))
+    return fail(checksumAt, "page checksum mismatch (truncated or corrupt)");
   Page page;
   page.region = {getLittleEndian<std::int32_t>(bytes.data() + 12), getLittleEndian<std::int32_t>(bytes.data() + 16),
                  getLittleEndian<std::int32_t>(bytes.data() + 20)};
@@ -59,9 +69,9 @@ Result<Page> decodePage(std::span<const std::byte> bytes, const std::string& sou
   page.floats_per_block = getLittleEndian<std::uint32_t>(bytes.data() + 28);
   page.cells_per_block = getLittleEndian<std::uint32_t>(bytes.data() + 32);
   const std::size_t perBlock = 12 + std::size_t{page.floats_per_block} * sizeof(float) + page.cells_per_block;
-  if (std::size_t{count} * perBlock != crcAt - kHeader)
+  if (std::size_t{count} * perBlock != checksumAt - kHeader)
     return fail(24, std::to_string(count) + " blocks of " + std::to_string(perBlock) + " bytes do not fill the " +
-                        std::to_string(crcAt - kHeader) + " bytes of blocks");
+                        std::to_string(checksumAt - kHeader) + " bytes of blocks");
   page.blocks.resize(count);
   const std::byte* p = bytes.data() + kHeader;
   for (PageBlock& b : page.blocks) {

@@ -3,7 +3,8 @@
 // bit. Little-endian:
 //
 //   "OGFPAGE1" | u32 version=1 | i32 region x, y, z | u32 blocks | u32 floats per block | u32 cells per block
-//   | blocks × (i32 x, y, z | floats | one mark byte per cell) | u32 crc32(everything before)
+//   | blocks × (i32 x, y, z | floats | one mark byte per cell) | u64 checksum(everything before)
+// The checksum is the map file's (map_checksum.hpp), which runs at memory speed.
 #pragma once
 
 #include <ogf/core/cell_key.hpp>
