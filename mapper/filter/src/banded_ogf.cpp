@@ -389,33 +389,52 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
 
   // 6. Report the cells whose class or quantised probability changed.
   if (sink != nullptr) {
+    // The cells whose stored values changed, a chunk at a time (collected without a branch on the
+    // comparison): their states after and before in one call each, then compared.
+    constexpr std::size_t kChunk = 512;
+    std::array<float, kChunk> means1;
+    std::array<float, kChunk> variances1;
+    std::array<float, kChunk> means0;
+    std::array<float, kChunk> variances0;
+    std::array<std::uint32_t, kChunk> where;  // touched block << 9 | position
+    std::array<PublishedState, kChunk> now;
+    std::array<PublishedState, kChunk> was;
+    std::array<CellChange, kChunk> changes;
+    std::size_t n = 0;
+    const auto flush = [&] {
+      published_.statesOf(std::span(means1).first(n), std::span(variances1).first(n), std::span(now).first(n));
+      published_.statesOf(std::span(means0).first(n), std::span(variances0).first(n), std::span(was).first(n));
+      std::size_t changed = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        CellChange& c = changes[changed];
+        c.key = storage_.cellKey(batchWork.touched[where[i] >> 9].key, where[i] & 511U);
+        c.mean = means1[i];
+        c.variance = variances1[i];
+        c.quantisedProbability = now[i].quantisedProbability;
+        c.occupancyClass = now[i].occupancyClass;
+        changed += static_cast<std::size_t>(!(now[i] == was[i]));
+      }
+      sink->cellsChanged(std::span(changes).first(changed));
+      n = 0;
+    };
     const float* old = before.data();
     for (const std::uint32_t t : touchedOrder) {
       const TouchedBlock& block = batchWork.touched[t];
       forEachBit(block.cells, [&](std::size_t l) {
         const Moments cell = momentsAt(block.data, l);
-        const float* was = old;
+        means1[n] = cell.mean;
+        variances1[n] = cell.variance;
+        means0[n] = old[0];
+        variances0[n] = old[1];
+        where[n] = t << 9 | static_cast<std::uint32_t>(l);
+        n += static_cast<std::size_t>(!(cell.mean == old[0] && cell.variance == old[1]));
         old += 2;
-        if (cell.mean == was[0] && cell.variance == was[1]) {
-          return;
+        if (n == kChunk) {
+          flush();
         }
-        const double m1 = static_cast<double>(cell.mean);
-        const double s1 = static_cast<double>(cell.variance);
-        const double m0 = static_cast<double>(was[0]);
-        const double s0 = static_cast<double>(was[1]);
-        CellChange c;
-        c.quantisedProbability = published_.quantisedProbability(m1, s1);
-        c.occupancyClass = published_.occupancyClass(m1);
-        if (c.quantisedProbability == published_.quantisedProbability(m0, s0) &&
-            c.occupancyClass == published_.occupancyClass(m0)) {
-          return;
-        }
-        c.key = storage_.cellKey(block.key, l);
-        c.mean = cell.mean;
-        c.variance = cell.variance;
-        sink->cellChanged(c);
       });
     }
+    flush();
   }
   return stats;
 }

@@ -13,11 +13,19 @@ namespace {
 class ChangeCollector final : public filter::ChangeSink {
  public:
   explicit ChangeCollector(std::vector<delta::PublishedCell>& out) : out_(out) {}
-  void cellChanged(const filter::CellChange& c) override {
-    out_.push_back({c.key, static_cast<std::int16_t>(c.quantisedProbability), c.occupancyClass, c.variance});
+  void cellChanged(const filter::CellChange& c) override { out_.push_back(publishedOf(c)); }
+  void cellsChanged(std::span<const filter::CellChange> changes) override {
+    const std::size_t first = out_.size();
+    out_.resize(first + changes.size());
+    for (std::size_t i = 0; i < changes.size(); ++i) {
+      out_[first + i] = publishedOf(changes[i]);
+    }
   }
 
  private:
+  static delta::PublishedCell publishedOf(const filter::CellChange& c) {
+    return {c.key, static_cast<std::int16_t>(c.quantisedProbability), c.occupancyClass, c.variance};
+  }
   std::vector<delta::PublishedCell>& out_;
 };
 

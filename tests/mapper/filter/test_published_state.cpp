@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <vector>
 
 #include "ogf/filter/inverse_mills.hpp"
 #include "ogf/filter/occupancy.hpp"
@@ -65,6 +66,64 @@ TEST(PublishedStateRule, EqualsTheExactClassAndQuantisedProbability) {
   for (const double m : {-40.0, -9.5, -9.0, 9.0, 9.5, 40.0, std::numeric_limits<double>::infinity(),
                          -std::numeric_limits<double>::infinity()}) {
     expectSame(rule, 0.65, 0.35, m, 0.25);
+  }
+}
+
+// The staged states of many cells (statesOf, as the change detection calls it on float means and
+// variances) equal the exact functions: on random cells, on cells whose m/√(1+s) is within a few floats of
+// a rounding boundary or whose mean is within a few floats of a class threshold, in the tails and on
+// non-finite values; in runs longer than one stage.
+TEST(PublishedStateRule, StatesOfManyCellsEqualTheExactClassAndQuantisedProbability) {
+  const double ro = 0.65;
+  const double rf = 0.35;
+  const PublishedStateRule rule(ro, rf);
+  std::vector<float> means;
+  std::vector<float> variances;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> mean(-12.0, 12.0);
+  std::uniform_real_distribution<double> logVariance(-21.0, 1.5);
+  for (int i = 0; i < 100000; ++i) {
+    means.push_back(static_cast<float>(mean(rng)));
+    variances.push_back(static_cast<float>(std::exp(logVariance(rng))));
+  }
+  // Around rounding boundaries Φ(m/√(1+s)) = (k + 0.5)/10000: the nearest float mean and its neighbours.
+  std::uniform_int_distribution<int> bucket(0, 9999);
+  for (int i = 0; i < 3000; ++i) {
+    const int k = i < 100 ? i : (i < 200 ? 9900 + (i - 100) : bucket(rng));
+    const auto s = static_cast<float>(std::exp(logVariance(rng)));
+    const double z = belowInverseCdf((k + 0.5) / 10000.0);
+    float m = static_cast<float>(z * std::sqrt(1.0 + static_cast<double>(s)));
+    m = std::nextafter(m, -100.0F);
+    m = std::nextafter(m, -100.0F);
+    for (int step = 0; step < 5; ++step, m = std::nextafter(m, 100.0F)) {
+      means.push_back(m);
+      variances.push_back(s);
+    }
+  }
+  // Around the class thresholds.
+  for (const double r : {ro, rf}) {
+    float m = std::nextafter(std::nextafter(static_cast<float>(belowInverseCdf(r)), -100.0F), -100.0F);
+    for (int step = 0; step < 5; ++step, m = std::nextafter(m, 100.0F)) {
+      means.push_back(m);
+      variances.push_back(0.5F);
+    }
+  }
+  const float inf = std::numeric_limits<float>::infinity();
+  for (const float m : {-40.0F, -9.5F, -9.0F, 9.0F, 9.5F, 40.0F, inf, -inf, std::nanf("")}) {
+    for (const float s : {0.0F, 0.25F, 4.0F, inf}) {
+      means.push_back(m);
+      variances.push_back(s);
+    }
+  }
+  std::vector<PublishedState> states(means.size());
+  rule.statesOf(means, variances, states);
+  for (std::size_t i = 0; i < means.size(); ++i) {
+    const double m = static_cast<double>(means[i]);
+    const double s = static_cast<double>(variances[i]);
+    ASSERT_EQ(states[i].occupancyClass, occupancyClass(m, ro, rf)) << "mean " << m << ", variance " << s;
+    ASSERT_EQ(states[i].quantisedProbability, quantiseProbability(predictiveProbability(m, s)))
+        << "mean " << m << ", variance " << s;
+    ASSERT_EQ(states[i], rule.stateOf(m, s));
   }
 }
 

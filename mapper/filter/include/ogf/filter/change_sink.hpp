@@ -5,6 +5,7 @@
 #include <ogf/core/cell_key.hpp>
 
 #include <cstdint>
+#include <span>
 
 namespace ogf::filter {
 
@@ -21,6 +22,13 @@ class ChangeSink {
   virtual ~ChangeSink() = default;
   // Called once per changed cell, in the map's deterministic cell order, after the batch.
   virtual void cellChanged(const CellChange& change) = 0;
+  // The filter reports the changed cells a few hundred at a time through this, in the same order; by
+  // default one cellChanged each. A sink that collects many cells overrides it: one virtual call a run.
+  virtual void cellsChanged(std::span<const CellChange> changes) {
+    for (const CellChange& c : changes) {
+      cellChanged(c);
+    }
+  }
 };
 
 }  // namespace ogf::filter

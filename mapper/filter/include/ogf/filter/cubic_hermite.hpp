@@ -7,13 +7,9 @@
 
 namespace ogf::filter {
 
-// The interpolant at u nodes from the first (u ≥ 0, below the last node): value[k] are the function's
+// The interpolant at `t` (in [0, 1]) of the way from node k to node k + 1: value[k] are the function's
 // values, slope[k] its derivatives times the node spacing.
-inline double cubicHermite(const double* value, const double* slope, double u) {
-  // Through a signed integer: the one instruction each way (u ≥ 0, so the same k).
-  const auto whole = static_cast<std::int64_t>(u);
-  const auto k = static_cast<std::size_t>(whole);
-  const double t = u - static_cast<double>(whole);
+inline double cubicHermite(const double* value, const double* slope, std::size_t k, double t) {
   // Basis on [0, 1]: values v0, v1 with weights h00, h01; slopes d0, d1 with h10, h11.
   const double t2 = t * t;
   const double t3 = t2 * t;

@@ -7,8 +7,16 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 
 namespace ogf::filter {
+
+// The published pair of one cell.
+struct PublishedState {
+  std::uint16_t quantisedProbability = 5000;
+  std::int8_t occupancyClass = 0;
+  bool operator==(const PublishedState&) const = default;
+};
 
 class PublishedStateRule {
  public:
@@ -16,8 +24,15 @@ class PublishedStateRule {
 
   std::int8_t occupancyClass(double mean) const;
   std::uint16_t quantisedProbability(double mean, double variance) const;
+  PublishedState stateOf(double mean, double variance) const;
+  // The states of many cells (out[i] of means[i], variances[i]; the spans of one size), in stages over a
+  // few hundred cells at a time: all divisions and square roots, then all table look-ups, then the rare
+  // exact fallbacks, so the long chain of dependent instructions of one cell overlaps with the others'.
+  void statesOf(std::span<const float> means, std::span<const float> variances, std::span<PublishedState> out) const;
 
  private:
+  PublishedState exactStateOf(double mean, double variance) const;
+
   double occupiedThreshold_;
   double freeThreshold_;
   double occupiedZ_;  // Φ⁻¹(r_o)
