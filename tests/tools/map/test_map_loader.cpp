@@ -57,7 +57,7 @@ TEST(MapLoader, ASnapshotThatNamesPagesIsLoadedWithThemAndRefusedWithoutThem) {
   auto map = ogf::filter::BandedOgf::create(cfg);
   ASSERT_TRUE(map.ok());
   std::vector<ogf::filter::Measurement> batch;
-  for (int x = -100; x <= 100; x += 3) batch.push_back({{x, 2, 3}, x % 2 == 0 ? 1 : -1});
+  for (int x = -100; x <= 100; x += 3) batch.push_back({{x, 2, 3}, x % 2 == 0 ? ogf::Measurement::kOccupied : ogf::Measurement::kFree});
   map->update(batch);
   const auto whole = map->checksum();
   const auto dir = scratch("state");
