@@ -88,7 +88,7 @@ struct Options {
   double resolution = 0.2, max_range = 30.0, min_range = 0.4;
   double report_every = 0.0;
   std::string page_dir;
-  double page_out_distance = 150.0;
+  double page_out_distance = 60.0;
   int threads = 1;
   std::string export_ply, export_csv, export_pcd, export_bt, png_dir, from_map;
   std::optional<double> png_zmin, png_zmax;  // default: the walls' band (map_io::wallBand)
@@ -451,13 +451,19 @@ int main(int argc, char** argv) {
     }
   }
 
+  const auto& m = config.fusion.measurement;
   if (!o.page_dir.empty()) {
     if (auto st = run.setPaging(o.page_dir, o.page_out_distance); !st) {
       spdlog::error("--page-dir: {}", st.error().message);
       return kExitUsage;
     }
+    const double reach = m.max_range_m + 2 * m.resolution_m * ogf::filter::kBlockSide *
+                                             (1 << ogf::persistence::MapPager::kRegionShift);
+    if (o.page_out_distance < reach)
+      spdlog::warn("--page-out-distance {} m is within the scans' reach (max range plus two regions, {:.1f} m): "
+                   "regions will go out and come back scan after scan (the same map, more disk traffic)",
+                   o.page_out_distance, reach);
   }
-  const auto& m = config.fusion.measurement;
   spdlog::info("resolution {} m, range {} .. {} m, filter threads {}", m.resolution_m, m.min_range_m, m.max_range_m,
                run.mapper().filter().config().threads);
 

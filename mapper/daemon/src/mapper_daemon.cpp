@@ -186,6 +186,12 @@ void MapperDaemon::openPager(const std::filesystem::path& pages_dir, bool holds_
   pager_.reset();
   paging_failed_ = false;
   if (!(options_.page_out_distance_m > 0) && !holds_pages) return;
+  const double reach = options_.map.fusion.measurement.max_range_m +
+                       2 * options_.map.filter.resolution * filter::kBlockSide * (1 << persistence::MapPager::kRegionShift);
+  if (options_.page_out_distance_m > 0 && options_.page_out_distance_m < reach)
+    spdlog::warn("paging: page_out_distance_m {} m is within the scans' reach (max_range plus two regions, {:.1f} m): "
+                 "regions will go out and come back scan after scan (the map is the same, the disk busier)",
+                 options_.page_out_distance_m, reach);
   auto pager = persistence::MapPager::open(pages_dir);
   if (!pager) {
     spdlog::error("paging: {}; the whole map stays in memory", pager.error().message);
@@ -477,6 +483,7 @@ void MapperDaemon::takeSnapshot() {
   if (!state_ || snapshot_seq_ == deltas_.seq()) return;
   // The map in memory, and the pages holding the rest (on disk already: a page is written before its
   // region leaves memory).
+  const auto began = Clock::now();
   const auto bytes = filter::encodeMap(mapper_.filter());
   if (pager_) {
     if (auto st = pager_->sync(); !st) {
@@ -493,7 +500,8 @@ void MapperDaemon::takeSnapshot() {
   }
   if (pager_) pager_->collect(state_->referencedPages());
   snapshot_seq_ = deltas_.seq();
-  spdlog::info("snapshot at seq {}: {} bytes", snapshot_seq_, bytes.size());
+  spdlog::info("snapshot at seq {}: {} bytes and {} pages in {:.0f} ms", snapshot_seq_, bytes.size(), pages.size(),
+               std::chrono::duration<double, std::milli>(Clock::now() - began).count());
   std::lock_guard lk(mu_);
   if (!stats_.persistence_ok) spdlog::info("persistence: {} is written again; the map is saved at seq {}",
                                            options_.state_dir.string(), snapshot_seq_);

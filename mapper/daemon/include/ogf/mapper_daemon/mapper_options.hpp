@@ -40,7 +40,7 @@ struct MapperOptions {
   double snapshot_interval_s = 60.0;
   // Regions of the map farther than this from the sensor move to <state_dir>/pages and come back when a
   // scan reaches them again (0 = keep the whole map in memory). Needs a state directory.
-  double page_out_distance_m = 150.0;
+  double page_out_distance_m = 60.0;
   double keyframe_interval_s = 30.0;
   double status_interval_s = 1.0;
 
