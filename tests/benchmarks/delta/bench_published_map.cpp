@@ -5,7 +5,7 @@
 // resident figure shows what the operating system sees, and only the first iteration of a fresh process
 // grows it (freed memory is reused after that), hence one iteration. Time: set() per cell, for cells new to
 // the map and for overwrites of cells it holds, in a scan-sized batch; and DeltaStream::update, which the
-// daemon calls once per scan with the changed cells (a find and a set each).
+// daemon calls once per scan with the changed cells; and sortedCells(), which every keyframe starts with.
 #include <benchmark/benchmark.h>
 #include <malloc.h>
 #include <unistd.h>
@@ -167,6 +167,17 @@ void BM_DeltaStreamUpdate(benchmark::State& state) {
   reportPerSet(state, batch);
 }
 
+// sortedCells() of a map of `cells` cells: the cost of a keyframe before it is split into messages.
+void BM_SortedCells(benchmark::State& state) {
+  const auto count = static_cast<std::size_t>(state.range(1));
+  PublishedMap map;
+  for (const PublishedCell& c : scanBatch(static_cast<Shape>(state.range(0)), count, 1)) map.set(c);
+  for (auto _ : state) benchmark::DoNotOptimize(map.sortedCells());
+  state.counters["ns_per_cell"] =
+      benchmark::Counter(static_cast<double>(count) * 1e-9,
+                         benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
 void shapes(benchmark::internal::Benchmark* b, std::int64_t cells) {
   b->ArgNames({"shape", "cells"});
   for (int shape : {kVolume, kPlane, kShell}) b->Args({shape, cells});
@@ -179,5 +190,6 @@ BENCHMARK(BM_MemoryPerCell)->Apply([](auto* b) { shapes(b, 2'000'000); })->Itera
 BENCHMARK(BM_SetNew)->Apply([](auto* b) { shapes(b, 300'000); });
 BENCHMARK(BM_SetOverwrite)->Apply([](auto* b) { shapes(b, 300'000); });
 BENCHMARK(BM_DeltaStreamUpdate)->Apply([](auto* b) { shapes(b, 300'000); });
+BENCHMARK(BM_SortedCells)->Apply([](auto* b) { shapes(b, 2'000'000); });
 
 BENCHMARK_MAIN();
