@@ -190,7 +190,7 @@ void MapperDaemon::refreshMapStats() {
   std::lock_guard lk(mu_);
   stats_.delta_seq = deltas_.seq();
   stats_.cells = static_cast<std::int64_t>(mapper_.filter().allocatedCells());
-  stats_.memory_bytes = static_cast<std::int64_t>(mapper_.filter().memoryBytes());
+  stats_.memory_bytes = mapMemoryBytes();
   stats_.filter_checksum = static_cast<std::int64_t>(mapper_.filter().checksum());
 }
 

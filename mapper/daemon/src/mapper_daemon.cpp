@@ -164,7 +164,7 @@ void MapperDaemon::restore() {
   std::lock_guard lk(mu_);
   stats_.delta_seq = seq;
   stats_.cells = static_cast<std::int64_t>(mapper_.filter().allocatedCells());
-  stats_.memory_bytes = static_cast<std::int64_t>(mapper_.filter().memoryBytes());
+  stats_.memory_bytes = mapMemoryBytes();
   stats_.filter_checksum = static_cast<std::int64_t>(mapper_.filter().checksum());
 }
 
@@ -375,8 +375,12 @@ void MapperDaemon::mapScan(const ScanPtr& scan) {
   stats_.measurements += static_cast<std::int64_t>(measurements.size());
   stats_.delta_seq = deltas_.seq();
   stats_.cells = static_cast<std::int64_t>(mapper_.filter().allocatedCells());
-  stats_.memory_bytes = static_cast<std::int64_t>(mapper_.filter().memoryBytes());
+  stats_.memory_bytes = mapMemoryBytes();
   stats_.filter_checksum = static_cast<std::int64_t>(mapper_.filter().checksum());
+}
+
+std::int64_t MapperDaemon::mapMemoryBytes() const {
+  return static_cast<std::int64_t>(mapper_.filter().memoryBytes() + deltas_.map().memoryBytes());
 }
 
 void MapperDaemon::publishCorrectedPose(std::int64_t utime, const correction::ScanCorrection& applied) {
