@@ -224,7 +224,7 @@ void MapperDaemon::fillMapStats() {
   const auto& map = mapper_.filter();
   const filter::BlockHashSum held = pager_ ? pager_->heldBlocks() : filter::BlockHashSum{};
   stats_.cells = static_cast<std::int64_t>(map.allocatedCells() + held.blocks * map.cellsPerBlock());
-  stats_.memory_bytes = static_cast<std::int64_t>(map.memoryBytes());
+  stats_.memory_bytes = mapMemoryBytes();
   stats_.filter_checksum = static_cast<std::int64_t>(map.checksum(held));
 }
 
@@ -437,6 +437,10 @@ void MapperDaemon::mapScan(const ScanPtr& scan) {
   stats_.measurements += static_cast<std::int64_t>(measurements.size());
   stats_.delta_seq = deltas_.seq();
   fillMapStats();
+}
+
+std::int64_t MapperDaemon::mapMemoryBytes() const {
+  return static_cast<std::int64_t>(mapper_.filter().memoryBytes() + deltas_.map().memoryBytes());
 }
 
 void MapperDaemon::publishCorrectedPose(std::int64_t utime, const correction::ScanCorrection& applied) {

@@ -12,12 +12,7 @@ DeltaStream::DeltaStream(const DeltaStreamConfig& config) : config_(config) {
 std::vector<ogf::map_delta_t> DeltaStream::update(std::int64_t utime, std::span<const PublishedCell> candidates) {
   changed_.clear();
   for (const PublishedCell& c : candidates) {
-    const PublishedCell* old = map_.find(c.key);
-    const PublishedCell prior{c.key, kPriorProbability, ogf::map_delta_t::CLASS_UNKNOWN, 0.0f};
-    if (c.visiblyDiffers(old != nullptr ? *old : prior)) {
-      map_.set(c);
-      changed_.push_back(c);
-    }
+    if (map_.setIfVisiblyDiffers(c)) changed_.push_back(c);
   }
   ++seq_;
   return split(utime, ogf::map_delta_t::KIND_DELTA, seq_ - 1, changed_);

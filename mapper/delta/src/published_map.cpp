@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <utility>
 
 namespace ogf::delta {
 namespace {
@@ -11,6 +12,10 @@ std::uint64_t mix(std::uint64_t z) {
   z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
   z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
   return z ^ (z >> 31);
+}
+
+PublishedCell cellOf(const CellKey& key, const PublishedValue& v) {
+  return {key, v.probability, v.cell_class, v.variance};
 }
 
 }  // namespace
@@ -25,31 +30,84 @@ std::uint64_t cellChecksum(const PublishedCell& c) {
   return h;
 }
 
-void PublishedMap::set(const PublishedCell& cell) {
-  auto [it, inserted] = cells_.try_emplace(cell.key, cell);
-  if (!inserted) {
-    checksum_ -= cellChecksum(it->second);
-    it->second = cell;
+void PublishedMap::set(const PublishedCell& cell) { put(blocks_[PublishedBlock::blockKeyOf(cell.key)], cell); }
+
+bool PublishedMap::setIfVisiblyDiffers(const PublishedCell& cell) {
+  const CellKey blockKey = PublishedBlock::blockKeyOf(cell.key);
+  const auto it = blocks_.find(blockKey);
+  const unsigned local = PublishedBlock::localIndexOf(cell.key);
+  const PublishedValue old = it != blocks_.end() ? it->second.find(local).value_or(PublishedValue{}) : PublishedValue{};
+  if (!cell.visiblyDiffers(cellOf(cell.key, old))) return false;
+  // Only a cell that differs allocates a slab: candidates equal to the prior leave no trace.
+  put(it != blocks_.end() ? it->second : blocks_[blockKey], cell);
+  return true;
+}
+
+void PublishedMap::put(PublishedBlock& block, const PublishedCell& cell) {
+  const std::size_t capacity = block.capacity();
+  const auto old = block.put(PublishedBlock::localIndexOf(cell.key), {cell.probability, cell.cell_class, cell.variance});
+  if (old) {
+    checksum_ -= cellChecksum(cellOf(cell.key, *old));
+  } else {
+    ++size_;
+    stored_ += block.capacity() - capacity;
   }
   checksum_ += cellChecksum(cell);
 }
 
-const PublishedCell* PublishedMap::find(const CellKey& key) const {
-  const auto it = cells_.find(key);
-  return it == cells_.end() ? nullptr : &it->second;
+std::optional<PublishedCell> PublishedMap::find(const CellKey& key) const {
+  const auto it = blocks_.find(PublishedBlock::blockKeyOf(key));
+  if (it == blocks_.end()) return std::nullopt;
+  const auto value = it->second.find(PublishedBlock::localIndexOf(key));
+  return value ? std::optional<PublishedCell>(cellOf(key, *value)) : std::nullopt;
 }
 
 void PublishedMap::clear() {
-  cells_.clear();
+  blocks_.clear();
+  size_ = 0;
+  stored_ = 0;
   checksum_ = 0;
 }
 
 std::vector<PublishedCell> PublishedMap::sortedCells() const {
+  // Slabs sorted by key (x / 8, y / 8, z) give CellKey order without sorting the cells: for each slab
+  // column x / 8, each x in it, each row y / 8 and each y in it, the cells (x, y, z) of that row's slabs
+  // in z order.
+  std::vector<std::pair<CellKey, const PublishedBlock*>> slabs;
+  slabs.reserve(blocks_.size());
+  for (const auto& [key, block] : blocks_) slabs.emplace_back(key, &block);
+  std::sort(slabs.begin(), slabs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+
   std::vector<PublishedCell> out;
-  out.reserve(cells_.size());
-  for (const auto& [key, cell] : cells_) out.push_back(cell);
-  std::sort(out.begin(), out.end(), [](const PublishedCell& a, const PublishedCell& b) { return a.key < b.key; });
+  out.reserve(size_);
+  std::vector<std::size_t> rows;  // where each y / 8 row of the current column starts in `slabs`
+  for (std::size_t column = 0; column < slabs.size();) {
+    std::size_t end = column;
+    rows.clear();
+    while (end < slabs.size() && slabs[end].first.x == slabs[column].first.x) {
+      if (end == column || slabs[end].first.y != slabs[end - 1].first.y) rows.push_back(end);
+      ++end;
+    }
+    rows.push_back(end);
+    for (unsigned lx = 0; lx < PublishedBlock::kSide; ++lx)
+      for (std::size_t r = 0; r + 1 < rows.size(); ++r)
+        for (unsigned ly = 0; ly < PublishedBlock::kSide; ++ly) {
+          const unsigned local = lx + PublishedBlock::kSide * ly;
+          for (std::size_t s = rows[r]; s < rows[r + 1]; ++s) {
+            const PublishedBlock& block = *slabs[s].second;
+            if (block.has(local)) out.push_back(cellOf(PublishedBlock::cellKey(slabs[s].first, local), block.at(local)));
+          }
+        }
+    column = end;
+  }
   return out;
+}
+
+std::size_t PublishedMap::memoryBytes() const {
+  // A libstdc++ node holds the next pointer, the key and the slab (CellKeyHash is fast, so no cached hash).
+  constexpr std::size_t kNode = sizeof(void*) + sizeof(std::pair<const CellKey, PublishedBlock>);
+  return sizeof(*this) + blocks_.size() * kNode + blocks_.bucket_count() * sizeof(void*) +
+         stored_ * PublishedBlock::kCellBytes;
 }
 
 }  // namespace ogf::delta

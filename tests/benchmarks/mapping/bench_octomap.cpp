@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 #include <octomap/OcTree.h>
 
+#include <ogf/delta/delta_stream.hpp>
 #include <ogf/fusion/pose_buffer.hpp>
 #include <ogf/pipeline/scan_mapper.hpp>
 #include <ogf/sim/scene.hpp>
@@ -144,6 +145,7 @@ struct OgfResult {
   std::size_t memory = 0, cells = 0;
   double measurements_per_scan = 0.0;
   double applied_per_scan = 0.0;  // updates the filter applied (the rest were clamped or negligible)
+  std::size_t published_cells = 0, published_memory = 0;  // the published map, with --deltas
 };
 
 OgfResult runOgf(const std::vector<RayScan>& scans, double resolution, double max_range, double min_range,
@@ -166,6 +168,8 @@ OgfResult runOgf(const std::vector<RayScan>& scans, double resolution, double ma
   std::vector<float> x, y, z;
   std::vector<std::int32_t> t;
   std::vector<ogf::delta::PublishedCell> changes;
+  // With --deltas, the published map the daemon keeps beside the filter (outside the timing).
+  ogf::delta::DeltaStream stream({resolution, 1, ogf::messages::kMaxDeltaCellsPerMessage});
   for (const RayScan& s : scans) {
     // The rays relative to the origin, placed back with a pure translation (outside the timing, as
     // OctoMap's point cloud is built outside it).
@@ -189,6 +193,7 @@ OgfResult runOgf(const std::vector<RayScan>& scans, double resolution, double ma
     changes.clear();
     applied += mapper->apply(mapper->measurements(), deltas ? &changes : nullptr).applied;
     const double m_ms = t1 - t0, a_ms = cpuMs() - t1;
+    if (deltas) stream.update(0, changes);
     measurements += mapper->measurements().size();
     r.measure.ms.push_back(m_ms);
     r.apply.ms.push_back(a_ms);
@@ -196,6 +201,8 @@ OgfResult runOgf(const std::vector<RayScan>& scans, double resolution, double ma
   }
   r.memory = mapper->filter().memoryBytes();
   r.cells = mapper->filter().allocatedCells();
+  r.published_cells = stream.map().size();
+  r.published_memory = stream.map().memoryBytes();
   const auto n_scans = static_cast<double>(std::max<std::size_t>(scans.size(), 1));
   r.measurements_per_scan = static_cast<double>(measurements) / n_scans;
   r.applied_per_scan = static_cast<double>(applied) / n_scans;
@@ -264,7 +271,9 @@ int main(int argc, char** argv) {
   app.add_option("--covariance", covariance, "The OGF's covariance storage: compact or banded")
       ->capture_default_str()
       ->check(CLI::IsMember({"compact", "banded"}));
-  app.add_flag("--deltas", deltas, "Also collect the changed cells per scan, as ogf-mapper does for OGF_MAP_DELTA");
+  app.add_flag("--deltas", deltas,
+               "Also collect the changed cells per scan and publish them into a delta stream, as ogf-mapper does for "
+               "OGF_MAP_DELTA; prints the published map's size");
   OGF_PARSE_COMMAND_LINE(app, argc, argv);
 
   const auto scans = pcap.empty() ? syntheticStreetScans(count, min_range) : captureScans(pcap, odometry, min_range, count);
@@ -291,6 +300,11 @@ int main(int argc, char** argv) {
     row("OGF", ogf.total, ogf.memory, ogf.cells,
         fmt::format("measure {:.1f} + filter {:.1f} ms; {:.0f} cell measurements/scan, {:.0f} applied; allocated cells",
                     ogf.measure.mean(), ogf.apply.mean(), ogf.measurements_per_scan, ogf.applied_per_scan));
+    if (deltas) {
+      std::printf("%-6.2f published map: %zu cells, %.1f MB, %.2f bytes per cell\n", res, ogf.published_cells,
+                  static_cast<double>(ogf.published_memory) / 1e6,
+                  static_cast<double>(ogf.published_memory) / static_cast<double>(std::max<std::size_t>(ogf.published_cells, 1)));
+    }
     row("OctoMap", oct.total, oct.memory, oct.leaves, fmt::format("leaves ({} nodes)", oct.nodes));
     std::printf("%-6.2f OGF/OctoMap speed %.2fx, memory %.2fx\n", res, oct.total.mean() / ogf.total.mean(),
                 static_cast<double>(ogf.memory) / static_cast<double>(oct.memory));

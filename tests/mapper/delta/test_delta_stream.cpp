@@ -192,7 +192,7 @@ TEST(MapReceiver, NewMapIdDemandsAKeyframe) {
   for (const auto& m : restarted.keyframe(2)) r.accept(m);
   EXPECT_EQ(r.mapId(), 2);
   EXPECT_TRUE(r.consistent());
-  EXPECT_EQ(r.map().find({0, 0, 0}), nullptr);  // nothing of the old map survives
+  EXPECT_FALSE(r.map().find({0, 0, 0}).has_value());  // nothing of the old map survives
 }
 
 TEST(MapReceiver, MalformedMessagesAreCountedAndIgnored) {

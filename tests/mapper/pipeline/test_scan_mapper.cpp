@@ -129,9 +129,7 @@ TEST(ScanMapper, DeltaCandidatesKeepEveryCellsVisibleStateUpToDate) {
   }
   std::size_t compared = 0;
   for (const auto& now : mapper->publishedCells()) {
-    const delta::PublishedCell* seen = stream.map().find(now.key);
-    const delta::PublishedCell prior{now.key};
-    const delta::PublishedCell& published = seen != nullptr ? *seen : prior;
+    const delta::PublishedCell published = stream.map().find(now.key).value_or(delta::PublishedCell{now.key});
     ASSERT_EQ(published.probability, now.probability) << now.key.x << "," << now.key.y << "," << now.key.z;
     ASSERT_EQ(published.cell_class, now.cell_class);
     ++compared;

@@ -101,6 +101,9 @@ class MapperDaemon {
   void carryOut(const ogf::map_command_t& command);
   void resetMap();
   void refreshMapStats();
+  // What the status reports as the map's memory: the filter's map and the published map beside it (the
+  // delta stream's state of every published cell, a few bytes per cell, so a long run's growth shows).
+  std::int64_t mapMemoryBytes() const;
   static std::int64_t steadyUtime();
   static std::int64_t wallUtime();
 

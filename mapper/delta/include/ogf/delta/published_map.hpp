@@ -1,13 +1,19 @@
 // The map as the delta stream describes it. ogf-mapper keeps one (the state it has published) and every
 // client rebuilds one; the two are equal exactly when their checksums are, which is how a client proves it
 // missed nothing.
+//
+// A long drive publishes tens of millions of cells, so the cells live packed in hashed 8 × 8 × 1 slabs
+// (PublishedBlock): about 8 bytes per cell where slabs are full, against some 60 for a hash-map node per
+// cell.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
+#include "ogf/delta/published_block.hpp"
 #include "ogf/delta/published_cell.hpp"
 
 namespace ogf::delta {
@@ -16,10 +22,16 @@ class PublishedMap {
  public:
   // Sets (or adds) a cell.
   void set(const PublishedCell& cell);
-  // The cell, or nullptr when it was never published.
-  const PublishedCell* find(const CellKey& key) const;
+  // Sets the cell when a client would see it differ from what is published (PublishedCell::visiblyDiffers;
+  // a cell never published reads as the prior); returns whether it did. One lookup where find() and set()
+  // take two, for DeltaStream::update's per-cell test.
+  bool setIfVisiblyDiffers(const PublishedCell& cell);
+  // The cell, or nullopt when it was never published. A copy: cells are stored packed, not as
+  // PublishedCell objects.
+  std::optional<PublishedCell> find(const CellKey& key) const;
   void clear();
-  std::size_t size() const { return cells_.size(); }
+  // Cells published.
+  std::size_t size() const { return size_; }
 
   // Order-independent checksum of every cell (the wrapping sum of a 64-bit hash of key, probability,
   // class and the variance's bits), kept up to date in O(1) per change. 0 for an empty map.
@@ -28,8 +40,17 @@ class PublishedMap {
   // Every cell in CellKey order (deterministic; for keyframes and exports).
   std::vector<PublishedCell> sortedCells() const;
 
+  // Bytes the storage holds: the cells' packed storage, the slabs and their hash-table nodes, and the
+  // bucket array. Counts what is asked of the allocator, not its own headers and rounding.
+  std::size_t memoryBytes() const;
+
  private:
-  std::unordered_map<CellKey, PublishedCell, CellKeyHash> cells_;
+  // Stores the cell in its slab and keeps size, storage and checksum up to date.
+  void put(PublishedBlock& block, const PublishedCell& cell);
+
+  std::unordered_map<CellKey, PublishedBlock, CellKeyHash> blocks_;
+  std::size_t size_ = 0;
+  std::size_t stored_ = 0;  // cells the slabs have room for (their capacities), for memoryBytes() in O(1)
   std::uint64_t checksum_ = 0;
 };
 
