@@ -129,15 +129,25 @@ std::vector<PageDamage> MapPager::adopt(std::span<const std::string> names, cons
       continue;
     }
     PagedRegion region{name, {}, 0};
+    const bool flat = map.config().dimensions == 2;
+    std::string stray;
     for (const PageBlock& b : page->blocks) {
+      if (!(regionOf(b.key, flat) == page->region) || (flat && b.key.z != 0))
+        stray = "block " + std::to_string(b.key.x) + "," + std::to_string(b.key.y) + "," + std::to_string(b.key.z) +
+                " lies outside the page's region";
       region.blocks.sum += filter::blockChecksum(b.key, b.stored, b.marks);
       ++region.blocks.blocks;
+    }
+    if (!stray.empty()) {
+      damage.push_back({path, path.string() + ": " + stray});
+      continue;
     }
     std::error_code ec;
     region.bytes = std::filesystem::file_size(path, ec);
     if (paged_.contains(page->region)) {
-      damage.push_back({path, "region " + std::to_string(page->region.x) + "," + std::to_string(page->region.y) +
-                                  "," + std::to_string(page->region.z) + " is named twice"});
+      damage.push_back({path, path.string() + ": region " + std::to_string(page->region.x) + "," +
+                                  std::to_string(page->region.y) + "," + std::to_string(page->region.z) +
+                                  " is named twice"});
       continue;
     }
     held_.sum += region.blocks.sum;
@@ -170,7 +180,7 @@ void MapPager::load(filter::BandedOgf& map, const CellKey& region, std::vector<P
   }
   for (const PageBlock& b : page->blocks) {
     if (auto st = map.restoreStoredBlock(b.key, b.stored, b.marks); !st) {
-      damage.push_back({path, st.error().message});
+      damage.push_back({path, path.string() + ": " + st.error().message});
     }
   }
   ++counts_.pages_read;

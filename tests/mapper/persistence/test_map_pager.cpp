@@ -217,6 +217,26 @@ TEST_F(MapPagerTest, PagesOfAnotherLayoutAreRefused) {
   EXPECT_NE(damage[0].reason.find("the map stores"), std::string::npos) << damage[0].reason;
 }
 
+TEST_F(MapPagerTest, PageWhoseBlockLiesOutsideItsRegionIsRefused) {
+  auto map = makeMap(3, filter::CovarianceStorage::kCompact);
+  Page page;
+  page.region = {0, 0, 0};
+  page.floats_per_block = static_cast<std::uint32_t>(map.storedFloatsPerBlock());
+  page.cells_per_block = static_cast<std::uint32_t>(map.cellsPerBlock());
+  page.blocks.push_back({{4, 0, 0}, std::vector<float>(page.floats_per_block), std::vector<std::uint8_t>(page.cells_per_block)});
+  fs::create_directories(dir_);
+  const auto bytes = encodePage(page);
+  std::ofstream(dir_ / "r0_0_0-1.ogfp", std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  auto pager = MapPager::open(dir_);
+  const std::vector<std::string> names = {"r0_0_0-1.ogfp"};
+  const auto damage = pager->adopt(names, map);
+  ASSERT_EQ(damage.size(), 1u);
+  EXPECT_NE(damage[0].reason.find("block 4,0,0 lies outside the page's region"), std::string::npos)
+      << damage[0].reason;
+  EXPECT_EQ(pager->counts().regions_out, 0u);
+}
+
 TEST_F(MapPagerTest, SnapshotNamesItsPagesAndRecoveryGivesThemBack) {
   {
     auto sd = StateDirectory::open(dir_);
