@@ -21,6 +21,7 @@
 
 #include "offline_checksum.hpp"
 #include "ogf/persistence/journal.hpp"
+#include "ogf/persistence/state_directory.hpp"
 #include "scan_feeder.hpp"
 #include "support/child_process.hpp"
 #include "support/latest_message.hpp"
@@ -286,6 +287,64 @@ TEST_F(MapperPoison, ASnapshotCutToHalfFallsBackToThePreviousOneAndTheJournals) 
   EXPECT_EQ(static_cast<std::uint64_t>(s.filter_checksum), ogf::testing::offlineChecksum(15, kPoints));
   expectClientConsistent(s);
   stopMapper();
+}
+
+// With regions paged out (1 m: after every scan), the final snapshot names pages. The page files to poison.
+std::vector<fs::path> namedPages(const fs::path& state) {
+  auto snap = ogf::persistence::StateDirectory::read(state, 1);
+  std::vector<fs::path> out;
+  if (snap) {
+    for (const auto& name : snap->pages) out.push_back(state / "pages" / name);
+  }
+  return out;
+}
+
+TEST_F(MapperPoison, ADamagedPageLosesOnlyItsRegionSaysWhichAndMappingGoesOn) {
+  std::ofstream(dir_ / "mapper.yaml", std::ios::app) << "page_out_distance_m: 1.0\n";
+  startMapper();
+  publish(drive(0, 5));
+  waitMapped(5);
+  stopMapper();
+  const auto pages = namedPages(dir_ / "state");
+  ASSERT_FALSE(pages.empty()) << "the snapshot must name pages";
+  {
+    std::fstream f(pages.front(), std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(64);
+    f.put(static_cast<char>(0xA5));
+  }
+  startMapper();
+  const auto restored = status_->waitFor([](const ogf::mapper_status_t& m) { return m.delta_seq == 5; }, 15s);
+  ASSERT_TRUE(restored) << mapper_->log();
+  EXPECT_FALSE(restored->persistence_ok);
+  EXPECT_NE(restored->persistence_error.find(pages.front().filename().string()), std::string::npos)
+      << restored->persistence_error;
+  EXPECT_NE(static_cast<std::uint64_t>(restored->filter_checksum), ogf::testing::offlineChecksum(5, kPoints))
+      << "the damaged page's region is lost";
+  resume(drive(5, 8), 5);
+  const auto s = waitMapped(8);
+  EXPECT_EQ(s.scans_mapped, 3) << "mapping goes on";
+  stopMapper();
+}
+
+TEST_F(MapperPoison, PagesThatCannotBeListedStartANewMapAndLeaveTheSavedOneAlone) {
+  std::ofstream(dir_ / "mapper.yaml", std::ios::app) << "page_out_distance_m: 1.0\n";
+  startMapper();
+  publish(drive(0, 5));
+  waitMapped(5);
+  stopMapper();
+  ASSERT_FALSE(namedPages(dir_ / "state").empty());
+  fs::rename(dir_ / "state" / "pages", dir_ / "pages-kept");
+  std::ofstream(dir_ / "state" / "pages") << "not a directory";
+  const auto before = fs::file_size(dir_ / "state" / "snapshot.ogfs");
+  startMapper();
+  const auto s = status_->latest();
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->delta_seq, 0) << "a new map";
+  EXPECT_FALSE(s->persistence_ok);
+  EXPECT_NE(s->persistence_error.find("cannot be restored"), std::string::npos) << s->persistence_error;
+  stopMapper();
+  EXPECT_EQ(fs::file_size(dir_ / "state" / "snapshot.ogfs"), before) << "the saved map is never written over";
+  EXPECT_NE(mapper_->log().find("pages"), std::string::npos) << mapper_->log();
 }
 
 }  // namespace

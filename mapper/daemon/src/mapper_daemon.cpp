@@ -110,11 +110,13 @@ bool MapperDaemon::applyRecovered(const persistence::RecoveredState& rec, const 
   if (!rec.pages.empty()) {
     openPager(options_.state_dir / "pages", true);
     if (!pager_) {
-      persistenceFailed("the map's pages in " + (options_.state_dir / "pages").string() +
-                            " cannot be read; their regions are lost", false);
-    } else {
-      reportPageDamage(pager_->adopt(rec.pages, mapper_.filter()));
+      // Never write over a saved map whose pages could not even be listed.
+      spdlog::error("state directory: the map's pages in {} cannot be read; starting a new map",
+                    (options_.state_dir / "pages").string());
+      if (auto fresh = pipeline::ScanMapper::create(options_.map)) mapper_ = std::move(*fresh);
+      return false;
     }
+    reportPageDamage(pager_->adopt(rec.pages, mapper_.filter()));
   }
   for (const auto& r : rec.replay) {
     if (pager_) reportPageDamage(pager_->bringIn(mapper_.filter(), r.measurements));
@@ -171,7 +173,7 @@ void MapperDaemon::restore() {
           stats_.persistence_error = rec->damage;
         }
       } else {
-        persistenceFailed("the saved map does not fit the configuration (see the log); not persisting", false);
+        persistenceFailed("the saved map cannot be restored (it does not fit the configuration, or its pages cannot be read; see the log); not persisting", false);
       }
     }
   }
