@@ -13,6 +13,7 @@
 #include <iterator>
 #include <string>
 
+#include "ogf/common/atomic_file.hpp"
 #include "ogf/filter/map_checksum.hpp"
 
 namespace ogf::filter {
@@ -320,19 +321,11 @@ Status saveMapFile(const BandedOgf& map, const std::filesystem::path& path) {
   if (fd < 0) {
     return Error{tmp.string() + ": cannot create: " + std::strerror(errno)};
   }
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) {
-      continue;
-    }
-    if (n <= 0) {
-      const std::string why = std::strerror(errno);
-      ::close(fd);
-      ::unlink(tmp.c_str());
-      return Error{tmp.string() + ": write failed at offset " + std::to_string(done) + ": " + why};
-    }
-    done += static_cast<std::size_t>(n);
+  if (const std::size_t done = writeAll(fd, std::as_bytes(std::span(bytes))); done != bytes.size()) {
+    const std::string why = std::strerror(errno);
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    return Error{tmp.string() + ": write failed at offset " + std::to_string(done) + ": " + why};
   }
   if (::fsync(fd) != 0) {
     const std::string why = std::strerror(errno);

@@ -15,6 +15,19 @@
 
 namespace ogf {
 
+// Writes all of `bytes` to `fd`, continuing short writes and retrying interrupted ones. Returns how many
+// bytes were written: fewer than bytes.size() when a write failed, with errno saying why.
+inline std::size_t writeAll(int fd, std::span<const std::byte> bytes) {
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    done += static_cast<std::size_t>(n);
+  }
+  return done;
+}
+
 inline Status writeFileAtomically(const std::filesystem::path& path, std::span<const std::byte> bytes) {
   const auto fail = [&](const std::string& what) {
     return Error{path.string() + ": " + what + ": " + std::strerror(errno)};
@@ -22,17 +35,11 @@ inline Status writeFileAtomically(const std::filesystem::path& path, std::span<c
   const std::filesystem::path tmp = path.string() + ".tmp";
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) return fail("cannot create " + tmp.string());
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      auto err = fail("write failed");
-      ::close(fd);
-      ::unlink(tmp.c_str());
-      return err;
-    }
-    done += static_cast<std::size_t>(n);
+  if (writeAll(fd, bytes) != bytes.size()) {
+    auto err = fail("write failed");
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    return err;
   }
   if (::fsync(fd) != 0) {
     auto err = fail("fsync failed");
