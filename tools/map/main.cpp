@@ -457,8 +457,7 @@ int main(int argc, char** argv) {
       spdlog::error("--page-dir: {}", st.error().message);
       return kExitUsage;
     }
-    const double reach = m.max_range_m + 2 * m.resolution_m * ogf::filter::kBlockSide *
-                                             (1 << ogf::persistence::MapPager::kRegionShift);
+    const double reach = ogf::persistence::MapPager::churnDistance(m.max_range_m, m.resolution_m);
     if (o.page_out_distance < reach)
       spdlog::warn("--page-out-distance {} m is within the scans' reach (max range plus two regions, {:.1f} m): "
                    "regions will go out and come back scan after scan (the same map, more disk traffic)",
@@ -585,7 +584,7 @@ int main(int argc, char** argv) {
   }
   int rc = kExitOk;
   if (const auto* pager = run.pager()) {
-    const auto& pc = pager->counts();
+    const auto pc = pager->counts();
     spdlog::info("paging: {} regions written, {} read back; {} regions ({} blocks, {:.1f} MB) on disk at the end",
                  pc.pages_written, pc.pages_read, pc.regions_out, pc.blocks_out, static_cast<double>(pc.bytes_out) / 1e6);
     // The map file and the exports hold the whole map.

@@ -188,8 +188,8 @@ void MapperDaemon::openPager(const std::filesystem::path& pages_dir, bool holds_
   pager_.reset();
   paging_failed_ = false;
   if (!(options_.page_out_distance_m > 0) && !holds_pages) return;
-  const double reach = options_.map.fusion.measurement.max_range_m +
-                       2 * options_.map.filter.resolution * filter::kBlockSide * (1 << persistence::MapPager::kRegionShift);
+  const double reach =
+      persistence::MapPager::churnDistance(options_.map.fusion.measurement.max_range_m, options_.map.filter.resolution);
   if (options_.page_out_distance_m > 0 && options_.page_out_distance_m < reach)
     spdlog::warn("paging: page_out_distance_m {} m is within the scans' reach (max_range plus two regions, {:.1f} m): "
                  "regions will go out and come back scan after scan (the map is the same, the disk busier)",

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <set>
 
+#include "ogf/common/atomic_file.hpp"
 #include "ogf/persistence/page_file.hpp"
 
 namespace ogf::persistence {
@@ -61,17 +62,11 @@ std::vector<std::byte> readAll(const std::filesystem::path& path, std::string& w
 Status writeNewFile(const std::filesystem::path& path, std::span<const std::byte> bytes) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) return Error{path.string() + ": cannot create the page: " + std::strerror(errno)};
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const std::string why = n < 0 ? std::strerror(errno) : "no progress";
-      ::close(fd);
-      ::unlink(path.c_str());
-      return Error{path.string() + ": write failed at offset " + std::to_string(done) + ": " + why};
-    }
-    done += static_cast<std::size_t>(n);
+  if (const std::size_t done = writeAll(fd, bytes); done != bytes.size()) {
+    const std::string why = std::strerror(errno);
+    ::close(fd);
+    ::unlink(path.c_str());
+    return Error{path.string() + ": write failed at offset " + std::to_string(done) + ": " + why};
   }
   if (::close(fd) != 0) {
     const std::string why = std::strerror(errno);
@@ -150,23 +145,23 @@ std::vector<PageDamage> MapPager::adopt(std::span<const std::string> names, cons
                                   " is named twice"});
       continue;
     }
-    held_.sum += region.blocks.sum;
-    held_.blocks += region.blocks.blocks;
-    counts_.blocks_out += region.blocks.blocks;
-    counts_.bytes_out += region.bytes;
-    ++counts_.regions_out;
-    paged_.emplace(page->region, std::move(region));
+    remember(page->region, std::move(region));
   }
   return damage;
+}
+
+void MapPager::remember(const CellKey& region, PagedRegion paged) {
+  held_.sum += paged.blocks.sum;
+  held_.blocks += paged.blocks.blocks;
+  bytes_out_ += paged.bytes;
+  paged_.emplace(region, std::move(paged));
 }
 
 void MapPager::forget(const CellKey& region) {
   const auto it = paged_.find(region);
   held_.sum -= it->second.blocks.sum;
   held_.blocks -= it->second.blocks.blocks;
-  counts_.blocks_out -= it->second.blocks.blocks;
-  counts_.bytes_out -= it->second.bytes;
-  --counts_.regions_out;
+  bytes_out_ -= it->second.bytes;
   paged_.erase(it);
 }
 
@@ -183,7 +178,7 @@ void MapPager::load(filter::BandedOgf& map, const CellKey& region, std::vector<P
       damage.push_back({path, path.string() + ": " + st.error().message});
     }
   }
-  ++counts_.pages_read;
+  ++pages_read_;
 }
 
 std::vector<PageDamage> MapPager::bringIn(filter::BandedOgf& map, std::span<const Measurement> measurements) {
@@ -255,15 +250,15 @@ std::vector<PageDamage> MapPager::bringInAll(filter::BandedOgf& map) {
 
 Status MapPager::sendAway(filter::BandedOgf& map, const std::array<double, 3>& position, double distance_m) {
   const bool flat = map.config().dimensions == 2;
-  const double side = map.config().resolution * filter::kBlockSide * (1 << kRegionShift);
-  if (looked_ && counts_.pages_read == read_at_look_) {
+  const double side = regionSide(map.config().resolution);
+  if (looked_ && pages_read_ == read_at_look_) {
     const double moved = std::hypot(position[0] - last_position_[0], position[1] - last_position_[1],
                                     flat ? 0.0 : position[2] - last_position_[2]);
     if (moved < side / 4) return okStatus();
   }
   looked_ = true;
   last_position_ = position;
-  read_at_look_ = counts_.pages_read;
+  read_at_look_ = pages_read_;
   // The resident blocks of every region whose nearest point is beyond the distance.
   std::unordered_map<CellKey, std::vector<CellKey>, CellKeyHash> far;
   map.forEachBlockKey([&](const CellKey& block) {
@@ -303,13 +298,8 @@ Status MapPager::sendAway(filter::BandedOgf& map, const std::array<double, 3>& p
     unsynced_.push_back(paged.file);
     paged.bytes = bytes.size();
     for (const CellKey& key : keys) map.eraseBlock(key);
-    held_.sum += paged.blocks.sum;
-    held_.blocks += paged.blocks.blocks;
-    counts_.blocks_out += paged.blocks.blocks;
-    counts_.bytes_out += paged.bytes;
-    ++counts_.regions_out;
-    ++counts_.pages_written;
-    paged_.emplace(region, std::move(paged));
+    remember(region, std::move(paged));
+    ++pages_written_;
   }
   return okStatus();
 }
@@ -343,9 +333,7 @@ std::size_t MapPager::collect(std::span<const std::string> keep) {
   std::vector<std::filesystem::path> doomed;
   for (const auto& entry : std::filesystem::directory_iterator(dir_, ec)) {
     const std::string name = entry.path().filename().string();
-    const bool page = pageNumber(name) != 0;
-    const bool leftover = name.ends_with(".tmp");
-    if ((page && !named.contains(name)) || leftover) doomed.push_back(entry.path());
+    if (pageNumber(name) != 0 && !named.contains(name)) doomed.push_back(entry.path());
   }
   for (const auto& path : doomed) {
     if (std::filesystem::remove(path, ec)) ++removed;

@@ -43,6 +43,13 @@ struct PageDamage {
 class MapPager {
  public:
   static constexpr int kRegionShift = 2;  // a region is 2^kRegionShift blocks on a side
+  // A region's side, metres.
+  static double regionSide(double resolution_m) { return resolution_m * filter::kBlockSide * (1 << kRegionShift); }
+  // Below this page-out distance (the scans' reach plus two regions), regions go out and come back scan
+  // after scan: the map is the same, the disk busier.
+  static double churnDistance(double max_range_m, double resolution_m) {
+    return max_range_m + 2 * regionSide(resolution_m);
+  }
 
   // Pages in `dir`, created when missing. Error (with the system's reason) when it cannot be.
   static Result<MapPager> open(const std::filesystem::path& dir);
@@ -75,7 +82,9 @@ class MapPager {
   // Checksum term of the paged-out blocks, for BandedOgf::checksum.
   filter::BlockHashSum heldBlocks() const { return held_; }
   std::size_t heldCells(const filter::BandedOgf& map) const { return held_.blocks * map.cellsPerBlock(); }
-  const PagerCounts& counts() const { return counts_; }
+  PagerCounts counts() const {
+    return {paged_.size(), held_.blocks, bytes_out_, pages_written_, pages_read_};
+  }
   const std::filesystem::path& dir() const { return dir_; }
 
   // Deletes the page files in dir that are not paged out now and not in `keep` (the names a snapshot that
@@ -91,16 +100,20 @@ class MapPager {
   explicit MapPager(std::filesystem::path dir, std::uint64_t next) : dir_(std::move(dir)), next_(next) {}
   // Reads one region back into `map`; on damage the region is forgotten all the same.
   void load(filter::BandedOgf& map, const CellKey& region, std::vector<PageDamage>& damage);
+  // Counts a region as paged out, and no longer.
+  void remember(const CellKey& region, PagedRegion paged);
   void forget(const CellKey& region);
 
   std::filesystem::path dir_;
   std::uint64_t next_ = 0;  // number of the next page file, above every one in dir
   std::unordered_map<CellKey, PagedRegion, CellKeyHash> paged_;
   std::vector<std::string> unsynced_;
-  filter::BlockHashSum held_;
-  PagerCounts counts_;
+  filter::BlockHashSum held_;  // the paged-out blocks
+  std::uint64_t bytes_out_ = 0;  // their pages' bytes
+  std::size_t pages_written_ = 0;
+  std::size_t pages_read_ = 0;
   std::array<double, 3> last_position_{};
-  std::size_t read_at_look_ = 0;
+  std::size_t read_at_look_ = 0;  // pages_read_ when sendAway last looked
   bool looked_ = false;
 };
 
