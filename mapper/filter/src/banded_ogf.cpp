@@ -722,19 +722,18 @@ Status BandedOgf::restoreStoredBlock(const CellKey& blockKey, std::span<const fl
 
 Status BandedOgf::restoreBlock(const CellKey& blockKey, std::span<const float> values,
                                std::span<const std::uint8_t> marks) {
+  if (!compact()) {
+    return restoreStoredBlock(blockKey, values, marks);  // banded storage exchanges its blocks as stored
+  }
   if (auto st = checkRestorable(blockKey, values.size(), floatsPerBlock(), marks.size()); !st) {
     return st;
   }
   bool fresh = false;
   Block& b = storage_.obtain(blockKey, fresh);
-  if (compact()) {
-    auto* codes = reinterpret_cast<std::uint16_t*>(b.data() + b.cells());
-    for (std::size_t l = 0; l < b.cells(); ++l) {
-      b.data()[l] = values[2 * l];
-      codes[l] = encodeVarianceRatio(values[2 * l + 1] / priorVariance_);
-    }
-  } else {
-    std::copy(values.begin(), values.end(), b.data());
+  auto* codes = reinterpret_cast<std::uint16_t*>(b.data() + b.cells());
+  for (std::size_t l = 0; l < b.cells(); ++l) {
+    b.data()[l] = values[2 * l];
+    codes[l] = encodeVarianceRatio(values[2 * l + 1] / priorVariance_);
   }
   std::copy(marks.begin(), marks.end(), b.marks().begin());
   return okStatus();
