@@ -95,10 +95,6 @@ Result<Snapshot> decodeSnapshot(std::span<const std::byte> bytes, const std::str
   return s;
 }
 
-namespace {
-std::optional<Result<Snapshot>> loadSnapshot(const std::filesystem::path& path);
-}  // namespace
-
 Result<StateDirectory> StateDirectory::open(const std::filesystem::path& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
@@ -119,12 +115,9 @@ Result<RecoveredState> StateDirectory::recover(std::int64_t new_map_id, std::int
   if (!state) return state.error();
   RecoveredState& out = *state;
   map_id_ = out.map_id;
+  // The pages the restored snapshot names; after the next snapshot they are the previous generation's.
   current_pages_ = out.pages;
   previous_pages_.clear();
-  if (!out.snapshot_fallback) {
-    // The previous generation may still be restored from (should the next snapshot be damaged).
-    if (auto previous = loadSnapshot(previousSnapshotPath()); previous && *previous) previous_pages_ = (*previous)->pages;
-  }
   writer_.reset();
   std::error_code ec;
   if (!out.damaged_files.empty()) {

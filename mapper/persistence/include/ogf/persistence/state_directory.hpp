@@ -76,7 +76,9 @@ class StateDirectory {
   // Writes a snapshot of the map at `seq` atomically and starts an empty journal after it. `pages` names the
   // files in pagesDir() that hold the blocks of the map not in `map_bytes`; they must be on disk already.
   Status snapshot(std::int64_t seq, std::span<const std::uint8_t> map_bytes, std::span<const std::string> pages = {});
-  // The page files the newest snapshot and the one before it name: those a restore may still need.
+  // The page files a restore may still need: those the newest snapshot and the one before it name (after
+  // recover() and before the next snapshot, the restored snapshot's; the generation before it is replaced
+  // by the next snapshot, so its pages are needed no more).
   std::vector<std::string> referencedPages() const;
 
   std::int64_t mapId() const { return map_id_; }
