@@ -142,6 +142,15 @@ class MapperPoison : public ::testing::Test {
     stopMapper();
     return s;
   }
+  // Five scans with regions paged out 1 m beyond the robot (after every scan), then a clean stop: the final
+  // snapshot names pages.
+  void mapFiveScansPagingAfterEach() {
+    std::ofstream(dir_ / "mapper.yaml", std::ios::app) << "page_out_distance_m: 1.0\n";
+    startMapper();
+    publish(drive(0, 5));
+    waitMapped(5);
+    stopMapper();
+  }
   void stopMapper() {
     mapper_->signal(SIGTERM);
     EXPECT_EQ(mapper_->wait(20s), 0) << mapper_->log();
@@ -289,7 +298,7 @@ TEST_F(MapperPoison, ASnapshotCutToHalfFallsBackToThePreviousOneAndTheJournals) 
   stopMapper();
 }
 
-// With regions paged out (1 m: after every scan), the final snapshot names pages. The page files to poison.
+// The page files the state directory's snapshot names (to poison).
 std::vector<fs::path> namedPages(const fs::path& state) {
   auto snap = ogf::persistence::StateDirectory::read(state, 1);
   std::vector<fs::path> out;
@@ -300,11 +309,7 @@ std::vector<fs::path> namedPages(const fs::path& state) {
 }
 
 TEST_F(MapperPoison, ADamagedPageLosesOnlyItsRegionSaysWhichAndMappingGoesOn) {
-  std::ofstream(dir_ / "mapper.yaml", std::ios::app) << "page_out_distance_m: 1.0\n";
-  startMapper();
-  publish(drive(0, 5));
-  waitMapped(5);
-  stopMapper();
+  mapFiveScansPagingAfterEach();
   const auto pages = namedPages(dir_ / "state");
   ASSERT_FALSE(pages.empty()) << "the snapshot must name pages";
   {
@@ -327,11 +332,7 @@ TEST_F(MapperPoison, ADamagedPageLosesOnlyItsRegionSaysWhichAndMappingGoesOn) {
 }
 
 TEST_F(MapperPoison, PagesThatCannotBeListedStartANewMapAndLeaveTheSavedOneAlone) {
-  std::ofstream(dir_ / "mapper.yaml", std::ios::app) << "page_out_distance_m: 1.0\n";
-  startMapper();
-  publish(drive(0, 5));
-  waitMapped(5);
-  stopMapper();
+  mapFiveScansPagingAfterEach();
   ASSERT_FALSE(namedPages(dir_ / "state").empty());
   fs::rename(dir_ / "state" / "pages", dir_ / "pages-kept");
   std::ofstream(dir_ / "state" / "pages") << "not a directory";
