@@ -1,5 +1,6 @@
 // The compiled band kernels against the generic one: chosen for the stencils they were compiled for, never
-// for another, and the same floats bit for bit on random records at every position of a block; the record
+// for another, and the same floats bit for bit on random records at every position of a block (banded and
+// compact storage); the record
 // locators likewise, and a record found across a block face where the offset points.
 #include <gtest/gtest.h>
 
@@ -11,9 +12,27 @@
 #include "ogf/core/cell_key.hpp"
 #include "ogf/filter/band_kernel.hpp"
 #include "ogf/filter/stencil.hpp"
+#include "ogf/filter/variance_code.hpp"
 
 namespace ogf::filter {
 namespace {
+
+// 27 compact blocks (512 means, then 512 variance codes two to a float) of random values: means around 0,
+// variance ratios in (0.001, 1].
+std::vector<std::vector<float>> randomCompactBlocks(unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> mean(-2.0F, 2.0F);
+  std::uniform_real_distribution<float> logRatio(-3.0F, 0.0F);
+  std::vector<std::vector<float>> blocks(27, std::vector<float>(512 + 256));
+  for (auto& block : blocks) {
+    auto* codes = reinterpret_cast<std::uint16_t*>(block.data() + 512);
+    for (std::size_t l = 0; l < 512; ++l) {
+      block[l] = mean(rng);
+      codes[l] = encodeVarianceRatio(std::pow(10.0F, logRatio(rng)));
+    }
+  }
+  return blocks;
+}
 
 // 27 blocks of random records (means around 0, positive variances, small covariances).
 std::vector<std::vector<float>> randomBlocks(const BandTables& tables, unsigned seed) {
@@ -77,6 +96,47 @@ TEST(BandKernel, CompiledKernelsEqualTheGenericOneBitForBit) {
       }
     }
   }
+}
+
+TEST(BandKernel, CompactKernelsEqualTheGenericOneBitForBit) {
+  // The default stencil (25 cells) in compact storage: the kernel compiled for its size, in the baseline
+  // and (where this CPU has AVX2) in 8-wide vectors, against the one for any size.
+  const Stencil stencil(3, {std::sqrt(2.0), 2});
+  BandTables tables(stencil, 3, CovarianceStorage::kCompact);
+  ASSERT_EQ(tables.cells, 25U);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> unit(0.0F, 1.0F);
+  tables.priorVariance = 0.6F;
+  for (std::size_t s = 0; s < tables.cells; ++s) {
+    tables.correlation.push_back(s == tables.self ? tables.priorVariance : 0.3F * unit(rng));
+  }
+  for (const bool avx2 : {false, cpuHasFma()}) {
+    const BandKernel compiled = compactBandKernelFor(tables, avx2);
+    EXPECT_NE(compiled, &compactBandKernel) << "avx2 " << avx2;
+    auto a = randomCompactBlocks(9);
+    auto b = a;
+    const std::vector<float*> pa = pointers(a);
+    const std::vector<float*> pb = pointers(b);
+    std::vector<float*> ra(2 * tables.cells);
+    std::vector<float*> rb(2 * tables.cells);
+    for (int pass = 0; pass < 3; ++pass) {  // later passes reach variances the earlier ones lowered
+      for (std::size_t local = 0; local < 512; ++local) {
+        const BandUpdate u{2.0F * unit(rng) - 1.0F, 0.9F * unit(rng), 0.6F * 1e-9F};
+        compactBandLocate(pa.data(), local, tables, ra.data());
+        compactBandLocate(pb.data(), local, tables, rb.data());
+        compiled(ra.data(), u, tables);
+        compactBandKernel(rb.data(), u, tables);
+      }
+    }
+    for (std::size_t d = 0; d < 27; ++d) {
+      EXPECT_EQ(std::memcmp(a[d].data(), b[d].data(), a[d].size() * sizeof(float)), 0)
+          << "block " << d << ", avx2 " << avx2;
+    }
+    EXPECT_NE(std::memcmp(a[13].data(), randomCompactBlocks(9)[13].data(), a[13].size() * sizeof(float)), 0);
+  }
+  // Another size takes the kernel for any size.
+  EXPECT_EQ(compactBandKernelFor(BandTables(Stencil(3, {1.0, 0}), 3, CovarianceStorage::kCompact), true),
+            &compactBandKernel);
 }
 
 TEST(BandKernel, CompiledLocatorsFindTheRecordsTheGenericOneFinds) {

@@ -100,12 +100,13 @@ void compactBandLocate(float* const* blocks, std::size_t local, const BandTables
 // cell itself), then m_s += gain·Σ_si and r_s −= shrink·Σ_si²/Σ0 for every stencil cell, rounded to its
 // code. One arithmetic on every CPU.
 void compactBandKernel(float* const* records, BandUpdate update, const BandTables& tables);
-// The same arithmetic with the cell count fixed at compile time for the default stencil (25 cells), else
-// compactBandKernel (which takes stencils of any size).
-BandKernel compactBandKernelFor(const BandTables& tables);
-
 // Whether this CPU (and OS) can run AVX2 + FMA code.
 bool cpuHasFma();
+
+// The same arithmetic with the cell count fixed at compile time for the default stencil (25 cells), in
+// 8-wide vectors when `avx2` (the same floats: no fused operations), else compactBandKernel (which takes
+// stencils of any size).
+BandKernel compactBandKernelFor(const BandTables& tables, bool avx2 = cpuHasFma());
 
 // The generic kernel: in the fused arithmetic when `fma` (and the build has it), else genericBandKernel.
 BandKernel genericBandKernelFor(bool fma);
