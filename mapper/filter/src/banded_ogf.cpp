@@ -110,6 +110,7 @@ struct BandedOgf::Group {
   std::size_t begin = 0;         // range in the sorted measurement keys
   std::size_t end = 0;
   std::uint8_t* marks = nullptr;  // the block's cell marks when it existed before the batch (occupied priority)
+  const float* data = nullptr;    // the block's values when it existed before the batch (dropClampedFree)
 };
 
 Result<BandedOgf> BandedOgf::create(const FilterConfig& config) {
@@ -139,6 +140,7 @@ BandedOgf::BandedOgf(const FilterConfig& resolved)
   }
   priorVariance_ = static_cast<float>(prior_.variance());
   varianceFloor_ = priorVariance_ * 1e-9F;
+  dropsClampedFree_ = compact() && std::ranges::all_of(band_.correlation, [](float c) { return c >= 0.0F; });
   derivePolicyState();
   // Same-colour blocks are one block apart: their measurements touch disjoint cells iff 2·extent ≤ B.
   parallelSafe_ = 2 * stencil_.extent() <= kBlockSide;
@@ -191,6 +193,17 @@ void BandedOgf::initialiseBlock(Block& block) {
   }
 }
 
+std::uint32_t BandedOgf::lookUp(const CellKey& blockKey) {
+  Batch& work = scratch_;
+  bool inserted = false;
+  const auto next = static_cast<std::uint32_t>(work.touched.size());
+  const std::uint32_t t = work.touchedIndex.findOrInsert(blockKey, next, inserted);
+  if (inserted) {
+    work.touched.push_back({blockKey, storage_.find(blockKey), {}});
+  }
+  return t;
+}
+
 Block& BandedOgf::obtainBlock(const CellKey& blockKey, std::size_t& allocated) {
   bool fresh = false;
   Block& block = storage_.obtain(blockKey, fresh);
@@ -209,6 +222,8 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   //    block, y). Consecutive measurements mostly share a block: the last one is checked first.
   Batch& batchWork = scratch_;
   batchWork.blocks.clear();
+  batchWork.touchedIndex.clear();
+  batchWork.touched.clear();
   batchWork.groupOf.resize(batch.size());
   batchWork.codes.resize(batch.size());
   std::size_t accepted = 0;
@@ -227,11 +242,13 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
       lastGroup = batchWork.blocks.findOrInsert(block, static_cast<std::uint32_t>(groups.size()), inserted);
       lastBlock = block;
       if (inserted) {
-        Block* existing = occupiedPriority ? storage_.find(block) : nullptr;
-        if (existing != nullptr) {
+        Block* existing = occupiedPriority || dropsClampedFree_ ? batchWork.touched[lookUp(block)].block : nullptr;
+        std::uint8_t* marks = nullptr;
+        if (existing != nullptr && occupiedPriority) {
           existing->changed();  // holding back free measurements counts on the marks
+          marks = existing->marks().data();
         }
-        groups.push_back({block, colourOf(block), 0, 0, 0, existing != nullptr ? existing->marks().data() : nullptr});
+        groups.push_back({block, colourOf(block), 0, 0, 0, marks, existing != nullptr ? existing->data() : nullptr});
       }
     }
     const std::size_t local = localIndexOf(m.key);
@@ -250,6 +267,9 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   }
   batchWork.groupOf.resize(accepted);
   batchWork.codes.resize(accepted);
+  if (dropsClampedFree_ && skipsClampedEarly_ && std::isfinite(freeClampZ_)) {
+    dropClampedFree(groups, stats);
+  }
 
   // 2. The deterministic order: colour, block key, position in the block (then y). Groups are sorted, the
   //    measurements placed by counting, then each group's few codes sorted.
@@ -282,8 +302,6 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   // 3. Every block the batch touches, allocated up front (serially, in order); each group's neighbourhood
   //    of block data kept for step 5. With a sink, the blocks are also numbered for step 4.
   batchWork.neighbourhoods.assign(sorted.size() * 27, nullptr);
-  batchWork.touchedIndex.clear();
-  batchWork.touched.clear();
   batchWork.groupTouched.resize(sink != nullptr ? sorted.size() * 27 : 0);
   for (std::size_t r = 0; r < sorted.size(); ++r) {
     const Group& g = sorted[r];
@@ -291,19 +309,23 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
       if ((g.neighbours >> d) & 1U) {
         const CellKey key = g.block + CellKey{static_cast<int>(d % 3) - 1, static_cast<int>((d / 3) % 3) - 1,
                                               static_cast<int>(d / 9) - 1};
-        Block& block = obtainBlock(key, stats.blocksAllocated);
-        float* data = block.data();
-        batchWork.neighbourhoods[r * 27 + d] = data;
+        const std::uint32_t t = lookUp(key);
+        TouchedBlock& touched = batchWork.touched[t];
+        if (!touched.written) {
+          if (touched.block == nullptr) {
+            touched.block = &obtainBlock(key, stats.blocksAllocated);
+          } else {
+            touched.block->changed();  // about to be written (as BlockStorage::obtain marks it)
+          }
+          touched.written = true;
+        }
+        Block& block = *touched.block;
+        batchWork.neighbourhoods[r * 27 + d] = block.data();
         if (d == kOwnBlock && occupiedPriority) {
           markOccupied(block, std::span<const std::uint16_t>(batchWork.sorted).subspan(g.begin, g.end - g.begin));
         }
         if (sink != nullptr) {
-          bool inserted = false;
-          const auto next = static_cast<std::uint32_t>(batchWork.touched.size());
-          batchWork.groupTouched[r * 27 + d] = batchWork.touchedIndex.findOrInsert(key, next, inserted);
-          if (inserted) {
-            batchWork.touched.push_back({key, data, {}});
-          }
+          batchWork.groupTouched[r * 27 + d] = t;
         }
       }
     }
@@ -342,7 +364,7 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
     for (const std::uint32_t t : touchedOrder) {
       const TouchedBlock& block = batchWork.touched[t];
       forEachBit(block.cells, [&](std::size_t l) {
-        const Moments c = momentsAt(block.data, l);
+        const Moments c = momentsAt(block.block->data(), l);
         before.push_back(c.mean);
         before.push_back(c.variance);
       });
@@ -421,7 +443,7 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
     for (const std::uint32_t t : touchedOrder) {
       const TouchedBlock& block = batchWork.touched[t];
       forEachBit(block.cells, [&](std::size_t l) {
-        const Moments cell = momentsAt(block.data, l);
+        const Moments cell = momentsAt(block.block->data(), l);
         means1[n] = cell.mean;
         variances1[n] = cell.variance;
         means0[n] = old[0];
@@ -437,6 +459,67 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
     flush();
   }
   return stats;
+}
+
+void BandedOgf::dropClampedFree(std::span<Group> groups, UpdateStats& stats) {
+  // The cells within the stencil of an occupied measurement of the batch, per group (512 bits each): an
+  // occupied update raises their means. Blocks without a group hold no measurement and need no bits.
+  Batch& work = scratch_;
+  std::vector<std::array<std::uint64_t, 8>>& reach = work.occupiedReach;
+  reach.assign(groups.size(), {});
+  constexpr std::uint32_t kUnknown = BlockKeyTable::kAbsent - 1;
+  std::vector<std::uint32_t>& around = work.around;  // per group, the groups of its 27 neighbours once looked up
+  around.assign(groups.size() * 27, kUnknown);
+  const std::size_t cells = band_.cells;
+  for (std::size_t i = 0; i < work.codes.size(); ++i) {
+    const std::uint16_t code = work.codes[i];
+    if ((code & 1U) == 0) {
+      continue;
+    }
+    const std::uint32_t g = work.groupOf[i];
+    const std::size_t local = code >> 1;
+    for (std::size_t s = 0; s < cells; ++s) {
+      const unsigned d = band_.recordBlock[local * cells + s];
+      std::uint32_t& other = around[g * 27 + d];
+      if (other == kUnknown) {
+        const CellKey key = groups[g].block + CellKey{static_cast<int>(d % 3) - 1, static_cast<int>((d / 3) % 3) - 1,
+                                                      static_cast<int>(d / 9) - 1};
+        other = work.blocks.find(key);
+      }
+      if (other != BlockKeyTable::kAbsent) {
+        const std::uint32_t cell = band_.recordFloat[local * cells + s];  // compact: the stride is 1
+        reach[other][cell >> 6] |= std::uint64_t{1} << (cell & 63U);
+      }
+    }
+  }
+  const float floorRatio = varianceFloor_ / priorVariance_;  // the kernel's floor, as compactBody has it
+  // z = −μ/√(1+s) > c tested as μ² > c²(1+s) with μ < 0, a relative 1e-9 to spare so that rounding in
+  // either form cannot drop a measurement applyMeasurement's z would keep (μ² of a float is exact in double).
+  const double bound = freeClampZ_ * freeClampZ_ * (1.0 + 1e-9);
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < work.codes.size(); ++i) {
+    const std::uint16_t code = work.codes[i];
+    const std::uint32_t g = work.groupOf[i];
+    const float* data = groups[g].data;  // null for a new block: its cells are at the prior, z = 0
+    const std::size_t local = code >> 1;
+    if ((code & 1U) == 0 && data != nullptr && ((reach[g][local >> 6] >> (local & 63U)) & 1U) == 0) {
+      const float ratio =
+          decodeVarianceRatio(reinterpret_cast<const std::uint16_t*>(data + storage_.cellsPerBlock())[local]);
+      const auto mean = static_cast<double>(data[local]);
+      if (ratio >= floorRatio && mean < 0.0 &&
+          mean * mean > bound * (1.0 + static_cast<double>(priorVariance_ * ratio))) {
+        ++stats.skipped;
+        ++stats.skippedEarly;
+        --groups[g].end;
+        continue;
+      }
+    }
+    work.codes[kept] = code;
+    work.groupOf[kept] = g;
+    ++kept;
+  }
+  work.codes.resize(kept);
+  work.groupOf.resize(kept);
 }
 
 void BandedOgf::applyRun(std::span<const Group> groups, std::span<const std::uint16_t> codes,
@@ -493,14 +576,13 @@ void BandedOgf::markOccupied(Block& block, std::span<const std::uint16_t> codes)
 
 bool BandedOgf::applyMeasurement(float* const* records, int y) {
   const float* self = records[band_.self];
-  const double mean = static_cast<double>(self[0]);
   const double var = static_cast<double>(
       compact() ? priorVariance_ * decodeVarianceRatio(*reinterpret_cast<const std::uint16_t*>(
                                       records[band_.cells + band_.self]))
                : self[1]);
   const double tolerance = config_.skipTolerance;
   const double inverseScale = 1.0 / std::sqrt(1.0 + var);
-  const double z = static_cast<double>(y) * mean * inverseScale;
+  const double z = static_cast<double>(y) * static_cast<double>(self[0]) * inverseScale;
   if (z > (y < 0 ? freeClampZ_ : clampZ_)) {
     return false;
   }

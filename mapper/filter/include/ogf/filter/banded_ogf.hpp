@@ -35,7 +35,8 @@ namespace ogf::filter {
 
 struct UpdateStats {
   std::size_t applied = 0;          // measurements that changed the map
-  std::size_t skipped = 0;          // negligible updates skipped (below skipTolerance)
+  std::size_t skipped = 0;          // updates skipped: clamped (clampZ, freeClampZ) or below skipTolerance
+  std::size_t skippedEarly = 0;     // of those, free ones known clamped before the batch was ordered
   std::size_t rejected = 0;         // y not ±1, or z ≠ 0 in a 2-D map
   std::size_t heldBack = 0;         // free measurements of cells measured occupied (OccupiedPriority::kMap)
   std::size_t blocksAllocated = 0;  // new blocks this batch
@@ -87,6 +88,9 @@ class BandedOgf {
   const PriorCovariance& prior() const { return prior_; }
   // Number of worker threads for update(); does not change results.
   void setThreads(int threads) { config_.threads = threads < 1 ? 1 : threads; }
+  // Whether update() drops the free measurements it is certain to skip before it orders the batch
+  // (dropClampedFree; on by default, in compact storage); does not change results.
+  void setSkipsClampedEarly(bool on) { skipsClampedEarly_ = on; }
   // The same map in the other covariance storage: compact keeps each cell's mean and variance and drops its
   // covariances; banded rebuilds them from the prior as compact storage computes them
   // (FilterConfig::covariance), so converting back and forth changes nothing but that rounding.
@@ -144,20 +148,25 @@ class BandedOgf {
     return {d[0], d[1]};
   }
   Block& obtainBlock(const CellKey& blockKey, std::size_t& allocated);
+  // The number of `blockKey` in scratch_.touched, looked up in the map the first time in a batch.
+  std::uint32_t lookUp(const CellKey& blockKey);
   // restoreBlock's checks of a block about to be restored with `values` floats (of `expected`) and marks.
   Status checkRestorable(const CellKey& blockKey, std::size_t values, std::size_t expected,
                          std::size_t marks) const;
   std::uint64_t blockHash(const CellKey& key, const Block& block) const;
   void initialiseBlock(Block& block);
-  // A block the batch's updates reach, and which of its cells they can change (bit per position).
+  // A block the batch looks up: its key, the block (null while it does not exist) and, with a change sink,
+  // which of its cells the updates can change (bit per position).
   struct TouchedBlock {
     CellKey key;
-    float* data = nullptr;
+    Block* block = nullptr;
+    bool written = false;  // obtained for the updates (BlockStorage::obtain: allocated, hash forgotten)
     std::array<std::uint64_t, 8> cells{};
   };
   // Reused from batch to batch: the batch's blocks, per measurement its group and code (position << 1 | y),
-  // the codes in the order of application, per group the data of its 3×3×3 neighbourhood of blocks; with a
-  // change sink, the touched blocks and, per group and neighbour, the touched block's number.
+  // the codes in the order of application, per group the data of its 3×3×3 neighbourhood of blocks; every
+  // block looked up, numbered (the map's table is searched once per block and batch, not once per group
+  // that neighbours it) and, with a change sink, per group and neighbour the block's number.
   struct Batch {
     BlockKeyTable blocks;
     std::vector<std::uint32_t> groupOf;
@@ -169,7 +178,15 @@ class BandedOgf {
     std::vector<std::uint32_t> groupTouched;
     std::vector<std::uint32_t> touchedOrder;
     std::vector<float> before;  // mean and variance of each touched cell before the batch
+    std::vector<std::array<std::uint64_t, 8>> occupiedReach;  // dropClampedFree's per-group cells
+    std::vector<std::uint32_t> around;
   };
+  // Removes from the batch (counted as skipped) the free measurements that applyMeasurement would skip
+  // whatever the order: z above the free clamp before the batch, and no occupied measurement of the batch
+  // within the cell's stencil. In compact storage with a non-negative prior, free updates only lower a
+  // cell's mean and variance, so its z only grows: the map is the same, bit for bit, without the
+  // locate, prefetch and z of each (most of a scan's free measurements once the map has seen a place).
+  void dropClampedFree(std::span<Group> groups, UpdateStats& stats);
   // The measurements of consecutive groups (`groups`, their neighbourhoods from `neighbourhoods`, 27 per
   // group), in order, on one thread. The stencil records of the measurement kPrefetchAhead places ahead
   // are found then (locate_, into `ring`: kRingSlots slots of band_.cells pointers) and asked of
@@ -206,6 +223,8 @@ class BandedOgf {
   BandKernel kernel_ = nullptr;               // eq. (5) in the band (compiled for common stencils)
   const InverseMillsTable* lambda_ = &inverseMillsTable();  // λ(z) of eq. (5), tabulated
   bool parallelSafe_ = false;
+  bool dropsClampedFree_ = false;  // compact storage, Σ0 ≥ 0 in the stencil: dropClampedFree applies
+  bool skipsClampedEarly_ = true;
   Batch scratch_;
   std::vector<float*> ring_;  // applyRun's records on the calling thread
 };

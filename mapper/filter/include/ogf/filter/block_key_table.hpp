@@ -25,6 +25,20 @@ class BlockKeyTable {
   }
   std::size_t size() const { return used_.size(); }
 
+  // The value of `key`, or kAbsent.
+  std::uint32_t find(const CellKey& key) const {
+    if (slots_.empty()) {
+      return kAbsent;
+    }
+    const std::size_t mask = slots_.size() - 1;
+    for (std::size_t s = CellKeyHash{}(key) & mask;; s = (s + 1) & mask) {
+      const Slot& slot = slots_[s];
+      if (slot.value == kAbsent || slot.key == key) {
+        return slot.value;
+      }
+    }
+  }
+
   // The value of `key`, inserting `value` when the key is new (then `inserted` is set). Inlined: it runs
   // once per measurement of a batch in random order.
   [[gnu::always_inline]] std::uint32_t findOrInsert(const CellKey& key, std::uint32_t value, bool& inserted) {
