@@ -255,6 +255,7 @@ int main(int argc, char** argv) {
   double free_clamp_z = ogf::filter::FilterConfig{}.freeClampZ;
   std::string covariance = ogf::filter::toString(ogf::pipeline::MapperConfig{}.filter.covariance);
   bool deltas = false;
+  bool no_octomap = false;
   app.add_option("--scans", count, "Scans to map (synthetic street scans 1 m apart, or the first of --pcap)")
       ->capture_default_str()
       ->check(ogf::cli::positive());
@@ -274,6 +275,7 @@ int main(int argc, char** argv) {
   app.add_flag("--deltas", deltas,
                "Also collect the changed cells per scan and publish them into a delta stream, as ogf-mapper does for "
                "OGF_MAP_DELTA; prints the published map's size");
+  app.add_flag("--no-octomap", no_octomap, "Only the OGF's rows: quicker, for comparing two builds of the OGF");
   OGF_PARSE_COMMAND_LINE(app, argc, argv);
 
   const auto scans = pcap.empty() ? syntheticStreetScans(count, min_range) : captureScans(pcap, odometry, min_range, count);
@@ -291,7 +293,6 @@ int main(int argc, char** argv) {
   for (const double res : parseList(resolutions)) {
     const OgfResult ogf = runOgf(scans, res, max_range, min_range, clamp_z, free_clamp_z,
                                  *ogf::filter::parseCovarianceStorage(covariance), deltas);
-    const OctomapResult oct = runOctomap(scans, res, max_range);
     const auto row = [&](const char* name, const Timing& t, std::size_t memory, std::size_t cells, const std::string& notes) {
       std::printf("%-6.2f %-8s %9.1f %9.1f %9.1f %8.2f %10.1f %11zu %s\n", res, name, t.mean(), t.percentile(0.5),
                   t.percentile(0.99), kScanPeriodMs / t.mean(), static_cast<double>(memory) / 1e6, cells,
@@ -305,6 +306,11 @@ int main(int argc, char** argv) {
                   static_cast<double>(ogf.published_memory) / 1e6,
                   static_cast<double>(ogf.published_memory) / static_cast<double>(std::max<std::size_t>(ogf.published_cells, 1)));
     }
+    if (no_octomap) {
+      std::fflush(stdout);
+      continue;
+    }
+    const OctomapResult oct = runOctomap(scans, res, max_range);
     row("OctoMap", oct.total, oct.memory, oct.leaves, fmt::format("leaves ({} nodes)", oct.nodes));
     std::printf("%-6.2f OGF/OctoMap speed %.2fx, memory %.2fx\n", res, oct.total.mean() / ogf.total.mean(),
                 static_cast<double>(ogf.memory) / static_cast<double>(oct.memory));
