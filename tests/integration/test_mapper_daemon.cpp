@@ -113,22 +113,24 @@ std::string field(const std::string& line, const std::string& key) {
   return {};
 }
 
-TEST_F(MapperDaemonTest, ClientRebuildsTheDaemonsMapOver1000ScansWithGapsInjected) {
-  const std::string url = ogf::testing::loopbackUdpmUrl(31);
+// The client follows `scans` scans of a daemon started with `where` (--in-memory, or a state directory)
+// that drops 3 % of its delta updates.
+void clientRebuildsTheDaemonsMap(const fs::path& dir, int channel, int scans, const std::vector<std::string>& where) {
+  const std::string url = ogf::testing::loopbackUdpmUrl(channel);
   StatusListener status(url);
-  ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--in-memory", "--config", (dir_ / "mapper.yaml").string(),
-                       "--test-drop-deltas", "0.03", "--keyframe-interval", "1000", "--log-level", "warn"},
-                      (dir_ / "mapper.log").string());
+  std::vector<std::string> args{kBin + "/ogf-mapper", "--lcm-url", url, "--config", (dir / "mapper.yaml").string(),
+                                "--test-drop-deltas", "0.03", "--keyframe-interval", "1000", "--log-level", "warn"};
+  args.insert(args.end(), where.begin(), where.end());
+  ChildProcess mapper(args, (dir / "mapper.log").string());
   ASSERT_TRUE(mapper.started());
   ASSERT_TRUE(status.waitFor([](const auto&) { return true; }, 10s)) << mapper.log();
   ChildProcess client({kBin + "/ogf-map-client", "--lcm-url", url, "--idle-exit", "3", "--duration", "300",
                        "--log-level", "warn"},
-                      (dir_ / "client.log").string());
+                      (dir / "client.log").string());
   std::this_thread::sleep_for(300ms);
 
   lcm::LCM lcm(url);
-  constexpr int kScans = 1000;
-  for (int i = 0; i < kScans; ++i) {
+  for (int i = 0; i < scans; ++i) {
     publishStep(lcm, ogf::testing::feedStep(i, 400));
     // Pace like a fast replay; wait whenever the daemon has 3 or more scans in hand.
     std::this_thread::sleep_for(2ms);
@@ -139,8 +141,8 @@ TEST_F(MapperDaemonTest, ClientRebuildsTheDaemonsMapOver1000ScansWithGapsInjecte
     }
   }
   const auto done = status.waitFor(
-      [](const ogf::mapper_status_t& s) {
-        return s.scans_in == kScans && s.scans_mapped + s.scans_dropped_behind + s.scans_dropped_no_pose == kScans;
+      [scans](const ogf::mapper_status_t& s) {
+        return s.scans_in == scans && s.scans_mapped + s.scans_dropped_behind + s.scans_dropped_no_pose == scans;
       },
       60s);
   ASSERT_TRUE(done) << mapper.log();
@@ -165,6 +167,22 @@ TEST_F(MapperDaemonTest, ClientRebuildsTheDaemonsMapOver1000ScansWithGapsInjecte
   EXPECT_EQ(field(line, "malformed"), "0");
   mapper.signal(SIGTERM);
   EXPECT_EQ(mapper.wait(20s), 0) << mapper.log();
+}
+
+TEST_F(MapperDaemonTest, ClientRebuildsTheDaemonsMapOver1000ScansWithGapsInjected) {
+  clientRebuildsTheDaemonsMap(dir_, 31, 1000, {"--in-memory"});
+}
+
+// Regions beyond 1 m go to their pages after every scan with their published cells, and come back: the
+// client's map and checksum still equal the daemon's, keyframes (with the paged-out cells read from their
+// pages) included.
+TEST_F(MapperDaemonTest, ClientRebuildsTheDaemonsMapWhileRegionsArePagedOutAndIn) {
+  std::ofstream(dir_ / "mapper.yaml", std::ios::app) << "page_out_distance_m: 1.0\n";
+  clientRebuildsTheDaemonsMap(dir_, 36, 300, {"--state-dir", (dir_ / "state").string()});
+  std::ifstream in(dir_ / "mapper.log");
+  const std::string log((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(log.find("within the scans' reach"), std::string::npos) << "regions should churn: " << log;
+  EXPECT_EQ(log.find("are lost"), std::string::npos) << log;
 }
 
 // Kills the daemon (kill -9) at random instants over `rounds` rounds of scans, restarting it each time on its

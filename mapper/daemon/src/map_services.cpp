@@ -81,10 +81,11 @@ void MapperDaemon::serve(std::deque<ServiceRequest>& requests) {
         const auto& f = *q;
         if (f.kind == ogf::map_query_t::KIND_BOX) {
           reportPageDamage(pager_->bringInBox(mapper_.filter(), {f.box_min[0], f.box_min[1], f.box_min[2]},
-                                              {f.box_max[0], f.box_max[1], f.box_max[2]}));
+                                              {f.box_max[0], f.box_max[1], f.box_max[2]}, &deltas_.map()));
         } else {
           for (const auto& p : f.points)
-            reportPageDamage(pager_->bringInBox(mapper_.filter(), {p[0], p[1], p[2]}, {p[0], p[1], p[2]}));
+            reportPageDamage(
+                pager_->bringInBox(mapper_.filter(), {p[0], p[1], p[2]}, {p[0], p[1], p[2]}, &deltas_.map()));
         }
       }
       const auto reply = answerQuery(*q, mapper_.filter(), deltas_.mapId(), deltas_.seq(), wallUtime());
@@ -130,7 +131,8 @@ void MapperDaemon::carryOut(const ogf::map_command_t& command) {
       fail(ogf::map_command_reply_t::STATUS_REFUSED, "format '" + f + "': ogfm, ply, pcd, csv or bt");
     } else {
       Status st = okStatus();
-      if (pager_) reportPageDamage(pager_->bringInAll(mapper_.filter()));  // an export holds the whole map
+      // An export holds the whole map.
+      if (pager_) reportPageDamage(pager_->bringInAll(mapper_.filter(), &deltas_.map()));
       if (f == "ogfm") {
         st = filter::saveMapFile(mapper_.filter(), path);
       } else {

@@ -215,7 +215,9 @@ void MapperDaemon::reportPageDamage(const std::vector<persistence::PageDamage>& 
 void MapperDaemon::pageOut() {
   if (!pager_ || paging_failed_ || !(options_.page_out_distance_m > 0)) return;
   const Eigen::Vector3d at = mapper_.sensorOrigin();
-  if (auto st = pager_->sendAway(mapper_.filter(), {at.x(), at.y(), at.z()}, options_.page_out_distance_m); !st) {
+  if (auto st = pager_->sendAway(mapper_.filter(), {at.x(), at.y(), at.z()}, options_.page_out_distance_m,
+                                 &deltas_.map());
+      !st) {
     // The regions not written stay in memory; those already out still come back when needed.
     paging_failed_ = true;
     spdlog::error("paging: {}; the map stays in memory from now on", st.error().message);
@@ -425,10 +427,10 @@ void MapperDaemon::mapScan(const ScanPtr& scan) {
     }
   }
   changes_.clear();
-  if (pager_) reportPageDamage(pager_->bringIn(mapper_.filter(), measurements));
+  if (pager_) reportPageDamage(pager_->bringIn(mapper_.filter(), measurements, &deltas_.map()));
   mapper_.apply(measurements, &changes_);
-  pageOut();
   auto msgs = deltas_.update(scan->utime, changes_);
+  pageOut();  // after the delta: the published cells of a region leave with it
   const bool drop = options_.test_drop_delta_fraction > 0 &&
                     std::uniform_real_distribution<double>(0, 1)(drop_rng_) < options_.test_drop_delta_fraction;
   if (!drop) {
@@ -463,7 +465,11 @@ void MapperDaemon::publishCorrectedPose(std::int64_t utime, const correction::Sc
 
 void MapperDaemon::publishKeyframe() {
   last_keyframe_steady_ = steadyUtime();
-  const auto parts = deltas_.keyframe(wallUtime());
+  // The published cells of the paged-out regions are read from their pages for the keyframe.
+  std::vector<persistence::PageDamage> damage;
+  const auto held = pager_ ? pager_->heldPublished(damage) : std::vector<delta::PublishedCell>{};
+  reportPageDamage(damage);
+  const auto parts = deltas_.keyframe(wallUtime(), held);
   int sent = 0;
   for (const auto& m : parts) {
     lcm_.publish(options_.delta_channel, &m);

@@ -67,6 +67,75 @@ void PublishedMap::clear() {
   size_ = 0;
   stored_ = 0;
   checksum_ = 0;
+  held_ = {};
+}
+
+template <class Visit>
+void PublishedMap::forEachSlabIn(const CellKey& lo, const CellKey& hi, Visit visit) const {
+  if (blocks_.empty()) return;
+  const CellKey a = PublishedBlock::blockKeyOf(lo);
+  const CellKey b = PublishedBlock::blockKeyOf(hi - CellKey{1, 1, 1});
+  for (std::int32_t z = a.z; z <= b.z; ++z)
+    for (std::int32_t y = a.y; y <= b.y; ++y)
+      for (std::int32_t x = a.x; x <= b.x; ++x) {
+        const auto it = blocks_.find(CellKey{x, y, z});
+        if (it != blocks_.end()) visit(it->first, it->second);
+      }
+}
+
+std::vector<PublishedCell> PublishedMap::cellsIn(const CellKey& lo, const CellKey& hi) const {
+  std::vector<PublishedCell> out;
+  forEachSlabIn(lo, hi, [&](const CellKey& key, const PublishedBlock& block) {
+    for (std::uint64_t rest = block.present(); rest != 0; rest &= rest - 1) {
+      const auto local = static_cast<unsigned>(std::countr_zero(rest));
+      out.push_back(cellOf(PublishedBlock::cellKey(key, local), block.at(local)));
+    }
+  });
+  return out;
+}
+
+PublishedMap::Held PublishedMap::evict(const CellKey& lo, const CellKey& hi) {
+  Held out;
+  std::vector<CellKey> slabs;
+  forEachSlabIn(lo, hi, [&](const CellKey& key, const PublishedBlock& block) {
+    for (std::uint64_t rest = block.present(); rest != 0; rest &= rest - 1) {
+      const auto local = static_cast<unsigned>(std::countr_zero(rest));
+      out.checksum += cellChecksum(cellOf(PublishedBlock::cellKey(key, local), block.at(local)));
+    }
+    out.cells += block.size();
+    stored_ -= block.capacity();
+    slabs.push_back(key);
+  });
+  for (const CellKey& key : slabs) blocks_.erase(key);
+  held_.cells += out.cells;
+  held_.checksum += out.checksum;
+  return out;
+}
+
+void PublishedMap::restore(std::span<const PublishedCell> cells) {
+  for (const PublishedCell& cell : cells) {
+    const std::uint64_t hash = cellChecksum(cell);
+    --held_.cells;
+    held_.checksum -= hash;
+    PublishedBlock& block = blocks_[PublishedBlock::blockKeyOf(cell.key)];
+    const unsigned local = PublishedBlock::localIndexOf(cell.key);
+    if (block.has(local)) {
+      // Published again while held: the cell in memory is the newer, the held copy is dropped.
+      --size_;
+      checksum_ -= hash;
+      continue;
+    }
+    const std::size_t capacity = block.capacity();
+    block.put(local, {cell.probability, cell.cell_class, cell.variance});
+    stored_ += block.capacity() - capacity;
+  }
+}
+
+void PublishedMap::forget(const Held& held) {
+  size_ -= held.cells;
+  checksum_ -= held.checksum;
+  held_.cells -= held.cells;
+  held_.checksum -= held.checksum;
 }
 
 std::vector<PublishedCell> PublishedMap::sortedCells() const {

@@ -26,6 +26,16 @@ CellKey regionOf(const CellKey& block, bool flat) {
           flat ? 0 : block.z >> MapPager::kRegionShift};
 }
 
+// The cells of a region: [lo, lo + side) on each axis (in a 2-D map the region at z = 0 holds z = 0).
+constexpr int kRegionCellShift = MapPager::kRegionShift + 3;
+static_assert(filter::kBlockSide == 1 << 3);
+CellKey regionCellsLo(const CellKey& region) {
+  return {region.x * (1 << kRegionCellShift), region.y * (1 << kRegionCellShift), region.z * (1 << kRegionCellShift)};
+}
+CellKey regionCellsHi(const CellKey& region) {
+  return regionCellsLo(region) + CellKey{1 << kRegionCellShift, 1 << kRegionCellShift, 1 << kRegionCellShift};
+}
+
 // The number in a page file's name ("r<x>_<y>_<z>-<n>.ogfp"), or 0 when it is not one.
 std::uint64_t pageNumber(const std::string& name) {
   const auto dash = name.rfind('-');
@@ -123,7 +133,7 @@ std::vector<PageDamage> MapPager::adopt(std::span<const std::string> names, cons
       damage.push_back({path, page.error().message});
       continue;
     }
-    PagedRegion region{name, {}, 0};
+    PagedRegion region{name, {}, 0, false, {}};
     const bool flat = map.config().dimensions == 2;
     std::string stray;
     for (const PageBlock& b : page->blocks) {
@@ -165,12 +175,16 @@ void MapPager::forget(const CellKey& region) {
   paged_.erase(it);
 }
 
-void MapPager::load(filter::BandedOgf& map, const CellKey& region, std::vector<PageDamage>& damage) {
-  const std::filesystem::path path = dir_ / paged_.at(region).file;
+void MapPager::load(filter::BandedOgf& map, const CellKey& region, std::vector<PageDamage>& damage,
+                    delta::PublishedMap* published) {
+  const PagedRegion paged = paged_.at(region);
+  const std::filesystem::path path = dir_ / paged.file;
   forget(region);
+  const bool withPublished = published != nullptr && paged.publishedOut;
   auto page = readPage(path, map);
   if (!page) {
     damage.push_back({path, page.error().message});
+    if (withPublished) published->forget(paged.published);
     return;
   }
   for (const PageBlock& b : page->blocks) {
@@ -178,10 +192,29 @@ void MapPager::load(filter::BandedOgf& map, const CellKey& region, std::vector<P
       damage.push_back({path, path.string() + ": " + st.error().message});
     }
   }
+  if (withPublished) published->restore(page->published);
   ++pages_read_;
 }
 
-std::vector<PageDamage> MapPager::bringIn(filter::BandedOgf& map, std::span<const Measurement> measurements) {
+std::vector<delta::PublishedCell> MapPager::heldPublished(std::vector<PageDamage>& damage) const {
+  std::vector<delta::PublishedCell> cells;
+  for (const auto& [region, paged] : paged_) {
+    if (!paged.publishedOut || paged.published.cells == 0) continue;
+    const std::filesystem::path path = dir_ / paged.file;
+    std::string why;
+    const auto bytes = readAll(path, why);
+    auto page = why.empty() ? decodePage(bytes, path.string()) : Result<Page>(Error{path.string() + ": " + why});
+    if (!page) {
+      damage.push_back({path, page.error().message});
+      continue;
+    }
+    cells.insert(cells.end(), page->published.begin(), page->published.end());
+  }
+  return cells;
+}
+
+std::vector<PageDamage> MapPager::bringIn(filter::BandedOgf& map, std::span<const Measurement> measurements,
+                                          delta::PublishedMap* published) {
   std::vector<PageDamage> damage;
   if (paged_.empty()) return damage;
   const bool flat = map.config().dimensions == 2;
@@ -203,12 +236,12 @@ std::vector<PageDamage> MapPager::bringIn(filter::BandedOgf& map, std::span<cons
         for (int x = lo.x; x <= hi.x; ++x)
           if (paged_.contains(CellKey{x, y, z})) wanted.insert(CellKey{x, y, z});
   }
-  for (const CellKey& region : wanted) load(map, region, damage);
+  for (const CellKey& region : wanted) load(map, region, damage, published);
   return damage;
 }
 
 std::vector<PageDamage> MapPager::bringInBox(filter::BandedOgf& map, const std::array<double, 3>& lo,
-                                             const std::array<double, 3>& hi) {
+                                             const std::array<double, 3>& hi, delta::PublishedMap* published) {
   std::vector<PageDamage> damage;
   if (paged_.empty()) return damage;
   const bool flat = map.config().dimensions == 2;
@@ -235,20 +268,21 @@ std::vector<PageDamage> MapPager::bringInBox(filter::BandedOgf& map, const std::
       wanted.push_back(region);
   }
   std::sort(wanted.begin(), wanted.end());
-  for (const CellKey& region : wanted) load(map, region, damage);
+  for (const CellKey& region : wanted) load(map, region, damage, published);
   return damage;
 }
 
-std::vector<PageDamage> MapPager::bringInAll(filter::BandedOgf& map) {
+std::vector<PageDamage> MapPager::bringInAll(filter::BandedOgf& map, delta::PublishedMap* published) {
   std::vector<PageDamage> damage;
   std::vector<CellKey> regions;
   for (const auto& [region, paged] : paged_) regions.push_back(region);
   std::sort(regions.begin(), regions.end());
-  for (const CellKey& region : regions) load(map, region, damage);
+  for (const CellKey& region : regions) load(map, region, damage, published);
   return damage;
 }
 
-Status MapPager::sendAway(filter::BandedOgf& map, const std::array<double, 3>& position, double distance_m) {
+Status MapPager::sendAway(filter::BandedOgf& map, const std::array<double, 3>& position, double distance_m,
+                          delta::PublishedMap* published) {
   const bool flat = map.config().dimensions == 2;
   const double side = regionSide(map.config().resolution);
   if (looked_ && pages_read_ == read_at_look_) {
@@ -291,6 +325,7 @@ Status MapPager::sendAway(filter::BandedOgf& map, const std::array<double, 3>& p
       paged.blocks.sum += map.blockHash(key);
       ++paged.blocks.blocks;
     }
+    if (published != nullptr) page.published = published->cellsIn(regionCellsLo(region), regionCellsHi(region));
     paged.file = "r" + std::to_string(region.x) + "_" + std::to_string(region.y) + "_" + std::to_string(region.z) +
                  "-" + std::to_string(next_++) + kSuffix;
     const auto bytes = encodePage(page);
@@ -298,6 +333,10 @@ Status MapPager::sendAway(filter::BandedOgf& map, const std::array<double, 3>& p
     unsynced_.push_back(paged.file);
     paged.bytes = bytes.size();
     for (const CellKey& key : keys) map.eraseBlock(key);
+    if (published != nullptr) {
+      paged.published = published->evict(regionCellsLo(region), regionCellsHi(region));
+      paged.publishedOut = true;
+    }
     remember(region, std::move(paged));
     ++pages_written_;
   }

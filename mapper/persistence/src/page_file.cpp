@@ -13,7 +13,8 @@ namespace {
 static_assert(std::endian::native == std::endian::little, "pages store floats as the host holds them");
 
 constexpr char kMagic[8] = {'O', 'G', 'F', 'P', 'A', 'G', 'E', '1'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;
+constexpr std::size_t kPublishedCellBytes = 12 + 2 + 1 + 4;
 constexpr std::size_t kHeader = 8 + 4 + 3 * 4 + 3 * 4;
 constexpr std::size_t kTrailer = 8;
 
@@ -46,6 +47,15 @@ std::vector<std::byte> encodePage(const Page& page) {
     const auto* m = reinterpret_cast<const std::byte*>(b.marks.data());
     out.insert(out.end(), m, m + b.marks.size());
   }
+  putLittleEndian<std::uint32_t>(out, static_cast<std::uint32_t>(page.published.size()));
+  for (const delta::PublishedCell& c : page.published) {
+    putLittleEndian<std::int32_t>(out, c.key.x);
+    putLittleEndian<std::int32_t>(out, c.key.y);
+    putLittleEndian<std::int32_t>(out, c.key.z);
+    putLittleEndian<std::int16_t>(out, c.probability);
+    putLittleEndian<std::int8_t>(out, c.cell_class);
+    putLittleEndian<std::uint32_t>(out, std::bit_cast<std::uint32_t>(c.variance));
+  }
   putLittleEndian<std::uint64_t>(out, pageChecksum(out));
   return out;
 }
@@ -57,8 +67,8 @@ Result<Page> decodePage(std::span<const std::byte> bytes, const std::string& sou
   if (bytes.size() < kHeader + kTrailer)
     return fail(0, "page truncated (" + std::to_string(bytes.size()) + " bytes)");
   if (std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) return fail(0, "not an ogf page (bad magic)");
-  if (const auto v = getLittleEndian<std::uint32_t>(bytes.data() + 8); v != kVersion)
-    return fail(8, "unsupported page version " + std::to_string(v));
+  const auto version = getLittleEndian<std::uint32_t>(bytes.data() + 8);
+  if (version != 1 && version != kVersion) return fail(8, "unsupported page version " + std::to_string(version));
   const std::size_t checksumAt = bytes.size() - kTrailer;
   if (getLittleEndian<std::uint64_t>(bytes.data() + checksumAt) != pageChecksum(bytes.first(checksumAt)))
     return fail(checksumAt, "page checksum mismatch (truncated or corrupt)");
@@ -69,9 +79,23 @@ Result<Page> decodePage(std::span<const std::byte> bytes, const std::string& sou
   page.floats_per_block = getLittleEndian<std::uint32_t>(bytes.data() + 28);
   page.cells_per_block = getLittleEndian<std::uint32_t>(bytes.data() + 32);
   const std::size_t perBlock = 12 + std::size_t{page.floats_per_block} * sizeof(float) + page.cells_per_block;
-  if (std::size_t{count} * perBlock != checksumAt - kHeader)
+  // Version 2: the blocks, then the published cells' count and the cells.
+  const std::size_t blocksEnd = kHeader + std::size_t{count} * perBlock;
+  std::size_t published = 0;
+  if (version >= 2) {
+    if (count > (checksumAt - kHeader) / perBlock || blocksEnd + 4 > checksumAt)
+      return fail(24, std::to_string(count) + " blocks of " + std::to_string(perBlock) +
+                          " bytes leave no room for the published cells' count");
+    published = getLittleEndian<std::uint32_t>(bytes.data() + blocksEnd);
+    if (published > (checksumAt - blocksEnd - 4) / kPublishedCellBytes ||
+        blocksEnd + 4 + published * kPublishedCellBytes != checksumAt)
+      return fail(blocksEnd, std::to_string(published) + " published cells of " + std::to_string(kPublishedCellBytes) +
+                                 " bytes do not fill the " + std::to_string(checksumAt - blocksEnd - 4) +
+                                 " bytes after the blocks");
+  } else if (std::size_t{count} * perBlock != checksumAt - kHeader) {
     return fail(24, std::to_string(count) + " blocks of " + std::to_string(perBlock) + " bytes do not fill the " +
                         std::to_string(checksumAt - kHeader) + " bytes of blocks");
+  }
   page.blocks.resize(count);
   const std::byte* p = bytes.data() + kHeader;
   for (PageBlock& b : page.blocks) {
@@ -84,6 +108,15 @@ Result<Page> decodePage(std::span<const std::byte> bytes, const std::string& sou
     b.marks.resize(page.cells_per_block);
     std::memcpy(b.marks.data(), p, b.marks.size());
     p += b.marks.size();
+  }
+  if (version >= 2) p += 4;
+  page.published.resize(published);
+  for (delta::PublishedCell& c : page.published) {
+    c.key = {getLittleEndian<std::int32_t>(p), getLittleEndian<std::int32_t>(p + 4), getLittleEndian<std::int32_t>(p + 8)};
+    c.probability = getLittleEndian<std::int16_t>(p + 12);
+    c.cell_class = getLittleEndian<std::int8_t>(p + 14);
+    c.variance = std::bit_cast<float>(getLittleEndian<std::uint32_t>(p + 15));
+    p += kPublishedCellBytes;
   }
   return page;
 }

@@ -165,4 +165,73 @@ TEST(PublishedMap, MemoryPerCellIsWithinTheStatedBounds) {
   std::cout << "full slabs " << fullPerCell << " bytes per cell, one row per slab " << wallPerCell << "\n";
 }
 
+// Paging: the cells of a box leave memory but still count; back, the map is as it was; a box that will not
+// come back is forgotten, and the map then equals one that never held those cells.
+TEST(PublishedMap, EvictedCellsStillCountAndComeBackOrAreForgotten) {
+  // The same random cells each time; `outside` gets those outside the box [0, 32)³.
+  const auto fill = [](PublishedMap& map, PublishedMap* outside) {
+    std::mt19937 rng(5);
+    std::uniform_int_distribution<int> coord(-40, 71);
+    for (int i = 0; i < 3000; ++i) {
+      const PublishedCell c{{coord(rng), coord(rng), coord(rng) % 40}, static_cast<std::int16_t>(rng() % 10001),
+                            static_cast<std::int8_t>(static_cast<int>(rng() % 3) - 1),
+                            static_cast<float>(rng() % 100) * 0.01f};
+      map.set(c);
+      const bool inBox = c.key.x >= 0 && c.key.x < 32 && c.key.y >= 0 && c.key.y < 32 && c.key.z >= 0 && c.key.z < 32;
+      if (!inBox && outside != nullptr) outside->set(c);
+    }
+  };
+  PublishedMap map;
+  PublishedMap outside;
+  fill(map, &outside);
+  const auto all = map.sortedCells();
+  const std::size_t size = map.size();
+  const std::uint64_t checksum = map.checksum();
+  const std::size_t memory = map.memoryBytes();
+  const CellKey lo{0, 0, 0};
+  const CellKey hi{32, 32, 32};
+  const auto box = map.cellsIn(lo, hi);
+  ASSERT_EQ(box.size(), size - outside.size());
+  ASSERT_GT(box.size(), 100u);
+  const PublishedMap::Held held = map.evict(lo, hi);
+  EXPECT_EQ(held.cells, box.size());
+  EXPECT_EQ(map.size(), size);
+  EXPECT_EQ(map.checksum(), checksum);
+  EXPECT_LT(map.memoryBytes(), memory);
+  EXPECT_EQ(map.sortedCells().size(), outside.size());
+  EXPECT_FALSE(map.find(box.front().key).has_value());
+  EXPECT_TRUE(map.cellsIn(lo, hi).empty());
+
+  map.restore(box);
+  EXPECT_EQ(map.held().cells, 0u);
+  EXPECT_EQ(map.size(), size);
+  EXPECT_EQ(map.checksum(), checksum);
+  const auto restored = map.sortedCells();
+  ASSERT_EQ(restored.size(), all.size());
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    EXPECT_EQ(restored[i].key, all[i].key);
+    EXPECT_FALSE(restored[i].visiblyDiffers(all[i]));
+  }
+
+  // Published again while held: the newer cell stays, the held copy is dropped, nothing counts twice.
+  map.evict(lo, hi);
+  PublishedCell newer = box.front();
+  newer.probability = static_cast<std::int16_t>(newer.probability == 0 ? 1 : 0);
+  map.set(newer);
+  map.restore(box);
+  EXPECT_EQ(map.size(), size);
+  EXPECT_EQ(map.find(newer.key)->probability, newer.probability);
+  PublishedMap expected;
+  fill(expected, nullptr);
+  expected.set(newer);
+  EXPECT_EQ(map.checksum(), expected.checksum());
+
+  // A box that will not come back.
+  const PublishedMap::Held gone = map.evict(lo, hi);
+  map.forget(gone);
+  EXPECT_EQ(map.size(), outside.size());
+  EXPECT_EQ(map.checksum(), outside.checksum());
+  EXPECT_EQ(map.held().cells, 0u);
+}
+
 }  // namespace

@@ -1,6 +1,7 @@
 // Paging the far regions of a map to disk: a map mapped with paging is bit-identical to one mapped
-// without, whatever the distance; memory holds only the regions near the sensor; pages are checked when read
-// and damage names the file; snapshots name the pages that hold the rest of their map.
+// without, whatever the distance, and so is the delta stream when the published cells page with it; memory
+// holds only the regions near the sensor; pages are checked when read and damage names the file; snapshots
+// name the pages that hold the rest of their map.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -9,7 +10,9 @@
 #include <random>
 #include <vector>
 
+#include "ogf/delta/delta_stream.hpp"
 #include "ogf/filter/banded_ogf.hpp"
+#include "ogf/filter/map_checksum.hpp"
 #include "ogf/persistence/map_pager.hpp"
 #include "ogf/persistence/page_file.hpp"
 #include "ogf/persistence/state_directory.hpp"
@@ -137,6 +140,8 @@ TEST_F(MapPagerTest, PageRoundTripsAndDamageNamesTheFileAndOffset) {
   page.cells_per_block = 2;
   page.blocks.push_back({{-12, 16, -4}, {1.5F, -2.0F, 3.25F}, {0x80, 7}});
   page.blocks.push_back({{-11, 16, -4}, {0.0F, 1.0F, 2.0F}, {0, 0}});
+  page.published.push_back({{-96, 128, -30}, 9321, 1, 0.0125F});
+  page.published.push_back({{-95, 130, -29}, 120, -1, 3.5e-7F});
   auto bytes = encodePage(page);
   auto back = decodePage(bytes, "p.ogfp");
   ASSERT_TRUE(back.ok()) << back.error().message;
@@ -145,6 +150,13 @@ TEST_F(MapPagerTest, PageRoundTripsAndDamageNamesTheFileAndOffset) {
   EXPECT_EQ(back->blocks[0].key, page.blocks[0].key);
   EXPECT_EQ(back->blocks[0].stored, page.blocks[0].stored);
   EXPECT_EQ(back->blocks[0].marks, page.blocks[0].marks);
+  ASSERT_EQ(back->published.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(back->published[i].key, page.published[i].key);
+    EXPECT_EQ(back->published[i].probability, page.published[i].probability);
+    EXPECT_EQ(back->published[i].cell_class, page.published[i].cell_class);
+    EXPECT_EQ(back->published[i].variance, page.published[i].variance);
+  }
   for (std::size_t i = 0; i < bytes.size(); i += 7) {
     auto damaged = bytes;
     damaged[i] ^= std::byte{0x10};
@@ -154,6 +166,96 @@ TEST_F(MapPagerTest, PageRoundTripsAndDamageNamesTheFileAndOffset) {
   }
   const auto cut = decodePage(std::span(bytes).first(bytes.size() - 5), "p.ogfp");
   ASSERT_FALSE(cut.ok());
+}
+
+TEST_F(MapPagerTest, PageOfTheFirstVersionIsRead) {
+  // Version 1 ended with the blocks: no published cells' count.
+  Page page;
+  page.region = {1, 2, 3};
+  page.floats_per_block = 1;
+  page.cells_per_block = 1;
+  page.blocks.push_back({{4, 8, 12}, {0.5F}, {3}});
+  auto bytes = encodePage(page);
+  bytes.resize(bytes.size() - 8 - 4);
+  bytes[8] = std::byte{1};
+  filter::MapChecksum sum;
+  sum.add(bytes);
+  for (int i = 0; i < 8; ++i) bytes.push_back(static_cast<std::byte>((sum.value() >> (8 * i)) & 0xFFU));
+  const auto back = decodePage(bytes, "v1.ogfp");
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  ASSERT_EQ(back->blocks.size(), 1u);
+  EXPECT_EQ(back->blocks[0].stored, page.blocks[0].stored);
+  EXPECT_TRUE(back->published.empty());
+  bytes[8] = std::byte{3};
+  EXPECT_FALSE(decodePage(bytes, "v1.ogfp").ok());
+}
+
+// The daemon's delta stream beside the map: the published cells of a region go to its page and come back
+// with it. Out 40 m and back, paging beyond 8 m: every scan's delta messages (cells, checksum) equal those
+// of a stream whose map is never paged, and so does a keyframe taken out there with the paged-out cells read
+// from their pages; the published map in memory stays below half of the whole.
+TEST_F(MapPagerTest, PublishedCellsPageWithTheirRegionsAndTheDeltaStreamIsUnchanged) {
+  class Collect : public filter::ChangeSink {
+   public:
+    void cellChanged(const filter::CellChange& c) override {
+      cells.push_back({c.key, static_cast<std::int16_t>(c.quantisedProbability), c.occupancyClass, c.variance});
+    }
+    std::vector<delta::PublishedCell> cells;
+  };
+  const auto sameMessages = [](const std::vector<ogf::map_delta_t>& a, const std::vector<ogf::map_delta_t>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      if (a[i].map_checksum != b[i].map_checksum || a[i].seq != b[i].seq || a[i].num_cells != b[i].num_cells ||
+          a[i].key_x != b[i].key_x || a[i].key_y != b[i].key_y || a[i].key_z != b[i].key_z ||
+          a[i].probability != b[i].probability || a[i].cell_class != b[i].cell_class ||
+          a[i].variance != b[i].variance)
+        return false;
+    }
+    return true;
+  };
+  auto plain = makeMap(3, filter::CovarianceStorage::kCompact);
+  auto paged = makeMap(3, filter::CovarianceStorage::kCompact);
+  delta::DeltaStream plainStream({0.1, 7, 500});
+  delta::DeltaStream pagedStream({0.1, 7, 500});
+  auto pager = MapPager::open(dir_ / "pages");
+  ASSERT_TRUE(pager.ok());
+  std::mt19937 rng(9);
+  std::size_t mostResident = 0;
+  for (int step = 0; step <= 80; ++step) {
+    const double x = step <= 40 ? step : 80 - step;
+    const auto scan = scanAt(x, false, rng);
+    Collect a;
+    plain.update(scan, &a);
+    const auto expected = plainStream.update(step, a.cells);
+    ASSERT_TRUE(pager->bringIn(paged, scan, &pagedStream.map()).empty());
+    Collect b;
+    paged.update(scan, &b);
+    const auto got = pagedStream.update(step, b.cells);
+    ASSERT_TRUE(pager->sendAway(paged, {x, 0.0, 0.5}, 8.0, &pagedStream.map()).ok());
+    ASSERT_TRUE(sameMessages(expected, got)) << "scan " << step;
+    EXPECT_EQ(pagedStream.map().size(), plainStream.map().size());
+    EXPECT_EQ(pagedStream.map().checksum(), plainStream.map().checksum());
+    mostResident = std::max(mostResident, pagedStream.map().size() - pagedStream.map().held().cells);
+    if (step == 40) {
+      std::vector<PageDamage> damage;
+      const auto held = pager->heldPublished(damage);
+      EXPECT_TRUE(damage.empty());
+      EXPECT_EQ(held.size(), pagedStream.map().held().cells);
+      EXPECT_GT(held.size(), 0u);
+      EXPECT_TRUE(sameMessages(plainStream.keyframe(1), pagedStream.keyframe(1, held)));
+    }
+  }
+  EXPECT_LT(mostResident * 2, plainStream.map().size()) << "the published map must page with the filter's";
+  EXPECT_TRUE(pager->bringInAll(paged, &pagedStream.map()).empty());
+  EXPECT_EQ(pagedStream.map().held().cells, 0u);
+  const auto all = pagedStream.map().sortedCells();
+  const auto expected = plainStream.map().sortedCells();
+  ASSERT_EQ(all.size(), expected.size());
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    ASSERT_EQ(all[i].key, expected[i].key);
+    ASSERT_FALSE(all[i].visiblyDiffers(expected[i]));
+    ASSERT_EQ(all[i].variance, expected[i].variance);
+  }
 }
 
 TEST_F(MapPagerTest, DamagedPageLosesOnlyItsRegionAndSaysWhich) {

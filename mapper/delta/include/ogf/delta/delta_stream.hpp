@@ -30,8 +30,9 @@ class DeltaStream {
   // message carries the checksum of the published map after the whole update.
   std::vector<ogf::map_delta_t> update(std::int64_t utime, std::span<const PublishedCell> candidates);
 
-  // The whole published map at seq() as a keyframe (kind KEYFRAME, base_seq -1), in parts.
-  std::vector<ogf::map_delta_t> keyframe(std::int64_t utime) const;
+  // The whole published map at seq() as a keyframe (kind KEYFRAME, base_seq -1), in parts, in CellKey
+  // order: the cells in memory and `held`, the cells the map holds elsewhere (PublishedMap::evict).
+  std::vector<ogf::map_delta_t> keyframe(std::int64_t utime, std::span<const PublishedCell> held = {}) const;
 
   // Replaces the published map wholesale (after a restart from a snapshot) and continues numbering after
   // `seq`, without publishing; clients learn it from the next keyframe.
@@ -40,6 +41,8 @@ class DeltaStream {
   std::int64_t seq() const { return seq_; }
   std::int64_t mapId() const { return config_.map_id; }
   const PublishedMap& map() const { return map_; }
+  // For paging the published cells with the filter's regions (persistence/map_pager.hpp).
+  PublishedMap& map() { return map_; }
 
  private:
   std::vector<ogf::map_delta_t> split(std::int64_t utime, std::int8_t kind, std::int64_t base_seq,

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <unordered_map>
 #include <vector>
 
@@ -30,14 +31,29 @@ class PublishedMap {
   // PublishedCell objects.
   std::optional<PublishedCell> find(const CellKey& key) const;
   void clear();
-  // Cells published.
+  // Cells published, those held elsewhere included.
   std::size_t size() const { return size_; }
+
+  // Paging (persistence/map_pager.hpp). The cells of the box [lo, hi) (cell keys; x and y multiples of 8)
+  // as cellsIn() lists them in slab order, leave memory by evict() but still count in size() and
+  // checksum(), as cells held elsewhere; restore() puts such cells back, and forget() drops held cells
+  // that will not come back (a lost page), with the count and checksum term evict() returned for them.
+  struct Held {
+    std::size_t cells = 0;
+    std::uint64_t checksum = 0;  // wrapping sum of cellChecksum
+  };
+  std::vector<PublishedCell> cellsIn(const CellKey& lo, const CellKey& hi) const;
+  Held evict(const CellKey& lo, const CellKey& hi);
+  void restore(std::span<const PublishedCell> cells);
+  void forget(const Held& held);
+  // The cells held elsewhere.
+  Held held() const { return held_; }
 
   // Order-independent checksum of every cell (the wrapping sum of a 64-bit hash of key, probability,
   // class and the variance's bits), kept up to date in O(1) per change. 0 for an empty map.
   std::uint64_t checksum() const { return checksum_; }
 
-  // Every cell in CellKey order (deterministic; for keyframes and exports).
+  // Every cell in memory in CellKey order (deterministic; for keyframes and exports).
   std::vector<PublishedCell> sortedCells() const;
 
   // Bytes the storage holds: the cells' packed storage, the slabs and their hash-table nodes, and the
@@ -47,11 +63,15 @@ class PublishedMap {
  private:
   // Stores the cell in its slab and keeps size, storage and checksum up to date.
   void put(PublishedBlock& block, const PublishedCell& cell);
+  // Calls visit(slab key, slab) for every slab in the box [lo, hi) of evict().
+  template <class Visit>
+  void forEachSlabIn(const CellKey& lo, const CellKey& hi, Visit visit) const;
 
   std::unordered_map<CellKey, PublishedBlock, CellKeyHash> blocks_;
   std::size_t size_ = 0;
   std::size_t stored_ = 0;  // cells the slabs have room for (their capacities), for memoryBytes() in O(1)
   std::uint64_t checksum_ = 0;
+  Held held_;
 };
 
 // The hash one cell contributes to PublishedMap::checksum().

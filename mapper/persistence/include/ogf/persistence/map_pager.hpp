@@ -5,6 +5,11 @@
 // writes only the blocks within one block of the measured cell's (the stencil's reach, banded_ogf.hpp), so
 // a map mapped with paging is bit-identical to one mapped without, whatever the distance (tested).
 //
+// With a published map (the delta stream's, delta/published_map.hpp) the region's published cells go to the
+// page with its blocks and come back with them, so the daemon's memory follows the resident map for both;
+// they still count in the published map's size and checksum while out, and heldPublished() reads them
+// for a keyframe.
+//
 // Page files are never rewritten: a region paged out again gets a new file, so a snapshot can name the
 // pages that hold the rest of its map (state_directory.hpp), and they stay valid after the region has come
 // back; collect() deletes the files that neither the pager nor a kept snapshot names.
@@ -22,6 +27,7 @@
 
 #include "ogf/common/result.hpp"
 #include "ogf/core/measurement.hpp"
+#include "ogf/delta/published_map.hpp"
 
 namespace ogf::persistence {
 
@@ -59,20 +65,27 @@ class MapPager {
   // their regions left to the prior.
   std::vector<PageDamage> adopt(std::span<const std::string> names, const filter::BandedOgf& map);
 
-  // Reads back every paged-out region an update with `measurements` can reach. Damaged pages are returned
-  // (their regions are then prior, and no longer paged out).
-  std::vector<PageDamage> bringIn(filter::BandedOgf& map, std::span<const Measurement> measurements);
+  // Reads back every paged-out region an update with `measurements` can reach, and its published cells into
+  // `published` when they went out from it. Damaged pages are returned (their regions are then prior, and
+  // no longer paged out; their published cells are forgotten).
+  std::vector<PageDamage> bringIn(filter::BandedOgf& map, std::span<const Measurement> measurements,
+                                  delta::PublishedMap* published = nullptr);
   // Reads back every paged-out region that holds cells of the box [lo, hi] (map frame, metres).
   std::vector<PageDamage> bringInBox(filter::BandedOgf& map, const std::array<double, 3>& lo,
-                                     const std::array<double, 3>& hi);
+                                     const std::array<double, 3>& hi, delta::PublishedMap* published = nullptr);
   // Reads back every region (before a save or export of the whole map).
-  std::vector<PageDamage> bringInAll(filter::BandedOgf& map);
+  std::vector<PageDamage> bringInAll(filter::BandedOgf& map, delta::PublishedMap* published = nullptr);
 
   // Pages out the regions of `map` whose nearest point lies farther than `distance_m` from `position` (map
   // frame, metres); a no-op until the position has moved a quarter of a region since the last call that
   // looked, or a region was brought back since. Error (nothing dropped from the map for the region that failed) when a page cannot be written.
-  // A page is written under a name no file had, and not flushed: sync() makes it durable.
-  Status sendAway(filter::BandedOgf& map, const std::array<double, 3>& position, double distance_m);
+  // A page is written under a name no file had, and not flushed: sync() makes it durable. With
+  // `published`, the regions' published cells go out too (PublishedMap::evict).
+  Status sendAway(filter::BandedOgf& map, const std::array<double, 3>& position, double distance_m,
+                  delta::PublishedMap* published = nullptr);
+  // The published cells of the regions paged out with a published map, read from their pages (for a
+  // keyframe); the regions stay out. Pages that cannot be read are added to `damage`.
+  std::vector<delta::PublishedCell> heldPublished(std::vector<PageDamage>& damage) const;
   // Flushes (fsync) the pages written since the last sync and still paged out, and the directory: call it
   // before a snapshot names them. A crash before leaves pages that no snapshot names; collect() removes them.
   Status sync();
@@ -96,10 +109,13 @@ class MapPager {
     std::string file;
     filter::BlockHashSum blocks;
     std::uint64_t bytes = 0;
+    bool publishedOut = false;            // its published cells left a published map with it
+    delta::PublishedMap::Held published;  // their count and checksum term
   };
   explicit MapPager(std::filesystem::path dir, std::uint64_t next) : dir_(std::move(dir)), next_(next) {}
-  // Reads one region back into `map`; on damage the region is forgotten all the same.
-  void load(filter::BandedOgf& map, const CellKey& region, std::vector<PageDamage>& damage);
+  // Reads one region back into `map` (and `published`); on damage the region is forgotten all the same.
+  void load(filter::BandedOgf& map, const CellKey& region, std::vector<PageDamage>& damage,
+            delta::PublishedMap* published);
   // Counts a region as paged out, and no longer.
   void remember(const CellKey& region, PagedRegion paged);
   void forget(const CellKey& region);
