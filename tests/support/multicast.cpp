@@ -40,7 +40,10 @@ std::optional<std::string> ensureLoopbackMulticast() {
 }
 
 std::string loopbackUdpmUrl(int slot) {
-  const int port = 20000 + static_cast<int>(::getpid() % 20000) + slot;
+  // 256 ports per process, the slot's one among them: two test processes running side by side (their pids
+  // a few apart) never share a port, as they did with pid + slot when the pids differed by the slots'
+  // difference.
+  const int port = 20000 + static_cast<int>((static_cast<long>(::getpid()) * 256 + (slot & 255)) % 40000);
   return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=8388608";
 }
 
