@@ -34,12 +34,19 @@ void PublishedMap::set(const PublishedCell& cell) { put(blocks_[PublishedBlock::
 
 bool PublishedMap::setIfVisiblyDiffers(const PublishedCell& cell) {
   const CellKey blockKey = PublishedBlock::blockKeyOf(cell.key);
-  const auto it = blocks_.find(blockKey);
+  // Candidates come in runs of one slab (the filter reports a block's cells in position order, x fastest):
+  // the slab of the last one is checked before the table.
+  if (last_ == nullptr || !(lastKey_ == blockKey)) {
+    const auto it = blocks_.find(blockKey);
+    last_ = it != blocks_.end() ? &it->second : nullptr;
+    lastKey_ = blockKey;
+  }
   const unsigned local = PublishedBlock::localIndexOf(cell.key);
-  const PublishedValue old = it != blocks_.end() ? it->second.find(local).value_or(PublishedValue{}) : PublishedValue{};
+  const PublishedValue old = last_ != nullptr ? last_->find(local).value_or(PublishedValue{}) : PublishedValue{};
   if (!cell.visiblyDiffers(cellOf(cell.key, old))) return false;
   // Only a cell that differs allocates a slab: candidates equal to the prior leave no trace.
-  put(it != blocks_.end() ? it->second : blocks_[blockKey], cell);
+  if (last_ == nullptr) last_ = &blocks_[blockKey];  // nodes do not move when the table grows
+  put(*last_, cell);
   return true;
 }
 
@@ -63,6 +70,7 @@ std::optional<PublishedCell> PublishedMap::find(const CellKey& key) const {
 }
 
 void PublishedMap::clear() {
+  last_ = nullptr;
   blocks_.clear();
   size_ = 0;
   stored_ = 0;
@@ -106,6 +114,7 @@ PublishedMap::Held PublishedMap::evict(const CellKey& lo, const CellKey& hi) {
     stored_ -= block.capacity();
     slabs.push_back(key);
   });
+  last_ = nullptr;
   for (const CellKey& key : slabs) blocks_.erase(key);
   held_.cells += out.cells;
   held_.checksum += out.checksum;

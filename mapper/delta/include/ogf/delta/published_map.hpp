@@ -72,6 +72,9 @@ class PublishedMap {
   std::size_t stored_ = 0;  // cells the slabs have room for (their capacities), for memoryBytes() in O(1)
   std::uint64_t checksum_ = 0;
   Held held_;
+  // setIfVisiblyDiffers' last slab (null: look it up); reset whenever a slab is erased.
+  PublishedBlock* last_ = nullptr;
+  CellKey lastKey_{};
 };
 
 // The hash one cell contributes to PublishedMap::checksum().
