@@ -122,9 +122,9 @@ bool MapperDaemon::applyRecovered(const persistence::RecoveredState& rec, const 
     if (pager_) reportPageDamage(pager_->bringIn(mapper_.filter(), r.measurements));
     mapper_.apply(r.measurements);
   }
-  // The first keyframe holds every cell: the whole map comes back for it, and the far regions go out again
-  // after the next scan.
-  if (pager_) reportPageDamage(pager_->bringInAll(mapper_.filter()));
+  // The published map is built from the filter's cells in memory and the published cells the pages hold
+  // (restore()); pages of the first version hold none, so their regions come back for it.
+  if (pager_) reportPageDamage(pager_->bringInUnpublished(mapper_.filter()));
   snapshot_seq_ = rec.snapshot_seq;
   spdlog::info("restored map {} at seq {} (snapshot {} + {} journal records): {} cells, checksum {:016x}", rec.map_id,
                rec.last_seq, rec.snapshot_seq, rec.replay.size(), mapper_.filter().allocatedCells(),
@@ -179,6 +179,7 @@ void MapperDaemon::restore() {
   }
   const auto cells = mapper_.publishedCells();
   deltas_.reset(cells, seq);
+  if (pager_) pager_->holdPublished(deltas_.map());
   std::lock_guard lk(mu_);
   stats_.delta_seq = seq;
   fillMapStats();

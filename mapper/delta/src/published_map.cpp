@@ -140,6 +140,13 @@ void PublishedMap::restore(std::span<const PublishedCell> cells) {
   }
 }
 
+void PublishedMap::hold(const Held& held) {
+  size_ += held.cells;
+  checksum_ += held.checksum;
+  held_.cells += held.cells;
+  held_.checksum += held.checksum;
+}
+
 void PublishedMap::forget(const Held& held) {
   size_ -= held.cells;
   checksum_ -= held.checksum;

@@ -133,7 +133,9 @@ std::vector<PageDamage> MapPager::adopt(std::span<const std::string> names, cons
       damage.push_back({path, page.error().message});
       continue;
     }
-    PagedRegion region{name, {}, 0, false, {}};
+    PagedRegion region{name, {}, 0, page->has_published, false, {}};
+    for (const delta::PublishedCell& c : page->published) region.published.checksum += delta::cellChecksum(c);
+    region.published.cells = page->published.size();
     const bool flat = map.config().dimensions == 2;
     std::string stray;
     for (const PageBlock& b : page->blocks) {
@@ -194,6 +196,24 @@ void MapPager::load(filter::BandedOgf& map, const CellKey& region, std::vector<P
   }
   if (withPublished) published->restore(page->published);
   ++pages_read_;
+}
+
+std::vector<PageDamage> MapPager::bringInUnpublished(filter::BandedOgf& map) {
+  std::vector<PageDamage> damage;
+  std::vector<CellKey> regions;
+  for (const auto& [region, paged] : paged_)
+    if (!paged.publishedKnown) regions.push_back(region);
+  std::sort(regions.begin(), regions.end());
+  for (const CellKey& region : regions) load(map, region, damage, nullptr);
+  return damage;
+}
+
+void MapPager::holdPublished(delta::PublishedMap& published) {
+  for (auto& [region, paged] : paged_) {
+    if (!paged.publishedKnown || paged.publishedOut) continue;
+    published.hold(paged.published);
+    paged.publishedOut = true;
+  }
 }
 
 std::vector<delta::PublishedCell> MapPager::heldPublished(std::vector<PageDamage>& damage) const {
@@ -335,6 +355,7 @@ Status MapPager::sendAway(filter::BandedOgf& map, const std::array<double, 3>& p
     for (const CellKey& key : keys) map.eraseBlock(key);
     if (published != nullptr) {
       paged.published = published->evict(regionCellsLo(region), regionCellsHi(region));
+      paged.publishedKnown = true;
       paged.publishedOut = true;
     }
     remember(region, std::move(paged));

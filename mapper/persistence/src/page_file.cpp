@@ -110,6 +110,7 @@ Result<Page> decodePage(std::span<const std::byte> bytes, const std::string& sou
     p += b.marks.size();
   }
   if (version >= 2) p += 4;
+  page.has_published = version >= 2;
   page.published.resize(published);
   for (delta::PublishedCell& c : page.published) {
     c.key = {getLittleEndian<std::int32_t>(p), getLittleEndian<std::int32_t>(p + 4), getLittleEndian<std::int32_t>(p + 8)};

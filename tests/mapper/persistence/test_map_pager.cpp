@@ -24,7 +24,7 @@ using namespace ogf::persistence;
 namespace fs = std::filesystem;
 
 class MapPagerTest : public ::testing::Test {
- protected:
+ public:
   void SetUp() override {
     dir_ = fs::temp_directory_path() / ("ogf-pager-" + std::to_string(::getpid()) + "-" +
                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
@@ -186,6 +186,7 @@ TEST_F(MapPagerTest, PageOfTheFirstVersionIsRead) {
   ASSERT_EQ(back->blocks.size(), 1u);
   EXPECT_EQ(back->blocks[0].stored, page.blocks[0].stored);
   EXPECT_TRUE(back->published.empty());
+  EXPECT_FALSE(back->has_published) << "a version 1 page says nothing of the published cells";
   bytes[8] = std::byte{3};
   EXPECT_FALSE(decodePage(bytes, "v1.ogfp").ok());
 }
@@ -193,8 +194,10 @@ TEST_F(MapPagerTest, PageOfTheFirstVersionIsRead) {
 // The daemon's delta stream beside the map: the published cells of a region go to its page and come back
 // with it. Out 40 m and back, paging beyond 8 m: every scan's delta messages (cells, checksum) equal those
 // of a stream whose map is never paged, and so does a keyframe taken out there with the paged-out cells read
-// from their pages; the published map in memory stays below half of the whole.
-TEST_F(MapPagerTest, PublishedCellsPageWithTheirRegionsAndTheDeltaStreamIsUnchanged) {
+// from their pages; the published map in memory stays below half of the whole. With `restart`, the paged
+// side restarts out there as the daemon does: the map in memory, a new pager adopting the pages, a
+// published map of the cells in memory holding those of the pages (holdPublished), and drives back so.
+void publishedCellsPageWithTheirRegions(const fs::path& dir, bool restart) {
   class Collect : public filter::ChangeSink {
    public:
     void cellChanged(const filter::CellChange& c) override {
@@ -213,42 +216,66 @@ TEST_F(MapPagerTest, PublishedCellsPageWithTheirRegionsAndTheDeltaStreamIsUnchan
     }
     return true;
   };
-  auto plain = makeMap(3, filter::CovarianceStorage::kCompact);
-  auto paged = makeMap(3, filter::CovarianceStorage::kCompact);
+  filter::FilterConfig config;
+  config.resolution = 0.1;
+  config.covariance = filter::CovarianceStorage::kCompact;
+  auto plain = filter::BandedOgf::create(config);
+  auto paged = filter::BandedOgf::create(config);
+  ASSERT_TRUE(plain.ok() && paged.ok());
   delta::DeltaStream plainStream({0.1, 7, 500});
-  delta::DeltaStream pagedStream({0.1, 7, 500});
-  auto pager = MapPager::open(dir_ / "pages");
+  auto pagedStream = std::make_unique<delta::DeltaStream>(delta::DeltaStreamConfig{0.1, 7, 500});
+  auto pager = MapPager::open(dir / "pages");
   ASSERT_TRUE(pager.ok());
   std::mt19937 rng(9);
   std::size_t mostResident = 0;
   for (int step = 0; step <= 80; ++step) {
     const double x = step <= 40 ? step : 80 - step;
-    const auto scan = scanAt(x, false, rng);
+    const auto scan = MapPagerTest::scanAt(x, false, rng);
     Collect a;
-    plain.update(scan, &a);
+    plain->update(scan, &a);
     const auto expected = plainStream.update(step, a.cells);
-    ASSERT_TRUE(pager->bringIn(paged, scan, &pagedStream.map()).empty());
+    ASSERT_TRUE(pager->bringIn(*paged, scan, &pagedStream->map()).empty());
     Collect b;
-    paged.update(scan, &b);
-    const auto got = pagedStream.update(step, b.cells);
-    ASSERT_TRUE(pager->sendAway(paged, {x, 0.0, 0.5}, 8.0, &pagedStream.map()).ok());
+    paged->update(scan, &b);
+    const auto got = pagedStream->update(step, b.cells);
+    ASSERT_TRUE(pager->sendAway(*paged, {x, 0.0, 0.5}, 8.0, &pagedStream->map()).ok());
     ASSERT_TRUE(sameMessages(expected, got)) << "scan " << step;
-    EXPECT_EQ(pagedStream.map().size(), plainStream.map().size());
-    EXPECT_EQ(pagedStream.map().checksum(), plainStream.map().checksum());
-    mostResident = std::max(mostResident, pagedStream.map().size() - pagedStream.map().held().cells);
+    EXPECT_EQ(pagedStream->map().size(), plainStream.map().size());
+    EXPECT_EQ(pagedStream->map().checksum(), plainStream.map().checksum());
+    mostResident = std::max(mostResident, pagedStream->map().size() - pagedStream->map().held().cells);
+    if (step == 40 && restart) {
+      auto map = filter::BandedOgf::create(config);
+      ASSERT_TRUE(map.ok());
+      for (const CellKey& key : paged->blockKeys())
+        ASSERT_TRUE(map->restoreStoredBlock(key, paged->storedValues(key), paged->blockMarks(key)).ok());
+      auto adopted = MapPager::open(dir / "pages");
+      ASSERT_TRUE(adopted.ok());
+      ASSERT_TRUE(adopted->adopt(pager->files(), *map).empty());
+      ASSERT_TRUE(adopted->bringInUnpublished(*map).empty());
+      EXPECT_EQ(map->blockKeys(), paged->blockKeys()) << "every page holds its published cells: none comes back";
+      auto stream = std::make_unique<delta::DeltaStream>(delta::DeltaStreamConfig{0.1, 7, 500});
+      stream->reset(pagedStream->map().sortedCells(), pagedStream->seq());
+      adopted->holdPublished(stream->map());
+      EXPECT_EQ(stream->map().size(), plainStream.map().size());
+      EXPECT_EQ(stream->map().checksum(), plainStream.map().checksum());
+      paged = std::move(map);
+      pager = std::move(adopted);
+      pagedStream = std::move(stream);
+    }
     if (step == 40) {
       std::vector<PageDamage> damage;
       const auto held = pager->heldPublished(damage);
       EXPECT_TRUE(damage.empty());
-      EXPECT_EQ(held.size(), pagedStream.map().held().cells);
+      EXPECT_EQ(held.size(), pagedStream->map().held().cells);
       EXPECT_GT(held.size(), 0u);
-      EXPECT_TRUE(sameMessages(plainStream.keyframe(1), pagedStream.keyframe(1, held)));
+      EXPECT_TRUE(sameMessages(plainStream.keyframe(1), pagedStream->keyframe(1, held)));
     }
   }
   EXPECT_LT(mostResident * 2, plainStream.map().size()) << "the published map must page with the filter's";
-  EXPECT_TRUE(pager->bringInAll(paged, &pagedStream.map()).empty());
-  EXPECT_EQ(pagedStream.map().held().cells, 0u);
-  const auto all = pagedStream.map().sortedCells();
+  EXPECT_TRUE(pager->bringInAll(*paged, &pagedStream->map()).empty());
+  EXPECT_EQ(pagedStream->map().held().cells, 0u);
+  EXPECT_EQ(paged->checksum(), plain->checksum());
+  const auto all = pagedStream->map().sortedCells();
   const auto expected = plainStream.map().sortedCells();
   ASSERT_EQ(all.size(), expected.size());
   for (std::size_t i = 0; i < all.size(); ++i) {
@@ -256,6 +283,14 @@ TEST_F(MapPagerTest, PublishedCellsPageWithTheirRegionsAndTheDeltaStreamIsUnchan
     ASSERT_FALSE(all[i].visiblyDiffers(expected[i]));
     ASSERT_EQ(all[i].variance, expected[i].variance);
   }
+}
+
+TEST_F(MapPagerTest, PublishedCellsPageWithTheirRegionsAndTheDeltaStreamIsUnchanged) {
+  publishedCellsPageWithTheirRegions(dir_, false);
+}
+
+TEST_F(MapPagerTest, RestartHoldsThePublishedCellsOfItsPagesWithoutReadingThemBack) {
+  publishedCellsPageWithTheirRegions(dir_, true);
 }
 
 TEST_F(MapPagerTest, DamagedPageLosesOnlyItsRegionAndSaysWhich) {

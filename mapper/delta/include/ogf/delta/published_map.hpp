@@ -46,6 +46,9 @@ class PublishedMap {
   Held evict(const CellKey& lo, const CellKey& hi);
   void restore(std::span<const PublishedCell> cells);
   void forget(const Held& held);
+  // Counts cells held elsewhere that never were in memory here (a restart's pages, with the count and
+  // checksum term of their cells): restore() and forget() then take them as if evict() had returned them.
+  void hold(const Held& held);
   // The cells held elsewhere.
   Held held() const { return held_; }
 

@@ -61,9 +61,15 @@ class MapPager {
   static Result<MapPager> open(const std::filesystem::path& dir);
 
   // Takes over the pages a snapshot names (file names in dir): their regions count as paged out. Each file
-  // is read once, to check it and to learn its blocks' checksum term; the damaged ones are returned and
-  // their regions left to the prior.
+  // is read once, to check it and to learn its blocks' and published cells' checksum terms; the damaged
+  // ones are returned and their regions left to the prior.
   std::vector<PageDamage> adopt(std::span<const std::string> names, const filter::BandedOgf& map);
+  // A restart, after adopt() and the journal's replay: bringInUnpublished() reads back the regions whose
+  // pages hold no published cells (version 1), so that the published map built from the filter's cells in
+  // memory has theirs; holdPublished() then counts the published cells of the other adopted pages in it
+  // (PublishedMap::hold). The rest of the map stays on disk.
+  std::vector<PageDamage> bringInUnpublished(filter::BandedOgf& map);
+  void holdPublished(delta::PublishedMap& published);
 
   // Reads back every paged-out region an update with `measurements` can reach, and its published cells into
   // `published` when they went out from it. Damaged pages are returned (their regions are then prior, and
@@ -109,7 +115,8 @@ class MapPager {
     std::string file;
     filter::BlockHashSum blocks;
     std::uint64_t bytes = 0;
-    bool publishedOut = false;            // its published cells left a published map with it
+    bool publishedKnown = false;          // the page holds the region's published cells
+    bool publishedOut = false;            // they count in a published map as held elsewhere
     delta::PublishedMap::Held published;  // their count and checksum term
   };
   explicit MapPager(std::filesystem::path dir, std::uint64_t next) : dir_(std::move(dir)), next_(next) {}

@@ -35,6 +35,7 @@ struct Page {
   std::uint32_t cells_per_block = 0;
   std::vector<PageBlock> blocks;
   std::vector<delta::PublishedCell> published;
+  bool has_published = true;  // decoded: false for a version 1 page, which predates the published cells
 };
 
 std::vector<std::byte> encodePage(const Page& page);
