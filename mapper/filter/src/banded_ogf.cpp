@@ -26,6 +26,11 @@ std::uint32_t colourOf(const CellKey& blockKey) {
   return static_cast<std::uint32_t>((blockKey.x & 1) | ((blockKey.y & 1) << 1) | ((blockKey.z & 1) << 2));
 }
 
+// Block d of the 3×3×3 neighbourhood of `block`, d = (dx+1) + 3(dy+1) + 9(dz+1).
+CellKey neighbourOf(const CellKey& block, unsigned d) {
+  return block + CellKey{static_cast<int>(d % 3) - 1, static_cast<int>((d / 3) % 3) - 1, static_cast<int>(d / 9) - 1};
+}
+
 // Sorts a group's codes (position << 1 | y, below 1024): through a 1024-bit set when they are distinct (one
 // measurement per cell, as a scan's are), by std::sort when one repeats.
 void sortCodes(std::span<std::uint16_t> codes) {
@@ -307,8 +312,7 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
     const Group& g = sorted[r];
     for (unsigned d = 0; d < 27; ++d) {
       if ((g.neighbours >> d) & 1U) {
-        const CellKey key = g.block + CellKey{static_cast<int>(d % 3) - 1, static_cast<int>((d / 3) % 3) - 1,
-                                              static_cast<int>(d / 9) - 1};
+        const CellKey key = neighbourOf(g.block, d);
         const std::uint32_t t = lookUp(key);
         TouchedBlock& touched = batchWork.touched[t];
         if (!touched.written) {
@@ -482,9 +486,7 @@ void BandedOgf::dropClampedFree(std::span<Group> groups, UpdateStats& stats) {
       const unsigned d = band_.recordBlock[local * cells + s];
       std::uint32_t& other = around[g * 27 + d];
       if (other == kUnknown) {
-        const CellKey key = groups[g].block + CellKey{static_cast<int>(d % 3) - 1, static_cast<int>((d / 3) % 3) - 1,
-                                                      static_cast<int>(d / 9) - 1};
-        other = work.blocks.find(key);
+        other = work.blocks.find(neighbourOf(groups[g].block, d));
       }
       if (other != BlockKeyTable::kAbsent) {
         const std::uint32_t cell = band_.recordFloat[local * cells + s];  // compact: the stride is 1

@@ -96,12 +96,17 @@ Status flushFile(const std::filesystem::path& path, int flags) {
   return okStatus();
 }
 
-// The page at `path` when it holds blocks of `map`'s layout, else the reason.
-Result<Page> readPage(const std::filesystem::path& path, const filter::BandedOgf& map) {
+// The page at `path`, else the reason.
+Result<Page> readPage(const std::filesystem::path& path) {
   std::string why;
   const auto bytes = readAll(path, why);
   if (!why.empty()) return Error{path.string() + ": " + why};
-  auto page = decodePage(bytes, path.string());
+  return decodePage(bytes, path.string());
+}
+
+// The same when it holds blocks of `map`'s layout.
+Result<Page> readPage(const std::filesystem::path& path, const filter::BandedOgf& map) {
+  auto page = readPage(path);
   if (!page) return page.error();
   if (page->floats_per_block != map.storedFloatsPerBlock() || page->cells_per_block != map.cellsPerBlock())
     return Error{path.string() + ": offset 28: blocks of " + std::to_string(page->floats_per_block) + " floats and " +
@@ -221,9 +226,7 @@ std::vector<delta::PublishedCell> MapPager::heldPublished(std::vector<PageDamage
   for (const auto& [region, paged] : paged_) {
     if (!paged.publishedOut || paged.published.cells == 0) continue;
     const std::filesystem::path path = dir_ / paged.file;
-    std::string why;
-    const auto bytes = readAll(path, why);
-    auto page = why.empty() ? decodePage(bytes, path.string()) : Result<Page>(Error{path.string() + ": " + why});
+    const auto page = readPage(path);
     if (!page) {
       damage.push_back({path, page.error().message});
       continue;
