@@ -88,6 +88,42 @@ TEST(MeasurementSet, MatchesTheReferenceOnRandomScans) {
   }
 }
 
+// Rays between points of a quarter-cell grid cross cell edges and corners exactly, in every direction and
+// across brick boundaries on both sides of zero: the set must hold exactly the cells of the brute-force
+// traversal (ray_reference.hpp), ties included.
+TEST(MeasurementSet, RaysThroughCellCornersMatchTheBruteForceCells) {
+  const double resolution = 0.25;
+  MeasurementConfig c = config(resolution, 0.0, 100.0);
+  MeasurementSet set(c);
+  std::mt19937_64 rng(17);
+  std::uniform_int_distribution<int> quarter(-80, 80);  // ±20 cells: bricks on both sides of zero
+  auto point = [&]() -> Eigen::Vector3d {
+    const double x = quarter(rng), y = quarter(rng), z = quarter(rng);
+    return Eigen::Vector3d(x, y, z) * (resolution / 4.0);
+  };
+  int rays_with_ties = 0;
+  for (int scan = 0; scan < 20; ++scan) {
+    std::vector<Eigen::Vector3d> origins;
+    std::vector<Eigen::Vector3d> endpoints;
+    std::map<CellKey, std::int8_t> want;
+    for (int i = 0; i < 200; ++i) {
+      const Eigen::Vector3d o = point();
+      Eigen::Vector3d e = point();
+      if (i % 7 == 1) e.z() = o.z();  // in a plane of cell faces or inside one layer
+      origins.push_back(o);
+      endpoints.push_back(e);
+      const std::vector<CellKey> cells = test::referenceRayCells(o, e, resolution);
+      if (static_cast<std::int64_t>(cells.size()) < RayCaster(o, e, resolution).maxCells()) ++rays_with_ties;
+      for (const CellKey& k : cells) want.emplace(k, Measurement::kFree);
+    }
+    for (const Eigen::Vector3d& e : endpoints) want[cellKeyOf(e, resolution)] = Measurement::kOccupied;
+    std::vector<Measurement> expected;
+    for (const auto& [k, y] : want) expected.push_back({k, y});
+    ASSERT_EQ(copy(set.build(origins, endpoints)), expected) << "scan " << scan;
+  }
+  EXPECT_GT(rays_with_ties, 100) << "the grid should produce many edge and corner ties";
+}
+
 TEST(MeasurementSet, OutputIsSortedByCellKeyWithOneMeasurementPerCell) {
   MeasurementSet set(config());
   const RandomScan scan = randomScan(9, 3000, 9.0);

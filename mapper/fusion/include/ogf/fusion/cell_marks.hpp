@@ -23,20 +23,11 @@ class CellMarks {
 
   void markFree(const CellKey& k) { mark(k, &Brick::free); }
   void markOccupied(const CellKey& k) { mark(k, &Brick::occupied); }
-  // Marks every cell of the ray free: the hot loop of a scan, with the current brick held in registers.
-  void markFree(const RayCaster& ray) {
-    CellKey base = last_cell_;
-    Brick* brick = last_brick_;
-    for (const CellKey k : ray) {
-      if (!sameBrick(k, base)) {
-        brick = &bricks_[brickIndex(brickOf(k))];
-        base = k;
-      }
-      setBit(brick->free, k);
-    }
-    last_cell_ = base;
-    last_brick_ = brick;
-  }
+  // Marks every cell of the ray free (the same cells as iterating `ray`): the hot loop of a scan. It runs
+  // the traversal itself on local copies of the iterator's state, so nothing is spilled to memory, and
+  // collects the cells of one brick word (one local x) in a register, storing it when x steps or the ray
+  // leaves the brick; a store per cell would chain each mark to the last through memory.
+  void markFree(const RayCaster& ray);
 
   // Appends one measurement per marked cell to `out`, sorted by CellKey; occupied where both were marked.
   void appendSorted(std::vector<Measurement>& out);
@@ -62,8 +53,6 @@ class CellMarks {
   static bool sameBrick(const CellKey& a, const CellKey& b) {
     return (((a.x ^ b.x) | (a.y ^ b.y) | (a.z ^ b.z)) & ~7) == 0;
   }
-  // Arithmetic shifts floor negative coordinates (C++20 defines them).
-  static CellKey brickOf(const CellKey& k) { return {k.x >> 3, k.y >> 3, k.z >> 3}; }
   static void setBit(Bits& bits, const CellKey& k) {
     const auto bit = static_cast<unsigned>(((k.y & 7) << 3) | (k.z & 7));
     bits[static_cast<std::size_t>(k.x & 7)] |= std::uint64_t{1} << bit;
@@ -71,7 +60,7 @@ class CellMarks {
 
   void mark(const CellKey& k, Bits Brick::*which) {
     if (!sameBrick(k, last_cell_)) {
-      last_brick_ = &bricks_[brickIndex(brickOf(k))];
+      last_brick_ = brickAt(k);
       last_cell_ = k;
     }
     setBit(last_brick_->*which, k);
@@ -81,7 +70,11 @@ class CellMarks {
   // bounds for CellMarks (MeasurementSet keeps cells within 2^30 of the origin).
   static constexpr CellKey kNoCell{std::numeric_limits<std::int32_t>::min(), 0, 0};
 
-  std::uint32_t brickIndex(CellKey b);
+  // Brick coordinates as three integers, not a CellKey: packing one into registers for the call went
+  // through the stack and stalled on store forwarding.
+  std::uint32_t brickIndex(std::int32_t bx, std::int32_t by, std::int32_t bz);
+  // Arithmetic shifts floor negative coordinates (C++20 defines them).
+  Brick* brickAt(const CellKey& k) { return &bricks_[brickIndex(k.x >> 3, k.y >> 3, k.z >> 3)]; }
   std::uint32_t tableIndex(CellKey b);
   void grow();
 

@@ -58,6 +58,7 @@ class RayIterator {
 
  private:
   friend class RayCaster;
+  friend class CellMarks;  // runs the same traversal with the state in locals (CellMarks::markFree)
 
   // Everything on the stepping path is forced inline and indexes its arrays with constants only: the
   // traversal is fast when the iterator's state lives in the caller's registers, and slow (state spilled
