@@ -36,6 +36,29 @@ CellKey regionCellsHi(const CellKey& region) {
   return regionCellsLo(region) + CellKey{1 << kRegionCellShift, 1 << kRegionCellShift, 1 << kRegionCellShift};
 }
 
+// Why a page's published cells cannot be held for its region, or "" when they can: each must lie in the
+// region (at z = 0 in a 2-D map), appear once, and carry a class and probability a delta could carry.
+std::string strayPublished(const Page& page, bool flat) {
+  const auto name = [](const delta::PublishedCell& c) {
+    return "published cell " + std::to_string(c.key.x) + "," + std::to_string(c.key.y) + "," + std::to_string(c.key.z);
+  };
+  std::vector<CellKey> keys;
+  keys.reserve(page.published.size());
+  for (const delta::PublishedCell& c : page.published) {
+    if (!(regionOf(filter::blockKeyOf(c.key), flat) == page.region) || (flat && c.key.z != 0))
+      return name(c) + " lies outside the page's region";
+    keys.push_back(c.key);
+    if (c.cell_class < ogf::map_delta_t::CLASS_FREE || c.cell_class > ogf::map_delta_t::CLASS_OCCUPIED ||
+        c.probability < 0 || c.probability > delta::kProbabilityScale)
+      return name(c) + " has class " + std::to_string(c.cell_class) + " and probability " +
+             std::to_string(c.probability) + ", which no delta carries";
+  }
+  std::sort(keys.begin(), keys.end());
+  const auto twice = std::adjacent_find(keys.begin(), keys.end());
+  if (twice != keys.end()) return name({*twice}) + " is named twice";
+  return "";
+}
+
 // The number in a page file's name ("r<x>_<y>_<z>-<n>.ogfp"), or 0 when it is not one.
 std::uint64_t pageNumber(const std::string& name) {
   const auto dash = name.rfind('-');
@@ -150,6 +173,7 @@ std::vector<PageDamage> MapPager::adopt(std::span<const std::string> names, cons
       region.blocks.sum += filter::blockChecksum(b.key, b.stored, b.marks);
       ++region.blocks.blocks;
     }
+    if (stray.empty()) stray = strayPublished(*page, flat);
     if (!stray.empty()) {
       damage.push_back({path, path.string() + ": " + stray});
       continue;

@@ -32,6 +32,16 @@ class MapPagerTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
+  // A page made by hand, as the only file of the directory; its name.
+  std::string writeOnlyPage(const Page& page) const {
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    const auto bytes = encodePage(page);
+    std::ofstream(dir_ / "r0_0_0-1.ogfp", std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    return "r0_0_0-1.ogfp";
+  }
+
   static filter::BandedOgf makeMap(int dimensions, filter::CovarianceStorage storage) {
     filter::FilterConfig c;
     c.dimensions = dimensions;
@@ -361,17 +371,51 @@ TEST_F(MapPagerTest, PageWhoseBlockLiesOutsideItsRegionIsRefused) {
   page.floats_per_block = static_cast<std::uint32_t>(map.storedFloatsPerBlock());
   page.cells_per_block = static_cast<std::uint32_t>(map.cellsPerBlock());
   page.blocks.push_back({{4, 0, 0}, std::vector<float>(page.floats_per_block), std::vector<std::uint8_t>(page.cells_per_block)});
-  fs::create_directories(dir_);
-  const auto bytes = encodePage(page);
-  std::ofstream(dir_ / "r0_0_0-1.ogfp", std::ios::binary)
-      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  const std::vector<std::string> names = {writeOnlyPage(page)};
   auto pager = MapPager::open(dir_);
-  const std::vector<std::string> names = {"r0_0_0-1.ogfp"};
   const auto damage = pager->adopt(names, map);
   ASSERT_EQ(damage.size(), 1u);
   EXPECT_NE(damage[0].reason.find("block 4,0,0 lies outside the page's region"), std::string::npos)
       << damage[0].reason;
   EXPECT_EQ(pager->counts().regions_out, 0u);
+}
+
+TEST_F(MapPagerTest, PageWhosePublishedCellsCannotBeHeldIsRefused) {
+  auto map = makeMap(3, filter::CovarianceStorage::kCompact);
+  const std::int32_t side = 8 << MapPager::kRegionShift;  // cells per region side
+  const delta::PublishedCell inside{{1, 2, side - 1}, 2500, 1, 0.5f};
+  struct Case {
+    std::vector<delta::PublishedCell> cells;
+    std::string reason;  // "" when the page is to be adopted
+  };
+  const std::vector<Case> cases = {
+      {{inside}, ""},
+      {{inside, {{side, 0, 0}, 2500, 1, 0.5f}}, "published cell " + std::to_string(side) + ",0,0 lies outside"},
+      {{inside, {{-1, 0, 0}, 2500, 1, 0.5f}}, "published cell -1,0,0 lies outside"},
+      {{inside, inside}, "is named twice"},
+      {{{{3, 3, 3}, 2500, 5, 0.5f}}, "has class 5 and probability 2500"},
+      {{{{3, 3, 3}, 10001, 1, 0.5f}}, "has class 1 and probability 10001"},
+  };
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    Page page;
+    page.region = {0, 0, 0};
+    page.floats_per_block = static_cast<std::uint32_t>(map.storedFloatsPerBlock());
+    page.cells_per_block = static_cast<std::uint32_t>(map.cellsPerBlock());
+    page.has_published = true;
+    page.published = cases[i].cells;
+    const std::vector<std::string> names = {writeOnlyPage(page)};
+    auto pager = MapPager::open(dir_);
+    const auto damage = pager->adopt(names, map);
+    if (cases[i].reason.empty()) {
+      EXPECT_TRUE(damage.empty()) << "case " << i << ": " << damage.front().reason;
+      EXPECT_EQ(pager->counts().regions_out, 1u) << "case " << i;
+      continue;
+    }
+    ASSERT_EQ(damage.size(), 1u) << "case " << i;
+    EXPECT_NE(damage[0].reason.find(cases[i].reason), std::string::npos) << "case " << i << ": " << damage[0].reason;
+    EXPECT_NE(damage[0].reason.find("r0_0_0-1.ogfp"), std::string::npos) << damage[0].reason;
+    EXPECT_EQ(pager->counts().regions_out, 0u) << "case " << i;
+  }
 }
 
 TEST_F(MapPagerTest, SnapshotNamesItsPagesAndRecoveryGivesThemBack) {
