@@ -36,41 +36,55 @@ void DeltaStream::reset(std::span<const PublishedCell> cells, std::int64_t seq) 
   for (const PublishedCell& c : cells) map_.set(c);
 }
 
+ogf::map_delta_t makePart(const PartHeader& header, std::int32_t index, std::span<const PublishedCell> cells) {
+  ogf::map_delta_t m{};
+  m.utime = header.utime;
+  m.map_id = header.map_id;
+  m.seq = header.seq;
+  m.base_seq = header.base_seq;
+  m.kind = header.kind;
+  m.part_index = index;
+  m.part_count = header.part_count;
+  m.resolution = header.resolution;
+  m.map_checksum = header.checksum;
+  const std::size_t n = cells.size();
+  m.num_cells = static_cast<std::int32_t>(n);
+  m.key_x.resize(n);
+  m.key_y.resize(n);
+  m.key_z.resize(n);
+  m.probability.resize(n);
+  m.cell_class.resize(n);
+  m.variance.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const PublishedCell& c = cells[i];
+    m.key_x[i] = c.key.x;
+    m.key_y[i] = c.key.y;
+    m.key_z[i] = c.key.z;
+    m.probability[i] = c.probability;
+    m.cell_class[i] = c.cell_class;
+    m.variance[i] = c.variance;
+  }
+  return m;
+}
+
 std::vector<ogf::map_delta_t> DeltaStream::split(std::int64_t utime, std::int8_t kind, std::int64_t base_seq,
                                                  std::span<const PublishedCell> cells) const {
   const std::size_t per = static_cast<std::size_t>(config_.max_cells_per_message);
   const std::size_t parts = std::max<std::size_t>(1, (cells.size() + per - 1) / per);
-  std::vector<ogf::map_delta_t> out(parts);
+  const PartHeader header{utime,
+                          config_.map_id,
+                          seq_,
+                          base_seq,
+                          kind,
+                          config_.resolution,
+                          static_cast<std::int64_t>(map_.checksum()),
+                          static_cast<std::int32_t>(parts)};
+  std::vector<ogf::map_delta_t> out;
+  out.reserve(parts);
   for (std::size_t p = 0; p < parts; ++p) {
-    ogf::map_delta_t& m = out[p];
-    m.utime = utime;
-    m.map_id = config_.map_id;
-    m.seq = seq_;
-    m.base_seq = base_seq;
-    m.kind = kind;
-    m.part_index = static_cast<std::int32_t>(p);
-    m.part_count = static_cast<std::int32_t>(parts);
-    m.resolution = config_.resolution;
-    m.map_checksum = static_cast<std::int64_t>(map_.checksum());
     const std::size_t begin = p * per;
-    const std::size_t end = std::min(cells.size(), begin + per);
-    const auto n = end - begin;
-    m.num_cells = static_cast<std::int32_t>(n);
-    m.key_x.resize(n);
-    m.key_y.resize(n);
-    m.key_z.resize(n);
-    m.probability.resize(n);
-    m.cell_class.resize(n);
-    m.variance.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const PublishedCell& c = cells[begin + i];
-      m.key_x[i] = c.key.x;
-      m.key_y[i] = c.key.y;
-      m.key_z[i] = c.key.z;
-      m.probability[i] = c.probability;
-      m.cell_class[i] = c.cell_class;
-      m.variance[i] = c.variance;
-    }
+    out.push_back(makePart(header, static_cast<std::int32_t>(p),
+                           cells.subspan(begin, std::min(cells.size(), begin + per) - begin)));
   }
   return out;
 }

@@ -1,13 +1,16 @@
 // The delta stream and its receiver: a client that sees every message rebuilds the mapper's published map
 // exactly (equal checksums); a lost update is detected as a gap, never guessed over, and a keyframe
-// brings the client back.
+// brings the client back. KeyframeWriter: a keyframe whose cells are added after its cut, in any order,
+// while updates go on, still rebuilds the map; its part count is fixed at the cut.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
+#include <span>
 #include <vector>
 
 #include "ogf/delta/delta_stream.hpp"
+#include "ogf/delta/keyframe_writer.hpp"
 #include "ogf/delta/map_receiver.hpp"
 
 namespace {
@@ -226,6 +229,83 @@ TEST(MapReceiver, DuplicateMessagesAreHarmless) {
   EXPECT_EQ(r.accept(msgs[0]), Outcome::kApplied);
   EXPECT_EQ(r.accept(msgs[0]), Outcome::kStale);
   EXPECT_TRUE(r.consistent());
+}
+
+// Feeds `cells` to the writer in pieces of `piece`, collecting the parts.
+std::vector<ogf::map_delta_t> write(KeyframeWriter& w, const std::vector<PublishedCell>& cells, std::size_t piece) {
+  std::vector<ogf::map_delta_t> parts;
+  for (std::size_t i = 0; i < cells.size(); i += piece)
+    w.add(std::span(cells).subspan(i, std::min(piece, cells.size() - i)), parts);
+  w.finish(parts);
+  return parts;
+}
+
+TEST(KeyframeWriter, CellsReadAfterTheCutStillRebuildTheMap) {
+  std::mt19937 rng(3);
+  DeltaStream s({0.2, 9, 40});
+  for (int scan = 0; scan < 6; ++scan) s.update(scan, randomUpdate(rng, 80));
+  KeyframeWriter w(s, 6);  // cut at seq 6
+  const std::size_t count = s.map().size();
+  ASSERT_EQ(w.cells(), count);
+  // The cells as they stand at the cut, but read only after two more updates changed some of them: each
+  // cell is read at seq 6 or later, as the pages and the copy are (a cell the updates did not add).
+  const auto atCut = s.map().sortedCells();
+  const auto d7 = s.update(7, randomUpdate(rng, 80));
+  const auto d8 = s.update(8, randomUpdate(rng, 80));
+  std::vector<PublishedCell> later;
+  for (const PublishedCell& c : atCut) later.push_back(*s.map().find(c.key));
+  std::shuffle(later.begin(), later.end(), rng);
+  const auto parts = write(w, later, 17);
+  ASSERT_EQ(parts.size(), (count + 39) / 40);
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    EXPECT_EQ(parts[i].part_index, static_cast<std::int32_t>(i));
+    EXPECT_EQ(parts[i].part_count, static_cast<std::int32_t>(parts.size()));
+    EXPECT_EQ(parts[i].seq, 6);
+  }
+  EXPECT_EQ(w.missing(), 0u);
+  EXPECT_EQ(w.surplus(), 0u);
+
+  // A client that joins now: the updates arrive around the keyframe's parts.
+  MapReceiver r;
+  for (const auto& m : d7) r.accept(m);
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    r.accept(parts[i]);
+    if (i == parts.size() / 2)
+      for (const auto& m : d8) r.accept(m);
+  }
+  EXPECT_EQ(r.appliedSeq(), 8);
+  EXPECT_TRUE(r.consistent());
+  EXPECT_EQ(r.map().checksum(), s.map().checksum());
+}
+
+TEST(KeyframeWriter, ShortKeyframeCompletesWithEmptyPartsAndLongOneIsCut) {
+  std::mt19937 rng(4);
+  DeltaStream s({0.2, 9, 40});
+  for (int scan = 0; scan < 4; ++scan) s.update(scan, randomUpdate(rng, 80));
+  auto cells = s.map().sortedCells();
+  ASSERT_GT(cells.size(), 100u);
+
+  KeyframeWriter shortOne(s, 4);
+  const std::vector<PublishedCell> lacking(cells.begin(), cells.end() - 100);
+  const auto parts = write(shortOne, lacking, 64);
+  EXPECT_EQ(parts.size(), static_cast<std::size_t>(shortOne.partCount()));
+  EXPECT_EQ(shortOne.missing(), 100u);
+  EXPECT_EQ(parts.back().num_cells, 0);  // a part no cell reached
+  MapReceiver r;
+  Outcome last = Outcome::kPartial;
+  for (const auto& m : parts) last = r.accept(m);
+  EXPECT_EQ(last, Outcome::kKeyframeApplied);
+  EXPECT_FALSE(r.consistent()) << "the keyframe's checksum must tell the client its map is not the mapper's";
+
+  KeyframeWriter longOne(s, 4);
+  auto doubled = cells;
+  doubled.insert(doubled.end(), cells.begin(), cells.begin() + 5);
+  const auto all = write(longOne, doubled, 1000);
+  EXPECT_EQ(longOne.surplus(), 5u);
+  EXPECT_EQ(longOne.missing(), 0u);
+  MapReceiver r2;
+  for (const auto& m : all) r2.accept(m);
+  EXPECT_TRUE(r2.consistent());
 }
 
 }  // namespace

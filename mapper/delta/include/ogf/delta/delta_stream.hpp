@@ -20,6 +20,21 @@ struct DeltaStreamConfig {
   std::int32_t max_cells_per_message = ogf::messages::kMaxDeltaCellsPerMessage;
 };
 
+// What every part of one update or keyframe carries besides its cells.
+struct PartHeader {
+  std::int64_t utime = 0;
+  std::int64_t map_id = 0;
+  std::int64_t seq = 0;
+  std::int64_t base_seq = 0;  // seq − 1 for an update, −1 for a keyframe
+  std::int8_t kind = 0;
+  double resolution = 0.0;
+  std::int64_t checksum = 0;  // of the published map at seq
+  std::int32_t part_count = 1;
+};
+
+// Part `index` of the update or keyframe `header` describes, holding `cells`.
+ogf::map_delta_t makePart(const PartHeader& header, std::int32_t index, std::span<const PublishedCell> cells);
+
 class DeltaStream {
  public:
   explicit DeltaStream(const DeltaStreamConfig& config);
@@ -40,6 +55,7 @@ class DeltaStream {
 
   std::int64_t seq() const { return seq_; }
   std::int64_t mapId() const { return config_.map_id; }
+  const DeltaStreamConfig& config() const { return config_; }
   const PublishedMap& map() const { return map_; }
   // For paging the published cells with the filter's regions (persistence/map_pager.hpp).
   PublishedMap& map() { return map_; }
