@@ -247,17 +247,29 @@ void MapPager::holdPublished(delta::PublishedMap& published) {
 
 std::vector<delta::PublishedCell> MapPager::heldPublished(std::vector<PageDamage>& damage) const {
   std::vector<delta::PublishedCell> cells;
-  for (const auto& [region, paged] : paged_) {
-    if (!paged.publishedOut || paged.published.cells == 0) continue;
-    const std::filesystem::path path = dir_ / paged.file;
-    const auto page = readPage(path);
+  for (const std::filesystem::path& path : heldPublishedPages()) {
+    auto page = publishedCellsOf(path);
     if (!page) {
       damage.push_back({path, page.error().message});
       continue;
     }
-    cells.insert(cells.end(), page->published.begin(), page->published.end());
+    cells.insert(cells.end(), page->begin(), page->end());
   }
   return cells;
+}
+
+std::vector<std::filesystem::path> MapPager::heldPublishedPages() const {
+  std::vector<std::filesystem::path> pages;
+  for (const auto& [region, paged] : paged_) {
+    if (paged.publishedOut && paged.published.cells != 0) pages.push_back(dir_ / paged.file);
+  }
+  return pages;
+}
+
+Result<std::vector<delta::PublishedCell>> MapPager::publishedCellsOf(const std::filesystem::path& path) {
+  auto page = readPage(path);
+  if (!page) return page.error();
+  return std::move(page->published);
 }
 
 std::vector<PageDamage> MapPager::bringIn(filter::BandedOgf& map, std::span<const Measurement> measurements,

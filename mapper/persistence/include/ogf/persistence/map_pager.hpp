@@ -92,6 +92,11 @@ class MapPager {
   // The published cells of the regions paged out with a published map, read from their pages (for a
   // keyframe); the regions stay out. Pages that cannot be read are added to `damage`.
   std::vector<delta::PublishedCell> heldPublished(std::vector<PageDamage>& damage) const;
+  // The pages heldPublished() reads, for a reader on another thread (publishedCellsOf). They stay on disk
+  // while collect() is told to keep them, even after their regions come back.
+  std::vector<std::filesystem::path> heldPublishedPages() const;
+  // The published cells of the page at `path`; reads the file only, so any thread may call it.
+  static Result<std::vector<delta::PublishedCell>> publishedCellsOf(const std::filesystem::path& path);
   // Flushes (fsync) the pages written since the last sync and still paged out, and the directory: call it
   // before a snapshot names them. A crash before leaves pages that no snapshot names; collect() removes them.
   Status sync();
