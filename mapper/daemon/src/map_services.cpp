@@ -169,6 +169,8 @@ void MapperDaemon::resetMap() {
     spdlog::error("reset: {}", fresh.error().message);  // cannot happen: the same configuration built the map
     return;
   }
+  // A keyframe of the old map going out would read pages about to be moved aside.
+  keyframe_sender_->cancel();
   mapper_ = std::move(*fresh);
   const std::int64_t id = newMapId();
   deltas_ = delta::DeltaStream({options_.map.filter.resolution, id, ogf::messages::kMaxDeltaCellsPerMessage});
@@ -199,7 +201,7 @@ void MapperDaemon::resetMap() {
   }
   snapshot_seq_ = -1;
   takeSnapshot();
-  publishKeyframe();
+  if (!publishKeyframe()) keyframe_waiting_ = true;
   refreshMapStats();
 }
 

@@ -23,7 +23,6 @@ using Clock = std::chrono::steady_clock;
 // A worker that has not come round its loop for this long is stuck (the watchdog stops being fed).
 constexpr std::int64_t kWorkerStuckUs = 10'000'000;
 // Keyframe parts are sent in bursts of this many (~1 MB), with a pause so receivers' kernel buffers drain.
-constexpr int kKeyframeBurst = 16;
 
 // Whether a message whose clock TimeSanity judged goes on; logs a refusal (rate-limited) or a followed jump.
 bool timePlausible(const char* what, fusion::TimeVerdict verdict, const fusion::TimeSanity& clock,
@@ -274,6 +273,9 @@ void MapperDaemon::start() {
     std::lock_guard lk(mu_);
     worker_heartbeat_ = steadyUtime();
   }
+  keyframe_sender_ = std::make_unique<KeyframeSender>(
+      [this](const ogf::map_delta_t& m) { lcm_.publish(options_.delta_channel, &m); },
+      [this](const KeyframeSender::Report& r) { keyframeSent(r); });
   worker_ = std::thread([this] { workerLoop(); });
   armStatusTimer();
 }
@@ -287,6 +289,14 @@ void MapperDaemon::stop() {
     cv_.notify_one();
   }
   if (worker_.joinable()) worker_.join();
+  keyframe_sender_.reset();
+  {
+    std::lock_guard lk(mu_);
+    const auto& pc = pending_.counts();
+    spdlog::info("stopping: {} scans in, {} mapped, {} dropped behind, {} without poses; {} keyframes sent",
+                 pc.scans_in + malformed_scans_, stats_.scans_mapped, pc.scans_dropped_behind,
+                 pc.scans_dropped_no_pose, stats_.keyframes_sent);
+  }
   boost::system::error_code ec;
   status_timer_.cancel(ec);
   if (pose_sub_ != nullptr) lcm_.unsubscribe(pose_sub_);
@@ -375,7 +385,10 @@ void MapperDaemon::workerLoop() {
     cv_.wait_for(lk, std::chrono::milliseconds(20), [this] { return stop_ || work_; });
     work_ = false;
     worker_heartbeat_ = steadyUtime();
-    // Scans whose poses have arrived, oldest first; waiting ones expire inside popReady.
+    // Scans whose poses have arrived, oldest first; waiting ones expire inside popReady. Keyframes, map
+    // services and snapshots come between two scans, also while scans keep arriving faster than they are
+    // mapped: the loop leaves for them and comes straight back.
+    bool more = false;
     while (!stop_) {
       auto entry = pending_.popReady(poses_, steadyUtime());
       if (!entry) break;
@@ -403,6 +416,14 @@ void MapperDaemon::workerLoop() {
         ++update_count_;
         stats_.lag_ms = static_cast<float>(static_cast<double>(wallUtime() - scan->host_utime_end) / 1000.0);
       }
+      const auto now = steadyUtime();
+      const bool keyframe_due = (keyframe_requested_ || keyframe_waiting_ || now - last_keyframe_steady_ > keyframe_us) &&
+                                !keyframe_sender_->busy();
+      if (keyframe_due || !service_requests_.empty() ||
+          ((state_ || retry_persistence_) && now - last_snapshot_steady_ > snapshot_us)) {
+        more = true;
+        break;
+      }
     }
     const bool keyframe = keyframe_requested_;
     keyframe_requested_ = false;
@@ -411,9 +432,14 @@ void MapperDaemon::workerLoop() {
     lk.unlock();
     serve(services);
     const auto now = steadyUtime();
-    if (keyframe || now - last_keyframe_steady_ > keyframe_us) publishKeyframe();
+    // A keyframe asked for while one is going out follows it; a periodic one waits for the sender.
+    keyframe_waiting_ = keyframe_waiting_ || keyframe;
+    if (keyframe_waiting_ || now - last_keyframe_steady_ > keyframe_us) {
+      if (publishKeyframe()) keyframe_waiting_ = false;
+    }
     if ((state_ || retry_persistence_) && now - last_snapshot_steady_ > snapshot_us) takeSnapshot();
     lk.lock();
+    work_ = work_ || more;
   }
 }
 
@@ -464,18 +490,24 @@ void MapperDaemon::publishCorrectedPose(std::int64_t utime, const correction::Sc
   lcm_.publish(options_.corrected_pose_channel, &m);
 }
 
-void MapperDaemon::publishKeyframe() {
+bool MapperDaemon::publishKeyframe() {
+  if (keyframe_sender_->busy()) return false;
   last_keyframe_steady_ = steadyUtime();
-  // The published cells of the paged-out regions are read from their pages for the keyframe.
-  std::vector<persistence::PageDamage> damage;
-  const auto held = pager_ ? pager_->heldPublished(damage) : std::vector<delta::PublishedCell>{};
-  reportPageDamage(damage);
-  const auto parts = deltas_.keyframe(wallUtime(), held);
-  int sent = 0;
-  for (const auto& m : parts) {
-    lcm_.publish(options_.delta_channel, &m);
-    if (++sent % kKeyframeBurst == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
+  // The cells in memory are copied now; the pages holding the rest are read by the sender.
+  const auto began = Clock::now();
+  KeyframeSender::Job job{delta::KeyframeWriter(deltas_, wallUtime()), deltas_.map().sortedCells(),
+                          pager_ ? pager_->heldPublishedPages() : std::vector<std::filesystem::path>{}, 0.0};
+  job.cut_ms = std::chrono::duration<double, std::milli>(Clock::now() - began).count();
+  keyframe_sender_->send(std::move(job));
+  return true;
+}
+
+void MapperDaemon::keyframeSent(const KeyframeSender::Report& r) {
+  reportPageDamage(r.damage);
+  spdlog::info("keyframe at seq {}: {} cells ({} from pages) in {} parts; cut in {:.0f} ms, sent in {:.0f} ms{}", r.seq,
+               r.cells, r.page_cells, r.parts, r.cut_ms, r.send_ms,
+               r.missing + r.surplus == 0 ? std::string()
+                                          : fmt::format(" ({} cells missing, {} beyond the count)", r.missing, r.surplus));
   std::lock_guard lk(mu_);
   ++stats_.keyframes_sent;
 }
@@ -511,7 +543,13 @@ void MapperDaemon::takeSnapshot() {
     persistenceFailed(st.error().message, true);
     return;
   }
-  if (pager_) pager_->collect(state_->referencedPages());
+  if (pager_) {
+    // The pages a keyframe going out still reads stay too.
+    auto keep = state_->referencedPages();
+    const auto pinned = keyframe_sender_ ? keyframe_sender_->pinnedPages() : std::vector<std::string>{};
+    keep.insert(keep.end(), pinned.begin(), pinned.end());
+    pager_->collect(keep);
+  }
   snapshot_seq_ = deltas_.seq();
   spdlog::info("snapshot at seq {}: {} bytes and {} pages in {:.0f} ms", snapshot_seq_, bytes.size(), pages.size(),
                std::chrono::duration<double, std::milli>(Clock::now() - began).count());

@@ -32,6 +32,7 @@
 
 #include "ogf/common/result.hpp"
 #include "ogf/delta/delta_stream.hpp"
+#include "ogf/mapper_daemon/keyframe_sender.hpp"
 #include "ogf/mapper_daemon/mapper_options.hpp"
 #include "ogf/persistence/map_pager.hpp"
 #include "ogf/persistence/state_directory.hpp"
@@ -72,7 +73,9 @@ class MapperDaemon {
   void workerLoop();
   void mapScan(const ScanPtr& scan);
   void publishCorrectedPose(std::int64_t utime, const correction::ScanCorrection& applied);
-  void publishKeyframe();
+  // Cuts a keyframe and hands it to the sender; false (nothing done) while the sender is busy.
+  bool publishKeyframe();
+  void keyframeSent(const KeyframeSender::Report& report);
   void takeSnapshot();
   // Logs (once per distinct failure) and reports it in the status; `retry`: try the directory again at
   // each snapshot (an I/O failure), not when writing would replace a saved map that could not be used.
@@ -121,6 +124,7 @@ class MapperDaemon {
   std::vector<delta::PublishedCell> changes_;
   std::int64_t last_snapshot_steady_ = 0;
   std::int64_t last_keyframe_steady_ = 0;
+  bool keyframe_waiting_ = false;  // requested while the sender was busy
   std::int64_t snapshot_seq_ = 0;
   bool retry_persistence_ = false;
   std::mt19937 drop_rng_;
@@ -157,6 +161,8 @@ class MapperDaemon {
   transport::LogRateLimiter bad_scan_log_, bad_pose_log_, bad_request_log_, jump_log_, drop_log_, bad_time_log_,
       service_log_;
   std::thread worker_;
+  // After everything its callbacks use (mu_, stats_, lcm_), so it stops first.
+  std::unique_ptr<KeyframeSender> keyframe_sender_;
   bool started_ = false;
   bool stopped_ = false;
 };
