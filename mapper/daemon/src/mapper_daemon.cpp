@@ -22,7 +22,6 @@ using Clock = std::chrono::steady_clock;
 
 // A worker that has not come round its loop for this long is stuck (the watchdog stops being fed).
 constexpr std::int64_t kWorkerStuckUs = 10'000'000;
-// Keyframe parts are sent in bursts of this many (~1 MB), with a pause so receivers' kernel buffers drain.
 
 // Whether a message whose clock TimeSanity judged goes on; logs a refusal (rate-limited) or a followed jump.
 bool timePlausible(const char* what, fusion::TimeVerdict verdict, const fusion::TimeSanity& clock,
