@@ -1,6 +1,7 @@
 // ogf-mapper's process: subscribes VELODYNE_SCAN and POSE, holds scans until the odometry covers them,
-// maps them on a worker thread (journal first, then the filter, then OGF_MAP_DELTA), answers keyframe
-// requests, snapshots the map, and publishes OGF_MAPPER_STATUS. With pose correction on, each scan's pose
+// maps them on a worker thread (journal first, then the filter, then OGF_MAP_DELTA), cuts keyframes
+// (periodic and requested) that KeyframeSender's thread sends while mapping goes on, snapshots the map,
+// and publishes OGF_MAPPER_STATUS. With pose correction on, each scan's pose
 // is corrected (scan matching or RBPF) before mapping and the corrected pose goes out on POSE_CORRECTED. The Asio thread only receives and
 // queues, so a slow update never stalls LCM; when mapping falls behind, PendingScans drops whole scans
 // and counts them.
