@@ -159,7 +159,7 @@ class MapperDaemon {
   std::unique_ptr<transport::Subscriber<ogf::map_command_t>> command_sub_;
   lcm::Subscription* pose_sub_ = nullptr;
   boost::asio::steady_timer status_timer_;
-  transport::LogRateLimiter bad_scan_log_, bad_pose_log_, bad_request_log_, jump_log_, drop_log_, bad_time_log_,
+  transport::LogRateLimiter bad_scan_log_, bad_pose_log_, bad_request_log_, jump_log_, bad_time_log_,
       service_log_;
   std::thread worker_;
   // After everything its callbacks use (mu_, stats_, lcm_), so it stops first.
