@@ -67,23 +67,28 @@ ogf::map_delta_t makePart(const PartHeader& header, std::int32_t index, std::spa
   return m;
 }
 
+PartHeader DeltaStream::header(std::int64_t utime, std::int8_t kind, std::int64_t base_seq, std::size_t cells) const {
+  const auto per = static_cast<std::size_t>(config_.max_cells_per_message);
+  return {utime,
+          config_.map_id,
+          seq_,
+          base_seq,
+          kind,
+          config_.resolution,
+          static_cast<std::int64_t>(map_.checksum()),
+          static_cast<std::int32_t>(std::max<std::size_t>(1, (cells + per - 1) / per))};
+}
+
 std::vector<ogf::map_delta_t> DeltaStream::split(std::int64_t utime, std::int8_t kind, std::int64_t base_seq,
                                                  std::span<const PublishedCell> cells) const {
   const std::size_t per = static_cast<std::size_t>(config_.max_cells_per_message);
-  const std::size_t parts = std::max<std::size_t>(1, (cells.size() + per - 1) / per);
-  const PartHeader header{utime,
-                          config_.map_id,
-                          seq_,
-                          base_seq,
-                          kind,
-                          config_.resolution,
-                          static_cast<std::int64_t>(map_.checksum()),
-                          static_cast<std::int32_t>(parts)};
+  const PartHeader head = header(utime, kind, base_seq, cells.size());
+  const auto parts = static_cast<std::size_t>(head.part_count);
   std::vector<ogf::map_delta_t> out;
   out.reserve(parts);
   for (std::size_t p = 0; p < parts; ++p) {
     const std::size_t begin = p * per;
-    out.push_back(makePart(header, static_cast<std::int32_t>(p),
+    out.push_back(makePart(head, static_cast<std::int32_t>(p),
                            cells.subspan(begin, std::min(cells.size(), begin + per) - begin)));
   }
   return out;

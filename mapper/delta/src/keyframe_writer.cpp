@@ -1,19 +1,11 @@
 #include "ogf/delta/keyframe_writer.hpp"
 
-#include <algorithm>
-
 namespace ogf::delta {
 
 KeyframeWriter::KeyframeWriter(const DeltaStream& stream, std::int64_t utime)
-    : per_(static_cast<std::size_t>(stream.config().max_cells_per_message)), cells_(stream.map().size()) {
-  header_ = {utime,
-             stream.mapId(),
-             stream.seq(),
-             -1,
-             ogf::map_delta_t::KIND_KEYFRAME,
-             stream.config().resolution,
-             static_cast<std::int64_t>(stream.map().checksum()),
-             static_cast<std::int32_t>(std::max<std::size_t>(1, (cells_ + per_ - 1) / per_))};
+    : header_(stream.header(utime, ogf::map_delta_t::KIND_KEYFRAME, -1, stream.map().size())),
+      per_(static_cast<std::size_t>(stream.config().max_cells_per_message)),
+      cells_(stream.map().size()) {
   pending_.reserve(per_);
 }
 

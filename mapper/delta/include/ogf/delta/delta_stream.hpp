@@ -56,6 +56,8 @@ class DeltaStream {
   std::int64_t seq() const { return seq_; }
   std::int64_t mapId() const { return config_.map_id; }
   const DeltaStreamConfig& config() const { return config_; }
+  // The header of an update or keyframe of `cells` cells at seq(), with the published map's checksum.
+  PartHeader header(std::int64_t utime, std::int8_t kind, std::int64_t base_seq, std::size_t cells) const;
   const PublishedMap& map() const { return map_; }
   // For paging the published cells with the filter's regions (persistence/map_pager.hpp).
   PublishedMap& map() { return map_; }
