@@ -18,16 +18,8 @@ std::vector<ogf::map_delta_t> DeltaStream::update(std::int64_t utime, std::span<
   return split(utime, ogf::map_delta_t::KIND_DELTA, seq_ - 1, changed_);
 }
 
-std::vector<ogf::map_delta_t> DeltaStream::keyframe(std::int64_t utime, std::span<const PublishedCell> held) const {
-  auto cells = map_.sortedCells();
-  if (!held.empty()) {
-    const auto middle = static_cast<std::ptrdiff_t>(cells.size());
-    cells.insert(cells.end(), held.begin(), held.end());
-    const auto byKey = [](const PublishedCell& a, const PublishedCell& b) { return a.key < b.key; };
-    std::sort(cells.begin() + middle, cells.end(), byKey);
-    std::inplace_merge(cells.begin(), cells.begin() + middle, cells.end(), byKey);
-  }
-  return split(utime, ogf::map_delta_t::KIND_KEYFRAME, -1, cells);
+std::vector<ogf::map_delta_t> DeltaStream::keyframe(std::int64_t utime) const {
+  return split(utime, ogf::map_delta_t::KIND_KEYFRAME, -1, map_.sortedCells());
 }
 
 void DeltaStream::reset(std::span<const PublishedCell> cells, std::int64_t seq) {

@@ -250,19 +250,6 @@ void MapPager::holdPublished(delta::PublishedMap& published) {
   }
 }
 
-std::vector<delta::PublishedCell> MapPager::heldPublished(std::vector<PageDamage>& damage) const {
-  std::vector<delta::PublishedCell> cells;
-  for (const std::filesystem::path& path : heldPublishedPages()) {
-    auto page = publishedCellsOf(path);
-    if (!page) {
-      damage.push_back({path, page.error().message});
-      continue;
-    }
-    cells.insert(cells.end(), page->begin(), page->end());
-  }
-  return cells;
-}
-
 std::vector<std::filesystem::path> MapPager::heldPublishedPages() const {
   std::vector<std::filesystem::path> pages;
   for (const auto& [region, paged] : paged_) {

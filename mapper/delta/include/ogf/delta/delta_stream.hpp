@@ -46,8 +46,9 @@ class DeltaStream {
   std::vector<ogf::map_delta_t> update(std::int64_t utime, std::span<const PublishedCell> candidates);
 
   // The whole published map at seq() as a keyframe (kind KEYFRAME, base_seq -1), in parts, in CellKey
-  // order: the cells in memory and `held`, the cells the map holds elsewhere (PublishedMap::evict).
-  std::vector<ogf::map_delta_t> keyframe(std::int64_t utime, std::span<const PublishedCell> held = {}) const;
+  // order, when all of it is in memory; a map with cells held elsewhere (PublishedMap::evict) is sent with
+  // a KeyframeWriter.
+  std::vector<ogf::map_delta_t> keyframe(std::int64_t utime) const;
 
   // Replaces the published map wholesale (after a restart from a snapshot) and continues numbering after
   // `seq`, without publishing; clients learn it from the next keyframe.

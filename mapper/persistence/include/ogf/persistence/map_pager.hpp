@@ -7,8 +7,8 @@
 //
 // With a published map (the delta stream's, delta/published_map.hpp) the region's published cells go to the
 // page with its blocks and come back with them, so the daemon's memory follows the resident map for both;
-// they still count in the published map's size and checksum while out, and heldPublished() reads them
-// for a keyframe.
+// they still count in the published map's size and checksum while out, and a keyframe reads them from
+// their pages (heldPublishedPages, publishedCellsOf).
 //
 // Page files are never rewritten: a region paged out again gets a new file, so a snapshot can name the
 // pages that hold the rest of its map (state_directory.hpp), and they stay valid after the region has come
@@ -89,11 +89,9 @@ class MapPager {
   // `published`, the regions' published cells go out too (PublishedMap::evict).
   Status sendAway(filter::BandedOgf& map, const std::array<double, 3>& position, double distance_m,
                   delta::PublishedMap* published = nullptr);
-  // The published cells of the regions paged out with a published map, read from their pages (for a
-  // keyframe); the regions stay out. Pages that cannot be read are added to `damage`.
-  std::vector<delta::PublishedCell> heldPublished(std::vector<PageDamage>& damage) const;
-  // The pages heldPublished() reads, for a reader on another thread (publishedCellsOf). They stay on disk
-  // while collect() is told to keep them, even after their regions come back.
+  // The pages that hold the published cells of the regions paged out with a published map (for a
+  // keyframe), to be read on another thread (publishedCellsOf). They stay on disk while collect() is told
+  // to keep them, even after their regions come back.
   std::vector<std::filesystem::path> heldPublishedPages() const;
   // The published cells of the page at `path`; reads the file only, so any thread may call it.
   static Result<std::vector<delta::PublishedCell>> publishedCellsOf(const std::filesystem::path& path);
