@@ -109,28 +109,21 @@ void CellMarks::markFree(const RayCaster& ray) {
         brick = brickAt(base);
       }
     } else {
-      // Tied crossings: RayIterator::stepTied's rule, then the brick of wherever it lands.
+      // Tied crossings: RayIterator's tie rule, then the brick of wherever it lands.
       store();
       word = 0;
-      const double t = std::min(nz, std::min(nx, ny));
-      bool ax = !(nx > t), ay = !(ny > t), az = !(nz > t);
-      const bool ax_up = ax && sx > 0, ay_up = ay && sy > 0, az_up = az && sz > 0;
-      if (ax_up || ay_up || az_up) {
-        ax = ax_up;
-        ay = ay_up;
-        az = az_up;
-      }
-      if (ax) {
+      const unsigned axes = RayIterator::tiedAxes(nx, ny, nz, sx, sy, sz);
+      if ((axes & 1U) != 0) {
         x += sx;
         --left;
         nx = --lx == 0 ? kNever : nx + dx;
       }
-      if (ay) {
+      if ((axes & 2U) != 0) {
         y += sy;
         --left;
         ny = --ly == 0 ? kNever : ny + dy;
       }
-      if (az) {
+      if ((axes & 4U) != 0) {
         z += sz;
         --left;
         nz = --lz == 0 ? kNever : nz + dz;

@@ -76,29 +76,24 @@ class RayIterator {
     stepTied();
   }
 
-  // Some crossings are equal, maybe not the smallest. Tie rule from the half-open cells (see the file
-  // comment): of the axes crossing first, the upward ones step together; the downward ones are then the
-  // smallest crossing of the next step.
-  [[gnu::always_inline]] void stepTied() {
-    const double n0 = next_[0];
-    const double n1 = next_[1];
-    const double n2 = next_[2];
+  // The tie rule from the half-open cells (see the file comment), for crossings `n` of which some are
+  // equal, maybe not the smallest: of the axes crossing first, the upward ones step together; the downward
+  // ones are then the smallest crossing of the next step. Bit A set: axis A steps. CellMarks::markFree
+  // applies the same rule to its own copy of the state.
+  [[gnu::always_inline]] static unsigned tiedAxes(double n0, double n1, double n2, std::int32_t s0, std::int32_t s1,
+                                                  std::int32_t s2) {
     const double n01 = n1 < n0 ? n1 : n0;
     const double t = n2 < n01 ? n2 : n01;
-    bool x = !(n0 > t);
-    bool y = !(n1 > t);
-    bool z = !(n2 > t);
-    const bool x_up = x && step_[0] > 0;
-    const bool y_up = y && step_[1] > 0;
-    const bool z_up = z && step_[2] > 0;
-    if (x_up || y_up || z_up) {
-      x = x_up;
-      y = y_up;
-      z = z_up;
-    }
-    if (x) advance<0>();
-    if (y) advance<1>();
-    if (z) advance<2>();
+    const unsigned first = (!(n0 > t) ? 1U : 0U) | (!(n1 > t) ? 2U : 0U) | (!(n2 > t) ? 4U : 0U);
+    const unsigned up = first & ((s0 > 0 ? 1U : 0U) | (s1 > 0 ? 2U : 0U) | (s2 > 0 ? 4U : 0U));
+    return up != 0 ? up : first;
+  }
+
+  [[gnu::always_inline]] void stepTied() {
+    const unsigned axes = tiedAxes(next_[0], next_[1], next_[2], step_[0], step_[1], step_[2]);
+    if ((axes & 1U) != 0) advance<0>();
+    if ((axes & 2U) != 0) advance<1>();
+    if ((axes & 4U) != 0) advance<2>();
   }
 
   template <std::size_t A>
