@@ -46,7 +46,8 @@ class KeyframeSender {
   using Publish = std::function<void(const ogf::map_delta_t&)>;
   using Done = std::function<void(const Report&)>;
 
-  // `publish` and `done` run on the sender's thread; `done` only for a keyframe sent whole. Parts go out
+  // `publish` and `done` run on the sender's thread; `done` only for a keyframe sent whole, before the
+  // sender turns idle (busy() is still true while it runs). Parts go out
   // `burst` at a time (16 parts of 3300 cells are about 1 MB) with `pause` between bursts.
   KeyframeSender(Publish publish, Done done, int burst = 16,
                  std::chrono::microseconds pause = std::chrono::milliseconds(2));
