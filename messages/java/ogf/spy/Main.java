@@ -125,6 +125,18 @@ public final class Main {
     // Every second as lcm-spy's table (messages, Hz and KB/s over the last second); at exit the totals, with
     // the rate between a channel's first and last message.
     void print(String title, double dt, boolean totals) {
+      synchronized (printing) {
+        // Nothing after the totals: the periodic table may be due while the shutdown hook runs.
+        if (finished) return;
+        finished = totals;
+        printTable(title, dt, totals);
+      }
+    }
+
+    private final Object printing = new Object();
+    private boolean finished = false;
+
+    private void printTable(String title, double dt, boolean totals) {
       StringBuilder s = new StringBuilder(title).append('\n');
       s.append(String.format("%-22s %-22s %10s %9s %12s %11s%n", "channel", "type", "messages", "Hz", "KB/s",
                              "undecodable"));
