@@ -133,19 +133,14 @@ struct Timing {
 };
 
 // Time is this thread's CPU time, not wall time: the machines this runs on are shared, and a busy
-// neighbour should not make either mapper look slower. Both mappers run on this one thread.
-double cpuMs() {
+// neighbour should not make either mapper look slower. Both mappers run on this one thread; with filter
+// threads (--threads above 1) the filter's work is on other threads too, and the OGF is timed in wall time.
+double clockMs(clockid_t clock) {
   timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  clock_gettime(clock, &ts);
   return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
 }
-
-// With filter threads (--threads above 1) the filter's work is on other threads too: wall time.
-double wallMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
-}
+double cpuMs() { return clockMs(CLOCK_THREAD_CPUTIME_ID); }
 
 struct OgfResult {
   Timing total, measure, apply;
@@ -194,7 +189,7 @@ OgfResult runOgf(const std::vector<RayScan>& scans, double resolution, double ma
     }
     const ogf::fusion::ScanPoints points{0, x, y, z, t};
     const Eigen::Isometry3d pose(Eigen::Translation3d(s.origin));
-    const auto now = threads > 1 ? wallMs : cpuMs;
+    const auto now = [clock = threads > 1 ? CLOCK_MONOTONIC : CLOCK_THREAD_CPUTIME_ID] { return clockMs(clock); };
     const double t0 = now();
     mapper->measureStatic(points, pose);
     const double t1 = now();
