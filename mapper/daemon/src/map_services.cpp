@@ -115,7 +115,7 @@ void MapperDaemon::carryOut(const ogf::map_command_t& command) {
     if (!state_) {
       fail(ogf::map_command_reply_t::STATUS_FAILED, "no state directory: the map lives in memory only");
     } else {
-      takeSnapshot();
+      takeSnapshot(true);
       if (state_) reply.message = "snapshot at seq " + std::to_string(deltas_.seq()) + " in " + options_.state_dir.string();
       else fail(ogf::map_command_reply_t::STATUS_FAILED, "the snapshot failed (see the status' persistence_error)");
     }
@@ -169,8 +169,10 @@ void MapperDaemon::resetMap() {
     spdlog::error("reset: {}", fresh.error().message);  // cannot happen: the same configuration built the map
     return;
   }
-  // A keyframe of the old map going out would read pages about to be moved aside.
+  // A keyframe of the old map going out would read pages about to be moved aside; a snapshot being
+  // written goes into place first, so the old map is kept whole.
   keyframe_sender_->cancel();
+  finishSnapshotWrite(true);
   mapper_ = std::move(*fresh);
   const std::int64_t id = newMapId();
   deltas_ = delta::DeltaStream({options_.map.filter.resolution, id, ogf::messages::kMaxDeltaCellsPerMessage});

@@ -304,7 +304,7 @@ void MapperDaemon::stop() {
   request_sub_.reset();
   query_sub_.reset();
   command_sub_.reset();
-  takeSnapshot();
+  takeSnapshot(true);
 }
 
 bool MapperDaemon::healthy() const {
@@ -418,7 +418,7 @@ void MapperDaemon::workerLoop() {
       const auto now = steadyUtime();
       const bool keyframe_due = (keyframe_requested_ || keyframe_waiting_ || now - last_keyframe_steady_ > keyframe_us) &&
                                 !keyframe_sender_->busy();
-      if (keyframe_due || !service_requests_.empty() ||
+      if (keyframe_due || !service_requests_.empty() || snapshotWritten() ||
           ((state_ || retry_persistence_) && now - last_snapshot_steady_ > snapshot_us)) {
         more = true;
         break;
@@ -436,6 +436,7 @@ void MapperDaemon::workerLoop() {
     if (keyframe_waiting_ || now - last_keyframe_steady_ > keyframe_us) {
       if (publishKeyframe()) keyframe_waiting_ = false;
     }
+    finishSnapshotWrite(false);
     if ((state_ || retry_persistence_) && now - last_snapshot_steady_ > snapshot_us) takeSnapshot();
     lk.lock();
     work_ = work_ || more;
@@ -511,7 +512,9 @@ void MapperDaemon::keyframeSent(const KeyframeSender::Report& r) {
   ++stats_.keyframes_sent;
 }
 
-void MapperDaemon::takeSnapshot() {
+void MapperDaemon::takeSnapshot(bool wait) {
+  finishSnapshotWrite(wait);
+  if (snapshot_write_) return;  // still being written: the next check between scans puts it in place
   last_snapshot_steady_ = steadyUtime();
   if (!state_ && retry_persistence_) {
     // Persistence failed earlier (no space, read-only, I/O error): try the directory again, starting over
@@ -527,9 +530,14 @@ void MapperDaemon::takeSnapshot() {
   if (!state_ || snapshot_seq_ == deltas_.seq()) return;
   // The map in memory, and the pages holding the rest (on disk already: a page is written before its
   // region leaves memory).
-  const auto began = Clock::now();
-  const auto bytes = filter::encodeMap(mapper_.filter());
+  const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
+  SnapshotWrite w;
+  w.began = Clock::now();
+  w.seq = deltas_.seq();
+  auto bytes = filter::encodeMap(mapper_.filter());
+  w.bytes = bytes.size();
   const auto encoded = Clock::now();
+  w.encode_ms = ms(encoded - w.began);
   if (pager_) {
     if (auto st = pager_->sync(); !st) {
       state_.reset();
@@ -537,9 +545,39 @@ void MapperDaemon::takeSnapshot() {
       return;
     }
   }
-  const auto synced = Clock::now();
-  const auto pages = pager_ ? pager_->files() : std::vector<std::string>{};
-  if (auto st = state_->snapshot(deltas_.seq(), bytes, pages); !st) {
+  w.sync_ms = ms(Clock::now() - encoded);
+  w.pages = pager_ ? pager_->files() : std::vector<std::string>{};
+  if (auto st = state_->beginSnapshot(w.seq); !st) {
+    state_.reset();
+    persistenceFailed(st.error().message, true);
+    return;
+  }
+  w.written = std::async(std::launch::async, [path = state_->snapshotPath(), id = state_->mapId(), seq = w.seq,
+                                              bytes = std::move(bytes), pages = w.pages,
+                                              retired = state_->retiredJournalPath()] {
+    auto st = persistence::StateDirectory::writeSnapshotFile(path, id, seq, bytes, pages);
+    if (st) persistence::StateDirectory::retireOldJournal(retired);
+    return st;
+  });
+  w.cut_ms = ms(Clock::now() - w.began);
+  snapshot_write_ = std::move(w);
+  if (wait) finishSnapshotWrite(true);
+}
+
+bool MapperDaemon::snapshotWritten() const {
+  return snapshot_write_ && snapshot_write_->written.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+}
+
+void MapperDaemon::finishSnapshotWrite(bool wait) {
+  if (!snapshot_write_ || (!wait && !snapshotWritten())) return;
+  SnapshotWrite w = std::move(*snapshot_write_);
+  snapshot_write_.reset();
+  Status st = w.written.get();
+  // Persistence failed while the file was written (a journal write): the directory is opened anew later.
+  if (!state_) return;
+  if (st) st = state_->finishSnapshot(w.pages);
+  if (!st) {
+    state_->abandonSnapshot();
     state_.reset();
     persistenceFailed(st.error().message, true);
     return;
@@ -551,11 +589,12 @@ void MapperDaemon::takeSnapshot() {
     keep.insert(keep.end(), pinned.begin(), pinned.end());
     pager_->collect(keep);
   }
-  snapshot_seq_ = deltas_.seq();
+  snapshot_seq_ = w.seq;
   const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
-  spdlog::info("snapshot at seq {}: {} bytes and {} pages in {:.0f} ms (encoding {:.0f}, flushing new pages {:.0f})",
-               snapshot_seq_, bytes.size(), pages.size(), ms(Clock::now() - began), ms(encoded - began),
-               ms(synced - encoded));
+  spdlog::info("snapshot at seq {}: {} bytes and {} pages in {:.0f} ms; the worker {:.0f} ms (encoding {:.0f}, "
+               "flushing new pages {:.0f}), the file written on its own thread",
+               snapshot_seq_, w.bytes, w.pages.size(), ms(Clock::now() - w.began), w.cut_ms,
+               w.encode_ms, w.sync_ms);
   std::lock_guard lk(mu_);
   if (!stats_.persistence_ok) spdlog::info("persistence: {} is written again; the map is saved at seq {}",
                                            options_.state_dir.string(), snapshot_seq_);

@@ -41,7 +41,8 @@ std::vector<std::byte> encodeSnapshot(std::int64_t map_id, std::int64_t seq, std
   put<std::int64_t>(out, map_id);
   put<std::int64_t>(out, seq);
   put<std::uint64_t>(out, map_bytes.size());
-  for (std::uint8_t b : map_bytes) out.push_back(static_cast<std::byte>(b));
+  const auto* map = reinterpret_cast<const std::byte*>(map_bytes.data());
+  out.insert(out.end(), map, map + map_bytes.size());
   if (!pages.empty()) {
     put<std::uint32_t>(out, static_cast<std::uint32_t>(pages.size()));
     for (const std::string& name : pages) {
@@ -115,6 +116,7 @@ Result<RecoveredState> StateDirectory::recover(std::int64_t new_map_id, std::int
   if (!state) return state.error();
   RecoveredState& out = *state;
   map_id_ = out.map_id;
+  abandonSnapshot();
   // The pages the restored snapshot names; after the next snapshot they are the previous generation's.
   current_pages_ = out.pages;
   previous_pages_.clear();
@@ -295,7 +297,13 @@ Result<RecoveredState> StateDirectory::readState(std::int64_t new_map_id,
 Status StateDirectory::journal(std::int64_t seq, std::int64_t utime, std::span<const Measurement> measurements) {
   if (!writer_) return Error{dir_.string() + ": no journal open (recover() first)"};
   if (auto st = writer_->append(seq, utime, measurements); !st) return st;
-  return writer_->flush();
+  if (auto st = writer_->flush(); !st) return st;
+  // While a snapshot is written, the journal that will continue it gets the record too.
+  if (next_writer_) {
+    if (auto st = next_writer_->append(seq, utime, measurements); !st) return st;
+    return next_writer_->flush();
+  }
+  return okStatus();
 }
 
 namespace {
@@ -321,27 +329,68 @@ Status keepAs(const std::filesystem::path& from, const std::filesystem::path& to
 
 Status StateDirectory::snapshot(std::int64_t seq, std::span<const std::uint8_t> map_bytes,
                                 std::span<const std::string> pages) {
-  const auto bytes = encodeSnapshot(map_id_, seq, map_bytes, pages);
+  if (auto st = beginSnapshot(seq); !st) return st;
+  if (auto st = writeSnapshotFile(snapshotPath(), map_id_, seq, map_bytes, pages); !st) {
+    abandonSnapshot();
+    return st;
+  }
+  retireOldJournal(retiredJournalPath());
+  return finishSnapshot(pages);
+}
+
+Status StateDirectory::beginSnapshot(std::int64_t seq) {
+  abandonSnapshot();
   // The current generation becomes the previous one: a damaged new snapshot then falls back to it and
   // the two journals. A crash in between leaves both names on the same files, which recovery reads alike;
-  // the snapshot goes first, so that the previous journal then still reaches it.
+  // the snapshot goes first, so that the previous journal then still reaches it. The journal goes on
+  // growing under both names until finishSnapshot (a hard link), or the copy ends at the cut; either
+  // way it reaches the new snapshot.
   std::error_code ec;
   if (std::filesystem::exists(snapshotPath(), ec) && std::filesystem::exists(journalPath(), ec)) {
     if (auto st = keepAs(snapshotPath(), previousSnapshotPath()); !st) return st;
+    // The journal before it is only renamed here: freeing the blocks of a long journal takes a while, so
+    // retireOldJournal() deletes it later, off the mapping thread. Meanwhile journal.ogfj continues the
+    // snapshot that is now also the previous one, so nothing is missing from either generation.
+    std::filesystem::rename(previousJournalPath(), retiredJournalPath(), ec);
     if (auto st = keepAs(journalPath(), previousJournalPath()); !st) return st;
   }
-  if (auto st = writeFileAtomically(snapshotPath(), bytes); !st) return st;
-  const std::filesystem::path journal = journalPath();
-  const std::filesystem::path fresh = journal.string() + ".new";
-  auto w = JournalWriter::create(fresh, map_id_, seq);
+  auto w = JournalWriter::create(nextJournalPath(), map_id_, seq);
   if (!w) return w.error();
-  std::filesystem::rename(fresh, journal, ec);
+  next_writer_.emplace(std::move(*w));
+  return okStatus();
+}
+
+Status StateDirectory::writeSnapshotFile(const std::filesystem::path& path, std::int64_t map_id, std::int64_t seq,
+                                         std::span<const std::uint8_t> map_bytes,
+                                         std::span<const std::string> pages) {
+  return writeFileAtomically(path, encodeSnapshot(map_id, seq, map_bytes, pages));
+}
+
+void StateDirectory::retireOldJournal(const std::filesystem::path& path) {
+  std::error_code ec;
+  std::filesystem::remove(path, ec);  // none there, or it cannot go: it is tried again at the next snapshot
+}
+
+Status StateDirectory::finishSnapshot(std::span<const std::string> pages) {
+  if (!next_writer_) return Error{dir_.string() + ": no snapshot begun"};
+  const std::filesystem::path journal = journalPath();
+  std::error_code ec;
+  std::filesystem::rename(nextJournalPath(), journal, ec);
   if (ec) return Error{journal.string() + ": cannot replace the journal: " + ec.message()};
-  w->renamedTo(journal);  // so a later write error names the file that is there
-  writer_.emplace(std::move(*w));
+  syncParentDirectory(journal);  // records flushed from now on are found under this name after a power cut
+  next_writer_->renamedTo(journal);  // so a later write error names the file that is there
+  writer_ = std::move(next_writer_);
+  next_writer_.reset();
   previous_pages_ = std::move(current_pages_);
   current_pages_.assign(pages.begin(), pages.end());
   return okStatus();
+}
+
+void StateDirectory::abandonSnapshot() {
+  if (!next_writer_) return;
+  next_writer_.reset();
+  std::error_code ec;
+  std::filesystem::remove(nextJournalPath(), ec);
 }
 
 std::vector<std::string> StateDirectory::referencedPages() const {

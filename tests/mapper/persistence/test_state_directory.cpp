@@ -284,4 +284,160 @@ TEST_F(StateDirectoryTest, BothSnapshotGenerationsDamagedIsAnErrorAndEverythingC
   EXPECT_EQ(fresh->map_id, 9);
 }
 
+// A snapshot written while mapping goes on: journal.ogfj takes every record until the new journal is put in
+// place, so a crash at each step of it restores every record, from the old snapshot or the new one.
+TEST_F(StateDirectoryTest, SnapshotWrittenWhileMappingGoesOnLosesNoRecordAtAnyStep) {
+  const std::vector<std::uint8_t> old_map(70, 1), new_map(90, 2);
+  enum Step { kBegun, kFileWritten, kFinished };
+  for (const Step crash_after : {kBegun, kFileWritten, kFinished}) {
+    SCOPED_TRACE(static_cast<int>(crash_after));
+    fs::remove_all(dir_);
+    {
+      auto sd = StateDirectory::open(dir_);
+      ASSERT_TRUE(sd->recover(7).ok());
+      ASSERT_TRUE(sd->journal(1, 1, set(1)).ok());
+      ASSERT_TRUE(sd->snapshot(1, old_map).ok());
+      for (int i = 2; i <= 3; ++i) ASSERT_TRUE(sd->journal(i, i, set(i)).ok());
+      ASSERT_TRUE(sd->beginSnapshot(3).ok());
+      EXPECT_TRUE(sd->snapshotBegun());
+      ASSERT_TRUE(sd->journal(4, 4, set(4)).ok());  // mapped while the file is written
+      if (crash_after >= kFileWritten) {
+        ASSERT_TRUE(StateDirectory::writeSnapshotFile(sd->snapshotPath(), sd->mapId(), 3, new_map, {}).ok());
+        ASSERT_TRUE(sd->journal(5, 5, set(5)).ok());
+      }
+      if (crash_after >= kFinished) {
+        ASSERT_TRUE(sd->finishSnapshot({}).ok());
+        EXPECT_FALSE(sd->snapshotBegun());
+        EXPECT_FALSE(fs::exists(sd->nextJournalPath()));
+        ASSERT_TRUE(sd->journal(6, 6, set(6)).ok());
+      }
+    }  // killed here
+    auto sd = StateDirectory::open(dir_);
+    auto r = sd->recover(99);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_TRUE(r->damage.empty()) << r->damage;
+    EXPECT_EQ(r->map_id, 7);
+    const std::int64_t last = crash_after == kBegun ? 4 : (crash_after == kFileWritten ? 5 : 6);
+    EXPECT_EQ(r->snapshot_seq, crash_after == kBegun ? 1 : 3);
+    EXPECT_EQ(r->snapshot_map, crash_after == kBegun ? old_map : new_map);
+    std::vector<std::int64_t> got, want;
+    for (const auto& rec : r->replay) got.push_back(rec.seq);
+    for (std::int64_t s = r->snapshot_seq + 1; s <= last; ++s) want.push_back(s);
+    EXPECT_EQ(got, want);
+    EXPECT_EQ(r->replay.back().measurements, set(static_cast<int>(last)));
+    // The directory recovery leaves goes on: a record more, and a second recovery has it too.
+    ASSERT_TRUE(sd->journal(last + 1, 0, set(static_cast<int>(last + 1))).ok());
+    auto again = StateDirectory::open(dir_)->recover(99);
+    ASSERT_TRUE(again.ok());
+    EXPECT_EQ(again->last_seq, last + 1);
+  }
+}
+
+TEST_F(StateDirectoryTest, DamagedNewSnapshotWrittenWhileMappingFallsBackWithEveryRecord) {
+  const std::vector<std::uint8_t> old_map(70, 1), new_map(90, 2);
+  {
+    auto sd = StateDirectory::open(dir_);
+    ASSERT_TRUE(sd->recover(7).ok());
+    ASSERT_TRUE(sd->journal(1, 1, set(1)).ok());
+    ASSERT_TRUE(sd->snapshot(1, old_map).ok());
+    ASSERT_TRUE(sd->journal(2, 2, set(2)).ok());
+    ASSERT_TRUE(sd->beginSnapshot(2).ok());
+    ASSERT_TRUE(sd->journal(3, 3, set(3)).ok());
+    ASSERT_TRUE(StateDirectory::writeSnapshotFile(sd->snapshotPath(), sd->mapId(), 2, new_map, {}).ok());
+    ASSERT_TRUE(sd->journal(4, 4, set(4)).ok());
+    ASSERT_TRUE(sd->finishSnapshot({}).ok());
+    ASSERT_TRUE(sd->journal(5, 5, set(5)).ok());
+  }
+  fs::resize_file(dir_ / "snapshot.ogfs", 50);
+  auto r = StateDirectory::open(dir_)->recover(1, 5000);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_TRUE(r->snapshot_fallback);
+  EXPECT_EQ(r->snapshot_map, old_map);
+  std::vector<std::int64_t> got;
+  for (const auto& rec : r->replay) got.push_back(rec.seq);
+  EXPECT_EQ(got, (std::vector<std::int64_t>{2, 3, 4, 5}));
+}
+
+TEST_F(StateDirectoryTest, AbandonedSnapshotLeavesTheOldSnapshotAndTheWholeJournal) {
+  const std::vector<std::uint8_t> map(70, 1);
+  {
+    auto sd = StateDirectory::open(dir_);
+    ASSERT_TRUE(sd->recover(7).ok());
+    ASSERT_TRUE(sd->journal(1, 1, set(1)).ok());
+    ASSERT_TRUE(sd->snapshot(1, map).ok());
+    ASSERT_TRUE(sd->journal(2, 2, set(2)).ok());
+    ASSERT_TRUE(sd->beginSnapshot(2).ok());
+    ASSERT_TRUE(sd->journal(3, 3, set(3)).ok());
+    sd->abandonSnapshot();  // the file could not be written
+    EXPECT_FALSE(sd->snapshotBegun());
+    EXPECT_FALSE(fs::exists(sd->nextJournalPath()));
+    ASSERT_TRUE(sd->journal(4, 4, set(4)).ok());
+    EXPECT_FALSE(sd->finishSnapshot({}).ok());  // nothing begun: refused
+  }
+  auto r = StateDirectory::open(dir_)->recover(1);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r->snapshot_seq, 1);
+  EXPECT_EQ(r->last_seq, 4);
+  EXPECT_EQ(r->replay.size(), 3u);
+}
+
+TEST_F(StateDirectoryTest, NextJournalLeftByACrashIsNotReadAndIsReplaced) {
+  {
+    auto sd = StateDirectory::open(dir_);
+    ASSERT_TRUE(sd->recover(7).ok());
+    ASSERT_TRUE(sd->journal(1, 1, set(1)).ok());
+    ASSERT_TRUE(sd->beginSnapshot(1).ok());
+    ASSERT_TRUE(sd->journal(2, 2, set(2)).ok());
+  }  // killed before the snapshot file was written
+  ASSERT_TRUE(fs::exists(dir_ / "journal.next.ogfj"));
+  auto sd = StateDirectory::open(dir_);
+  auto r = sd->recover(1);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r->snapshot_seq, 0);
+  EXPECT_EQ(r->last_seq, 2);
+  ASSERT_TRUE(sd->journal(3, 3, set(3)).ok());
+  ASSERT_TRUE(sd->snapshot(3, std::vector<std::uint8_t>(40, 3)).ok());
+  ASSERT_TRUE(sd->journal(4, 4, set(4)).ok());
+  EXPECT_FALSE(fs::exists(dir_ / "journal.next.ogfj"));
+  auto again = StateDirectory::open(dir_)->recover(1);
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(again->snapshot_seq, 3);
+  ASSERT_EQ(again->replay.size(), 1u);
+  EXPECT_EQ(again->replay[0].seq, 4);
+}
+
+TEST_F(StateDirectoryTest, JournalBeforeThePreviousGenerationIsDeletedOnlyOnceTheSnapshotIsWritten) {
+  const std::vector<std::uint8_t> map2(60, 2), map4(60, 4);
+  auto sd = StateDirectory::open(dir_);
+  ASSERT_TRUE(sd->recover(7).ok());
+  ASSERT_TRUE(sd->journal(1, 1, set(1)).ok());
+  ASSERT_TRUE(sd->snapshot(1, std::vector<std::uint8_t>(60, 1)).ok());
+  ASSERT_TRUE(sd->journal(2, 2, set(2)).ok());
+  ASSERT_TRUE(sd->snapshot(2, map2).ok());
+  ASSERT_TRUE(sd->journal(3, 3, set(3)).ok());
+  EXPECT_FALSE(fs::exists(sd->retiredJournalPath()));
+  ASSERT_TRUE(sd->beginSnapshot(3).ok());
+  ASSERT_TRUE(fs::exists(sd->retiredJournalPath())) << "the journal after snapshot 1 waits to be deleted";
+  ASSERT_TRUE(sd->journal(4, 4, set(4)).ok());
+  {
+    // A crash now: snapshot 2 and the journal after it, whichever generation recovery reads.
+    auto r = StateDirectory::read(dir_, 1);
+    ASSERT_TRUE(r.ok());
+    EXPECT_EQ(r->snapshot_seq, 2);
+    EXPECT_EQ(r->last_seq, 4);
+  }
+  ASSERT_TRUE(StateDirectory::writeSnapshotFile(sd->snapshotPath(), sd->mapId(), 3, map4, {}).ok());
+  StateDirectory::retireOldJournal(sd->retiredJournalPath());
+  EXPECT_FALSE(fs::exists(sd->retiredJournalPath()));
+  ASSERT_TRUE(sd->finishSnapshot({}).ok());
+  ASSERT_TRUE(sd->journal(5, 5, set(5)).ok());
+  fs::resize_file(dir_ / "snapshot.ogfs", 30);  // the newest snapshot damaged: the previous generation
+  auto r = StateDirectory::open(dir_)->recover(1, 6000);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(r->snapshot_map, map2);
+  std::vector<std::int64_t> got;
+  for (const auto& rec : r->replay) got.push_back(rec.seq);
+  EXPECT_EQ(got, (std::vector<std::int64_t>{3, 4, 5}));
+}
+
 }  // namespace

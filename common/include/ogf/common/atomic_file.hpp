@@ -28,6 +28,16 @@ inline std::size_t writeAll(int fd, std::span<const std::byte> bytes) {
   return done;
 }
 
+// Makes a rename or creation of `path` durable: fsync of the directory holding it (best effort).
+inline void syncParentDirectory(const std::filesystem::path& path) {
+  const auto dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd >= 0) {
+    ::fsync(dfd);
+    ::close(dfd);
+  }
+}
+
 inline Status writeFileAtomically(const std::filesystem::path& path, std::span<const std::byte> bytes) {
   const auto fail = [&](const std::string& what) {
     return Error{path.string() + ": " + what + ": " + std::strerror(errno)};
@@ -53,12 +63,7 @@ inline Status writeFileAtomically(const std::filesystem::path& path, std::span<c
     ::unlink(tmp.c_str());
     return err;
   }
-  const auto dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
-  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dfd >= 0) {
-    ::fsync(dfd);
-    ::close(dfd);
-  }
+  syncParentDirectory(path);
   return okStatus();
 }
 

@@ -21,7 +21,9 @@
 #include <boost/asio/steady_timer.hpp>
 
 #include <condition_variable>
+#include <chrono>
 #include <deque>
+#include <future>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -77,7 +79,16 @@ class MapperDaemon {
   // Cuts a keyframe and hands it to the sender; false (nothing done) while the sender is busy.
   bool publishKeyframe();
   void keyframeSent(const KeyframeSender::Report& report);
-  void takeSnapshot();
+  // Snapshots (every snapshot_interval_s, on the save command, at stop): the worker encodes the map, flushes
+  // the new pages and begins the snapshot in the state directory; a thread writes the file while the worker
+  // maps on, journalling each scan into the journals before and after the cut (state_directory.hpp).
+  // `wait`: returns with the snapshot in place (the save command, stop). One at a time: a snapshot due while
+  // one is written waits for it.
+  void takeSnapshot(bool wait = false);
+  // Puts the snapshot being written in place once its file is written (`wait`: waits for that); nothing
+  // when none is being written.
+  void finishSnapshotWrite(bool wait);
+  bool snapshotWritten() const;
   // Logs (once per distinct failure) and reports it in the status; `retry`: try the directory again at
   // each snapshot (an I/O failure), not when writing would replace a saved map that could not be used.
   void persistenceFailed(const std::string& what, bool retry);
@@ -127,6 +138,17 @@ class MapperDaemon {
   std::int64_t last_keyframe_steady_ = 0;
   bool keyframe_waiting_ = false;  // requested while the sender was busy
   std::int64_t snapshot_seq_ = 0;
+  struct SnapshotWrite {
+    std::int64_t seq = 0;
+    std::vector<std::string> pages;  // the page files it names
+    std::size_t bytes = 0;
+    double cut_ms = 0;     // on the worker, in all: encoding, flushing, beginning the snapshot
+    double encode_ms = 0;  // on the worker: encoding the map in memory
+    double sync_ms = 0;    // on the worker: flushing the pages written since the last snapshot
+    std::chrono::steady_clock::time_point began;
+    std::future<Status> written;
+  };
+  std::optional<SnapshotWrite> snapshot_write_;
   bool retry_persistence_ = false;
   std::mt19937 drop_rng_;
 

@@ -14,9 +14,22 @@
 //   <dir>/journal.prev.ogfj    snapshot (hard links, or copies where the file system has none)
 //   <dir>/damaged-<utime>/     damaged files set aside, never deleted
 //
+//   <dir>/journal.next.ogfj    while a snapshot is being written: the journal that will continue it
+//   <dir>/journal.retired.ogfj the journal of the generation before the previous one, deleted once the
+//                              snapshot is written (a long journal takes a while to free)
+//
 // Snapshot then journal: the current pair becomes the previous generation, a new snapshot at seq s is
 // renamed into place, then a fresh journal with base_seq s replaces the old one. A crash between the two
 // leaves an old journal whose records up to s are already in the snapshot; recovery skips them.
+//
+// Writing a large snapshot takes a while, so it is split in three (snapshot() does all three in a row):
+// beginSnapshot(s) turns the current pair into the previous generation and opens journal.next.ogfj with
+// base_seq s; from then on journal() appends every record to both journals. writeSnapshotFile() writes
+// snapshot.ogfs, on any thread, touching no other file. finishSnapshot() renames journal.next.ogfj into
+// place. Until that rename, journal.ogfj holds every record since the old snapshot, so a crash at any
+// instant leaves a pair that recovery reads as it is: the old snapshot with the whole journal, or the new
+// snapshot with a journal whose records up to s it skips. Recovery never reads journal.next.ogfj; a
+// crash leaves it behind, and the next beginSnapshot() replaces it.
 //
 // Damage: a damaged newest snapshot falls back to the previous one, replayed through both journals; a
 // journal with damaged records gives every whole record (journal.hpp). Either way the damaged file is kept
@@ -76,6 +89,19 @@ class StateDirectory {
   // Writes a snapshot of the map at `seq` atomically and starts an empty journal after it. `pages` names the
   // files in pagesDir() that hold the blocks of the map not in `map_bytes`; they must be on disk already.
   Status snapshot(std::int64_t seq, std::span<const std::uint8_t> map_bytes, std::span<const std::string> pages = {});
+
+  // The same in three steps (see the top of this file), for writing the file on another thread while the
+  // map goes on: beginSnapshot at the cut (the map is at `seq`), writeSnapshotFile with the map at the cut
+  // (snapshotPath() and mapId() of this directory), then finishSnapshot with the pages it names, or
+  // abandonSnapshot when the write failed (the directory stays as it was: the old snapshot and the journal).
+  Status beginSnapshot(std::int64_t seq);
+  static Status writeSnapshotFile(const std::filesystem::path& path, std::int64_t map_id, std::int64_t seq,
+                                  std::span<const std::uint8_t> map_bytes, std::span<const std::string> pages);
+  Status finishSnapshot(std::span<const std::string> pages);
+  // Deletes the journal beginSnapshot retired (retiredJournalPath()); any thread.
+  static void retireOldJournal(const std::filesystem::path& path);
+  void abandonSnapshot();
+  bool snapshotBegun() const { return next_writer_.has_value(); }
   // The page files a restore may still need: those the newest snapshot and the one before it name (after
   // recover() and before the next snapshot, the restored snapshot's; the generation before it is replaced
   // by the next snapshot, so its pages are needed no more).
@@ -88,6 +114,8 @@ class StateDirectory {
   std::filesystem::path journalPath() const { return dir_ / "journal.ogfj"; }
   std::filesystem::path previousSnapshotPath() const { return dir_ / "snapshot.prev.ogfs"; }
   std::filesystem::path previousJournalPath() const { return dir_ / "journal.prev.ogfj"; }
+  std::filesystem::path nextJournalPath() const { return dir_ / "journal.next.ogfj"; }
+  std::filesystem::path retiredJournalPath() const { return dir_ / "journal.retired.ogfj"; }
   std::filesystem::path pagesDir() const { return dir_ / "pages"; }
 
  private:
@@ -98,6 +126,7 @@ class StateDirectory {
   std::filesystem::path dir_;
   std::int64_t map_id_ = 0;
   std::optional<JournalWriter> writer_;
+  std::optional<JournalWriter> next_writer_;  // journal.next.ogfj between beginSnapshot and finishSnapshot
   std::vector<std::string> current_pages_;
   std::vector<std::string> previous_pages_;
 };
