@@ -6,21 +6,26 @@
 
 #include <cerrno>
 #include <cstring>
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 #include <limits>
 
 #include "ogf/common/crc32.hpp"
 #include "ogf/common/little_endian.hpp"
+#include "ogf/persistence/measurement_coding.hpp"
 
 namespace ogf::persistence {
 namespace {
 
 constexpr char kMagic[8] = {'O', 'G', 'F', 'J', 'R', 'N', 'L', '1'};
-constexpr std::uint32_t kVersion = 1;
-constexpr std::uint32_t kRecordMagic = 0x4352524A;
+constexpr std::uint32_t kVersion = 2;
+constexpr std::uint32_t kFixedVersion = 1;  // still read: every record's measurements in 13 bytes
+constexpr std::uint32_t kFixedRecordMagic = 0x4352524A;  // "JRRC"
+constexpr std::uint32_t kCodedRecordMagic = 0x3243524A;  // "JRC2"
 constexpr std::size_t kHeaderSize = 8 + 4 + 8 + 8 + 4;
-constexpr std::size_t kRecordFixed = 4 + 4 + 8 + 8;  // before the measurements
+constexpr std::size_t kFixedRecordFixed = 4 + 4 + 8 + 8;      // before the measurements
+constexpr std::size_t kCodedRecordFixed = 4 + 4 + 8 + 8 + 4;  // and the length of their coding
 constexpr std::size_t kMeasurementSize = 13;
 // A record holds one scan's measurement set; 2^24 is far above any (a VLP-16 scan at 0.1 m makes ~1 M).
 constexpr std::uint32_t kMaxMeasurements = 1U << 24;
@@ -66,42 +71,55 @@ Status writeAll(int fd, const std::filesystem::path& path, const std::vector<std
 
 namespace {
 
-// The record at `off` when it is whole (magic, length within the file, checksum), else why not.
+bool isRecordMagic(std::uint32_t magic) { return magic == kFixedRecordMagic || magic == kCodedRecordMagic; }
+
+// The record at `off` when it is whole (magic, length within the file, checksum, measurements that decode
+// into `rec`), else why not.
 struct RecordAt {
   std::size_t length = 0;  // 0: not a whole record
   std::string why;
 };
 
-RecordAt recordAt(const std::byte* data, std::size_t size, std::size_t off) {
-  if (size - off < kRecordFixed + 4) return {0, "record header truncated"};
+RecordAt recordAt(const std::byte* data, std::size_t size, std::size_t off, JournalRecord& rec) {
+  if (size - off < kFixedRecordFixed + 4) return {0, "record header truncated"};
   const std::byte* r = data + off;
-  if (get<std::uint32_t>(r) != kRecordMagic) return {0, "bad record magic"};
+  const auto magic = get<std::uint32_t>(r);
+  if (!isRecordMagic(magic)) return {0, "bad record magic"};
   const auto n = get<std::uint32_t>(r + 4);
   if (n > kMaxMeasurements) return {0, "absurd measurement count " + std::to_string(n)};
-  const std::size_t len = kRecordFixed + static_cast<std::size_t>(n) * kMeasurementSize + 4;
+  const bool coded = magic == kCodedRecordMagic;
+  std::size_t len = kFixedRecordFixed + static_cast<std::size_t>(n) * kMeasurementSize + 4;
+  if (coded) {
+    if (size - off < kCodedRecordFixed + 4) return {0, "record header truncated"};
+    const auto coding = get<std::uint32_t>(r + kFixedRecordFixed);
+    if (coding > static_cast<std::size_t>(n) * kMaxCodedMeasurement)
+      return {0, "absurd coding length " + std::to_string(coding) + " for " + std::to_string(n) + " measurements"};
+    len = kCodedRecordFixed + coding + 4;
+  }
   if (size - off < len) return {0, "record truncated"};
   if (get<std::uint32_t>(r + len - 4) != crc32(r, len - 4)) return {0, "record checksum mismatch"};
-  return {len, ""};
-}
-
-JournalRecord decodeRecord(const std::byte* r) {
-  JournalRecord rec;
-  const auto n = get<std::uint32_t>(r + 4);
   rec.seq = get<std::int64_t>(r + 8);
   rec.utime = get<std::int64_t>(r + 16);
+  rec.offset = off;
+  if (coded) {
+    if (!decodeMeasurements(std::span(r + kCodedRecordFixed, len - 4 - kCodedRecordFixed), n, rec.measurements))
+      return {0, "measurements not in the journal's coding"};
+    return {len, ""};
+  }
   rec.measurements.resize(n);
-  const std::byte* m = r + kRecordFixed;
+  const std::byte* m = r + kFixedRecordFixed;
   for (std::uint32_t i = 0; i < n; ++i, m += kMeasurementSize) {
     rec.measurements[i] = Measurement{{get<std::int32_t>(m), get<std::int32_t>(m + 4), get<std::int32_t>(m + 8)},
                                       get<std::int8_t>(m + 12)};
   }
-  return rec;
+  return {len, ""};
 }
 
 std::string headerDamage(const std::byte* data) {
   if (std::memcmp(data, kMagic, sizeof(kMagic)) != 0) return "not an ogf journal (bad magic)";
   if (get<std::uint32_t>(data + kHeaderSize - 4) != crc32(data, kHeaderSize - 4)) return "journal header checksum mismatch";
-  if (const auto v = get<std::uint32_t>(data + 8); v != kVersion) return "unsupported journal version " + std::to_string(v);
+  if (const auto v = get<std::uint32_t>(data + 8); v != kVersion && v != kFixedVersion)
+    return "unsupported journal version " + std::to_string(v);
   return "";
 }
 
@@ -125,25 +143,27 @@ Result<JournalContents> readJournal(const std::filesystem::path& path) {
   // is skipped up to the next whole record, whose magic and checksum make a false match implausible.
   std::int64_t last_seq = out.header_damage.empty() ? out.base_seq : std::numeric_limits<std::int64_t>::min();
   std::size_t off = kHeaderSize;
+  JournalRecord rec;
   while (off < size) {
-    RecordAt at = recordAt(data, size, off);
-    if (at.length != 0 && get<std::int64_t>(data + off + 8) <= last_seq)
-      at = {0, "sequence " + std::to_string(get<std::int64_t>(data + off + 8)) + " does not increase"};
+    RecordAt at = recordAt(data, size, off, rec);
+    if (at.length != 0 && rec.seq <= last_seq)
+      at = {0, "sequence " + std::to_string(rec.seq) + " does not increase"};
     if (at.length != 0) {
-      out.records.push_back(decodeRecord(data + off));
-      last_seq = out.records.back().seq;
+      last_seq = rec.seq;
+      out.records.push_back(std::move(rec));
+      rec = {};
       off += at.length;
       continue;
     }
     std::size_t next = off + 1;
     for (; next < size; ++next) {
-      if (size - next < kRecordFixed + 4) {
+      if (size - next < kFixedRecordFixed + 4) {
         next = size;
         break;
       }
-      if (get<std::uint32_t>(data + next) != kRecordMagic) continue;
-      const RecordAt candidate = recordAt(data, size, next);
-      if (candidate.length != 0 && get<std::int64_t>(data + next + 8) > last_seq) break;
+      if (!isRecordMagic(get<std::uint32_t>(data + next))) continue;
+      const RecordAt candidate = recordAt(data, size, next, rec);
+      if (candidate.length != 0 && rec.seq > last_seq) break;
     }
     if (next >= size) {
       out.torn_tail_offset = off;
@@ -230,17 +250,17 @@ Status JournalWriter::append(std::int64_t seq, std::int64_t utime, std::span<con
   if (measurements.size() > kMaxMeasurements)
     return Error{path_.string() + ": record of " + std::to_string(measurements.size()) + " measurements is too large"};
   const std::size_t start = pending_.size();
-  pending_.reserve(start + kRecordFixed + measurements.size() * kMeasurementSize + 4);
-  put<std::uint32_t>(pending_, kRecordMagic);
+  put<std::uint32_t>(pending_, kCodedRecordMagic);
   put<std::uint32_t>(pending_, static_cast<std::uint32_t>(measurements.size()));
   put<std::int64_t>(pending_, seq);
   put<std::int64_t>(pending_, utime);
-  for (const Measurement& m : measurements) {
-    put<std::int32_t>(pending_, m.key.x);
-    put<std::int32_t>(pending_, m.key.y);
-    put<std::int32_t>(pending_, m.key.z);
-    put<std::int8_t>(pending_, m.y);
-  }
+  put<std::uint32_t>(pending_, 0);  // the coding's length, known once it is written
+  const std::size_t coding = pending_.size();
+  encodeMeasurements(measurements, pending_);
+  const auto length = static_cast<std::uint32_t>(pending_.size() - coding);
+  std::vector<std::byte> field;
+  put<std::uint32_t>(field, length);
+  std::copy(field.begin(), field.end(), pending_.begin() + static_cast<std::ptrdiff_t>(coding - 4));
   put<std::uint32_t>(pending_, crc32(pending_.data() + start, pending_.size() - start));
   last_seq_ = seq;
   return okStatus();

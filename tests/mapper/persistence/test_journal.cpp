@@ -3,12 +3,17 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <iterator>
 #include <random>
 
+#include "ogf/common/crc32.hpp"
+#include "ogf/common/little_endian.hpp"
 #include "ogf/persistence/journal.hpp"
+#include "ogf/persistence/measurement_coding.hpp"
 
 namespace {
 
@@ -220,6 +225,172 @@ TEST_F(JournalTest, DamagedHeaderOrMissingFileIsAnErrorNamingThePath) {
   const auto r = readJournal(path);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("header checksum"), std::string::npos);
+}
+
+// The record coding gives back any set exactly: keys anywhere in int32, any y, in any order.
+TEST_F(JournalTest, MeasurementCodingRoundTripsAnySetExactly) {
+  std::mt19937 rng(11);
+  constexpr std::int32_t kLow = std::numeric_limits<std::int32_t>::min();
+  constexpr std::int32_t kHigh = std::numeric_limits<std::int32_t>::max();
+  std::vector<std::vector<ogf::Measurement>> sets = {
+      {},
+      {{{kLow, kHigh, kLow}, 1}, {{kHigh, kLow, kHigh}, -1}, {{0, 0, 0}, 0}, {{0, 0, 1}, -128}, {{0, 1, -127}, 127}},
+      randomSet(rng, 500),
+  };
+  std::uniform_int_distribution<int> any(kLow, kHigh), small(-3, 3), value(-128, 127);
+  std::vector<ogf::Measurement> walk;  // small steps: every form, y mostly ±1
+  ogf::CellKey at{0, 0, 0};
+  for (int i = 0; i < 5000; ++i) {
+    at = at + ogf::CellKey{small(rng) == 0 ? small(rng) : 0, small(rng) > 1 ? small(rng) * 20 : 0, small(rng) * 30};
+    walk.push_back({at, static_cast<std::int8_t>(i % 97 == 0 ? value(rng) : (i % 3 == 0 ? 1 : -1))});
+  }
+  sets.push_back(walk);
+  std::vector<ogf::Measurement> wide;
+  for (int i = 0; i < 500; ++i) wide.push_back({{any(rng), any(rng), any(rng)}, static_cast<std::int8_t>(value(rng))});
+  sets.push_back(wide);
+  for (const auto& set : sets) {
+    std::vector<std::byte> bytes;
+    encodeMeasurements(set, bytes);
+    EXPECT_LE(bytes.size(), set.size() * kMaxCodedMeasurement);
+    std::vector<ogf::Measurement> back;
+    ASSERT_TRUE(decodeMeasurements(bytes, set.size(), back));
+    EXPECT_EQ(back, set);
+    if (set.empty()) continue;
+    // A count or a length that does not match is refused, never read past.
+    EXPECT_FALSE(decodeMeasurements(bytes, set.size() + 1, back));
+    EXPECT_FALSE(decodeMeasurements(bytes, set.size() - 1, back));
+    EXPECT_FALSE(decodeMeasurements(std::span(bytes).first(bytes.size() - 1), set.size(), back));
+  }
+  std::vector<ogf::Measurement> back;
+  for (const unsigned tag : {0xC3U, 0xC4U, 0xE0U, 0xFFU}) {
+    const std::vector<std::byte> bad{static_cast<std::byte>(tag), std::byte{0}, std::byte{0}, std::byte{0}};
+    EXPECT_FALSE(decodeMeasurements(bad, 1, back)) << tag;
+  }
+  // A difference that leaves int32: x = INT32_MAX + 1.
+  std::vector<std::byte> beyond;
+  encodeMeasurements(std::vector<ogf::Measurement>{{{kHigh, 0, 0}, 1}}, beyond);
+  beyond.push_back(std::byte{0xC1});
+  beyond.push_back(std::byte{2});  // zigzag(+1)
+  beyond.push_back(std::byte{0});
+  beyond.push_back(std::byte{0});
+  EXPECT_FALSE(decodeMeasurements(beyond, 2, back));
+}
+
+// A scan's set comes sorted by cell: the coding takes a small part of the 13 bytes a measurement of the
+// fixed form took. Cells of a few rays' worth of shells and columns, sorted as MeasurementSet gives them.
+TEST_F(JournalTest, SortedScanLikeSetsTakeUnderTwoBytesAMeasurement) {
+  std::mt19937 rng(12);
+  std::bernoulli_distribution keep(0.35);
+  std::vector<ogf::Measurement> set;
+  for (int x = -150; x <= 150; ++x) {
+    for (int y = -150; y <= 150; ++y) {
+      const int r2 = x * x + y * y;
+      if (r2 > 150 * 150 || !keep(rng)) continue;
+      const int top = r2 < 30 * 30 ? 8 : 2;  // tall columns near the sensor, a thin layer far away
+      for (int z = -2; z < top; ++z) set.push_back({{x, y, z}, static_cast<std::int8_t>(z == -2 ? 1 : -1)});
+    }
+  }
+  ASSERT_TRUE(std::is_sorted(set.begin(), set.end(), [](const auto& a, const auto& b) { return a.key < b.key; }));
+  std::vector<std::byte> bytes;
+  encodeMeasurements(set, bytes);
+  const double per = static_cast<double>(bytes.size()) / static_cast<double>(set.size());
+  EXPECT_LT(per, 2.0) << set.size() << " measurements";
+  std::vector<ogf::Measurement> back;
+  ASSERT_TRUE(decodeMeasurements(bytes, set.size(), back));
+  EXPECT_EQ(back, set);
+}
+
+// A journal written in the fixed form (version 1) is read, resumed and continued in the coded form.
+TEST_F(JournalTest, VersionOneJournalIsReadAndContinued) {
+  const auto path = dir_ / "journal";
+  const std::vector<ogf::Measurement> first{{{1, 2, 3}, 1}, {{-4, 5, -6}, -1}};
+  const std::vector<ogf::Measurement> second{{{7, 8, 9}, -1}};
+  {
+    std::vector<std::byte> file;
+    for (char c : std::string("OGFJRNL1")) file.push_back(static_cast<std::byte>(c));
+    ogf::putLittleEndian<std::uint32_t>(file, 1);
+    ogf::putLittleEndian<std::int64_t>(file, 55);
+    ogf::putLittleEndian<std::int64_t>(file, 4);
+    ogf::putLittleEndian<std::uint32_t>(file, ogf::crc32(file.data(), file.size()));
+    std::int64_t seq = 5;
+    for (const auto* set : {&first, &second}) {
+      const std::size_t start = file.size();
+      ogf::putLittleEndian<std::uint32_t>(file, 0x4352524A);
+      ogf::putLittleEndian<std::uint32_t>(file, static_cast<std::uint32_t>(set->size()));
+      ogf::putLittleEndian<std::int64_t>(file, seq++);
+      ogf::putLittleEndian<std::int64_t>(file, 1000);
+      for (const auto& m : *set) {
+        ogf::putLittleEndian<std::int32_t>(file, m.key.x);
+        ogf::putLittleEndian<std::int32_t>(file, m.key.y);
+        ogf::putLittleEndian<std::int32_t>(file, m.key.z);
+        ogf::putLittleEndian<std::int8_t>(file, m.y);
+      }
+      ogf::putLittleEndian<std::uint32_t>(file, ogf::crc32(file.data() + start, file.size() - start));
+    }
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(file.data()),
+                                                static_cast<std::streamsize>(file.size()));
+  }
+  auto r = readJournal(path);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_TRUE(r->header_damage.empty()) << r->header_damage;
+  EXPECT_EQ(r->map_id, 55);
+  EXPECT_EQ(r->base_seq, 4);
+  ASSERT_EQ(r->records.size(), 2u);
+  EXPECT_EQ(r->records[0].measurements, first);
+  EXPECT_EQ(r->records[1].measurements, second);
+  EXPECT_EQ(r->records[1].offset, 32u + 24u + 2u * 13u + 4u);
+  auto w = JournalWriter::resume(path, *r);
+  ASSERT_TRUE(w.ok()) << w.error().message;
+  ASSERT_TRUE(w->append(7, 2000, first).ok());
+  ASSERT_TRUE(w->flush().ok());
+  auto again = readJournal(path);
+  ASSERT_TRUE(again.ok());
+  ASSERT_EQ(again->records.size(), 3u);
+  EXPECT_EQ(again->records[2].seq, 7);
+  EXPECT_EQ(again->records[2].measurements, first);
+  EXPECT_TRUE(again->damaged.empty());
+}
+
+// A record whose checksum holds but whose measurements are not a coding (written by no ogf) is damage:
+// skipped and reported, the records around it kept.
+TEST_F(JournalTest, RecordWithAChecksumButNoValidCodingIsSkippedAsDamaged) {
+  const auto path = dir_ / "journal";
+  const std::vector<ogf::Measurement> set{{{1, 1, 1}, 1}};
+  std::uintmax_t second = 0;
+  {
+    auto w = JournalWriter::create(path, 1, 0);
+    ASSERT_TRUE(w.ok());
+    ASSERT_TRUE(w->append(1, 0, set).ok());
+    ASSERT_TRUE(w->flush().ok());
+    second = fs::file_size(path);
+    ASSERT_TRUE(w->append(3, 0, set).ok());
+    ASSERT_TRUE(w->flush().ok());
+  }
+  std::vector<char> file;
+  {
+    std::ifstream in(path, std::ios::binary);
+    file.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  std::vector<std::byte> rec;  // seq 2 between them
+  ogf::putLittleEndian<std::uint32_t>(rec, 0x3243524A);
+  ogf::putLittleEndian<std::uint32_t>(rec, 1);
+  ogf::putLittleEndian<std::int64_t>(rec, 2);
+  ogf::putLittleEndian<std::int64_t>(rec, 0);
+  ogf::putLittleEndian<std::uint32_t>(rec, 1);
+  rec.push_back(std::byte{0xFF});  // no such form
+  ogf::putLittleEndian<std::uint32_t>(rec, ogf::crc32(rec.data(), rec.size()));
+  const auto* raw = reinterpret_cast<const char*>(rec.data());
+  file.insert(file.begin() + static_cast<std::ptrdiff_t>(second), raw, raw + rec.size());
+  std::ofstream(path, std::ios::binary | std::ios::trunc).write(file.data(), static_cast<std::streamsize>(file.size()));
+  const auto r = readJournal(path);
+  ASSERT_TRUE(r.ok());
+  ASSERT_EQ(r->records.size(), 2u);
+  EXPECT_EQ(r->records[1].seq, 3);
+  EXPECT_EQ(r->records[1].offset, second + rec.size());
+  ASSERT_EQ(r->damaged.size(), 1u);
+  EXPECT_EQ(r->damaged[0].offset, second);
+  EXPECT_EQ(r->damaged[0].length, rec.size());
+  EXPECT_EQ(r->damaged[0].reason, "measurements not in the journal's coding");
 }
 
 }  // namespace

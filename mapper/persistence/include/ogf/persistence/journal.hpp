@@ -6,9 +6,13 @@
 // checksum, so the reader resynchronises on the next record that is whole, and reports what it skipped.
 //
 // Format (little-endian):
-//   header  "OGFJRNL1" | u32 version=1 | i64 map_id | i64 base_seq | u32 crc32(previous 28 bytes)
-//   record  u32 0x4352524A ("JRRC") | u32 n | i64 seq | i64 utime | n x (i32 x, i32 y, i32 z, i8 y)
+//   header  "OGFJRNL1" | u32 version=2 | i64 map_id | i64 base_seq | u32 crc32(previous 28 bytes)
+//   record  u32 0x3243524A ("JRC2") | u32 n | i64 seq | i64 utime | u32 length | the n measurements in
+//           `length` bytes (measurement_coding.hpp, about 1.2 bytes a measurement for a scan's set)
 //           | u32 crc32(record so far)
+// Journals of version 1 are still read: their records are u32 0x4352524A ("JRRC") | u32 n | i64 seq |
+// i64 utime | n x (i32 x, i32 y, i32 z, i8 y) | u32 crc32(record so far). Each record names its own
+// form by its magic.
 // base_seq is the update sequence of the snapshot this journal continues; records carry seq > base_seq,
 // strictly increasing.
 #pragma once
@@ -29,6 +33,7 @@ struct JournalRecord {
   std::int64_t seq = 0;
   std::int64_t utime = 0;
   std::vector<Measurement> measurements;
+  std::uint64_t offset = 0;  // where the record starts in the file (set by readJournal)
 };
 
 // A stretch of the file skipped between two whole records (or between the header and the first).
