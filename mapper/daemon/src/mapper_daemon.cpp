@@ -528,36 +528,38 @@ void MapperDaemon::takeSnapshot(bool wait) {
     if (!pager_) openPager(state_->pagesDir());
   }
   if (!state_ || snapshot_seq_ == deltas_.seq()) return;
-  // The map in memory, and the pages holding the rest (on disk already: a page is written before its
-  // region leaves memory).
+  // The map in memory, and the pages holding the rest (a page is written before its region leaves memory;
+  // the writer's thread flushes the new ones before the snapshot that names them).
   const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
   SnapshotWrite w;
   w.began = Clock::now();
   w.seq = deltas_.seq();
   auto bytes = filter::encodeMap(mapper_.filter());
   w.bytes = bytes.size();
-  const auto encoded = Clock::now();
-  w.encode_ms = ms(encoded - w.began);
+  w.encode_ms = ms(Clock::now() - w.began);
   if (pager_) {
-    if (auto st = pager_->sync(); !st) {
-      state_.reset();
-      persistenceFailed(st.error().message, true);
-      return;
-    }
+    w.pages = pager_->files();
+    w.page_flush = pager_->takeUnsynced();
   }
-  w.sync_ms = ms(Clock::now() - encoded);
-  w.pages = pager_ ? pager_->files() : std::vector<std::string>{};
   if (auto st = state_->beginSnapshot(w.seq); !st) {
+    if (pager_) pager_->giveBackUnsynced(w.page_flush);
     state_.reset();
     persistenceFailed(st.error().message, true);
     return;
   }
   w.written = std::async(std::launch::async, [path = state_->snapshotPath(), id = state_->mapId(), seq = w.seq,
-                                              bytes = std::move(bytes), pages = w.pages,
-                                              retired = state_->retiredJournalPath()] {
-    auto st = persistence::StateDirectory::writeSnapshotFile(path, id, seq, bytes, pages);
-    if (st) persistence::StateDirectory::retireOldJournal(retired);
-    return st;
+                                              bytes = std::move(bytes), pages = w.pages, flush = w.page_flush,
+                                              retired = state_->retiredJournalPath(), ms] {
+    SnapshotWritten done;
+    const auto began = Clock::now();
+    done.status = persistence::MapPager::flushPages(flush);
+    const auto flushed = Clock::now();
+    done.flush_ms = ms(flushed - began);
+    if (!done.status) return done;
+    done.status = persistence::StateDirectory::writeSnapshotFile(path, id, seq, bytes, pages);
+    if (done.status) persistence::StateDirectory::retireOldJournal(retired);
+    done.write_ms = ms(Clock::now() - flushed);
+    return done;
   });
   w.cut_ms = ms(Clock::now() - w.began);
   snapshot_write_ = std::move(w);
@@ -572,7 +574,9 @@ void MapperDaemon::finishSnapshotWrite(bool wait) {
   if (!snapshot_write_ || (!wait && !snapshotWritten())) return;
   SnapshotWrite w = std::move(*snapshot_write_);
   snapshot_write_.reset();
-  Status st = w.written.get();
+  const SnapshotWritten written = w.written.get();
+  Status st = written.status;
+  if (!st && pager_) pager_->giveBackUnsynced(w.page_flush);  // flushed by the next snapshot
   // Persistence failed while the file was written (a journal write): the directory is opened anew later.
   if (!state_) return;
   if (st) st = state_->finishSnapshot(w.pages);
@@ -591,10 +595,10 @@ void MapperDaemon::finishSnapshotWrite(bool wait) {
   }
   snapshot_seq_ = w.seq;
   const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
-  spdlog::info("snapshot at seq {}: {} bytes and {} pages in {:.0f} ms; the worker {:.0f} ms (encoding {:.0f}, "
-               "flushing new pages {:.0f}), the file written on its own thread",
-               snapshot_seq_, w.bytes, w.pages.size(), ms(Clock::now() - w.began), w.cut_ms,
-               w.encode_ms, w.sync_ms);
+  spdlog::info("snapshot at seq {}: {} bytes and {} pages in {:.0f} ms; the worker {:.0f} ms (encoding {:.0f}), "
+               "its own thread flushing {} new pages {:.0f} ms and writing the file {:.0f} ms",
+               snapshot_seq_, w.bytes, w.pages.size(), ms(Clock::now() - w.began), w.cut_ms, w.encode_ms,
+               w.page_flush.names.size(), written.flush_ms, written.write_ms);
   std::lock_guard lk(mu_);
   if (!stats_.persistence_ok) spdlog::info("persistence: {} is written again; the map is saved at seq {}",
                                            options_.state_dir.string(), snapshot_seq_);

@@ -396,16 +396,34 @@ Status MapPager::sendAway(filter::BandedOgf& map, const std::array<double, 3>& p
 }
 
 Status MapPager::sync() {
-  if (unsynced_.empty()) return okStatus();
+  const PageFlush flush = takeUnsynced();
+  auto st = flushPages(flush);
+  if (!st) giveBackUnsynced(flush);
+  return st;
+}
+
+MapPager::PageFlush MapPager::takeUnsynced() {
+  PageFlush flush{dir_, {}};
+  if (unsynced_.empty()) return flush;
   std::set<std::string> out;
   for (const auto& [region, paged] : paged_) out.insert(paged.file);
   for (const std::string& name : unsynced_) {
-    if (!out.contains(name)) continue;  // back in memory: no snapshot will name it
-    if (auto st = flushFile(dir_ / name, O_RDONLY); !st) return st;
+    if (out.contains(name)) flush.names.push_back(name);  // else back in memory: no snapshot will name it
   }
-  if (auto st = flushFile(dir_, O_RDONLY | O_DIRECTORY); !st) return st;
   unsynced_.clear();
-  return okStatus();
+  return flush;
+}
+
+Status MapPager::flushPages(const PageFlush& flush) {
+  if (flush.names.empty()) return okStatus();
+  for (const std::string& name : flush.names) {
+    if (auto st = flushFile(flush.dir / name, O_RDONLY); !st) return st;
+  }
+  return flushFile(flush.dir, O_RDONLY | O_DIRECTORY);
+}
+
+void MapPager::giveBackUnsynced(const PageFlush& flush) {
+  unsynced_.insert(unsynced_.end(), flush.names.begin(), flush.names.end());
 }
 
 std::vector<std::string> MapPager::files() const {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -372,6 +373,38 @@ TEST_F(MapPagerTest, AdoptedPagesComeBackAndCollectKeepsWhatASnapshotNames) {
   // Back in memory and named by no snapshot: collected.
   EXPECT_EQ(again->collect({}), names.size());
   EXPECT_TRUE(fs::is_empty(dir_));
+}
+
+// The flush of a snapshot in two steps: the pages written since the last one and still out are named once,
+// flushed on any thread, and named again after a failed flush.
+TEST_F(MapPagerTest, UnsyncedPagesAreNamedOnceAndAgainAfterAFailedFlush) {
+  auto map = makeMap(3, filter::CovarianceStorage::kCompact);
+  auto pager = MapPager::open(dir_);
+  ASSERT_TRUE(pager.ok());
+  mapWithPaging(map, *pager, 5, 20, 5.0);
+  const auto names = pager->files();
+  ASSERT_FALSE(names.empty());
+  auto flush = pager->takeUnsynced();
+  EXPECT_EQ(flush.dir, dir_);
+  auto taken = flush.names;
+  std::sort(taken.begin(), taken.end());
+  EXPECT_EQ(taken, names) << "every page out was written since the pager opened";
+  EXPECT_TRUE(pager->takeUnsynced().names.empty()) << "named once";
+  // A flush that fails (a page gone) is an error naming it; given back, the next flush names them again.
+  fs::rename(dir_ / names.front(), dir_ / "aside");
+  const auto failed = MapPager::flushPages(flush);
+  ASSERT_FALSE(failed.ok());
+  EXPECT_NE(failed.error().message.find(names.front()), std::string::npos) << failed.error().message;
+  fs::rename(dir_ / "aside", dir_ / names.front());
+  pager->giveBackUnsynced(flush);
+  auto again = pager->takeUnsynced();
+  std::sort(again.names.begin(), again.names.end());
+  EXPECT_EQ(again.names, names);
+  EXPECT_TRUE(MapPager::flushPages(again).ok());
+  EXPECT_TRUE(pager->sync().ok());
+  EXPECT_TRUE(pager->bringInAll(map).empty());
+  mapWithPaging(map, *pager, 5, 20, 5.0);
+  EXPECT_FALSE(pager->takeUnsynced().names.empty()) << "pages written again after coming back";
 }
 
 TEST_F(MapPagerTest, PagesOfAnotherLayoutAreRefused) {

@@ -79,9 +79,10 @@ class MapperDaemon {
   // Cuts a keyframe and hands it to the sender; false (nothing done) while the sender is busy.
   bool publishKeyframe();
   void keyframeSent(const KeyframeSender::Report& report);
-  // Snapshots (every snapshot_interval_s, on the save command, at stop): the worker encodes the map, flushes
-  // the new pages and begins the snapshot in the state directory; a thread writes the file while the worker
-  // maps on, journalling each scan into the journals before and after the cut (state_directory.hpp).
+  // Snapshots (every snapshot_interval_s, on the save command, at stop): the worker encodes the map and
+  // begins the snapshot in the state directory; a thread flushes the new pages and writes the file while
+  // the worker maps on, journalling each scan into the journals before and after the cut
+  // (state_directory.hpp).
   // `wait`: returns with the snapshot in place (the save command, stop). One at a time: a snapshot due while
   // one is written waits for it.
   void takeSnapshot(bool wait = false);
@@ -138,15 +139,21 @@ class MapperDaemon {
   std::int64_t last_keyframe_steady_ = 0;
   bool keyframe_waiting_ = false;  // requested while the sender was busy
   std::int64_t snapshot_seq_ = 0;
+  // What the writer's thread did: flushed the pages written since the last snapshot, then wrote the file.
+  struct SnapshotWritten {
+    Status status = okStatus();
+    double flush_ms = 0;
+    double write_ms = 0;
+  };
   struct SnapshotWrite {
     std::int64_t seq = 0;
     std::vector<std::string> pages;  // the page files it names
+    persistence::MapPager::PageFlush page_flush;
     std::size_t bytes = 0;
-    double cut_ms = 0;     // on the worker, in all: encoding, flushing, beginning the snapshot
+    double cut_ms = 0;     // on the worker, in all: encoding, beginning the snapshot
     double encode_ms = 0;  // on the worker: encoding the map in memory
-    double sync_ms = 0;    // on the worker: flushing the pages written since the last snapshot
     std::chrono::steady_clock::time_point began;
-    std::future<Status> written;
+    std::future<SnapshotWritten> written;
   };
   std::optional<SnapshotWrite> snapshot_write_;
   bool retry_persistence_ = false;

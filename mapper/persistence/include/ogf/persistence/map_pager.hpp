@@ -98,6 +98,17 @@ class MapPager {
   // Flushes (fsync) the pages written since the last sync and still paged out, and the directory: call it
   // before a snapshot names them. A crash before leaves pages that no snapshot names; collect() removes them.
   Status sync();
+  // The same in two steps, so the flush can run on another thread: takeUnsynced() names the files sync()
+  // would flush (and forgets them), flushPages() flushes them and the directory (any thread; the files stay
+  // until collect(), which must not run in between). When the flush fails, giveBackUnsynced() makes the
+  // next sync() flush them again.
+  struct PageFlush {
+    std::filesystem::path dir;
+    std::vector<std::string> names;
+  };
+  PageFlush takeUnsynced();
+  static Status flushPages(const PageFlush& flush);
+  void giveBackUnsynced(const PageFlush& flush);
 
   // The file names of the paged-out regions, sorted: what a snapshot must name with the map it holds.
   std::vector<std::string> files() const;
