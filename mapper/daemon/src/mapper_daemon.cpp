@@ -124,9 +124,12 @@ bool MapperDaemon::applyRecovered(const persistence::RecoveredState& rec, const 
   // (restore()); pages of the first version hold none, so their regions come back for it.
   if (pager_) reportPageDamage(pager_->bringInUnpublished(mapper_.filter()));
   snapshot_seq_ = rec.snapshot_seq;
+  // The whole map's cells and checksum, paged-out regions included, as the status reports them.
+  const auto& map = mapper_.filter();
+  const filter::BlockHashSum held = pager_ ? pager_->heldBlocks() : filter::BlockHashSum{};
   spdlog::info("restored map {} at seq {} (snapshot {} + {} journal records): {} cells, checksum {:016x}", rec.map_id,
-               rec.last_seq, rec.snapshot_seq, rec.replay.size(), mapper_.filter().allocatedCells(),
-               mapper_.filter().checksum());
+               rec.last_seq, rec.snapshot_seq, rec.replay.size(), map.allocatedCells() + held.blocks * map.cellsPerBlock(),
+               map.checksum(held));
   return true;
 }
 
