@@ -6,6 +6,8 @@
 
 #include <chrono>
 #include <filesystem>
+#include <functional>
+#include <system_error>
 
 #include "ogf/adapters/message_adapters.hpp"
 #include <ogf/odometry_t.hpp>
@@ -550,20 +552,29 @@ void MapperDaemon::takeSnapshot(bool wait) {
     persistenceFailed(st.error().message, true);
     return;
   }
-  w.written = std::async(std::launch::async, [path = state_->snapshotPath(), id = state_->mapId(), seq = w.seq,
-                                              bytes = std::move(bytes), pages = w.pages, flush = w.page_flush,
-                                              retired = state_->retiredJournalPath(), ms] {
-    SnapshotWritten done;
-    const auto began = Clock::now();
-    done.status = persistence::MapPager::flushPages(flush);
-    const auto flushed = Clock::now();
-    done.flush_ms = ms(flushed - began);
-    if (!done.status) return done;
-    done.status = persistence::StateDirectory::writeSnapshotFile(path, id, seq, bytes, pages);
-    if (done.status) persistence::StateDirectory::retireOldJournal(retired);
-    done.write_ms = ms(Clock::now() - flushed);
-    return done;
-  });
+  auto write = std::make_shared<std::function<SnapshotWritten()>>(
+      [path = state_->snapshotPath(), id = state_->mapId(), seq = w.seq, bytes = std::move(bytes), pages = w.pages,
+       flush = w.page_flush, retired = state_->retiredJournalPath(), ms] {
+        SnapshotWritten done;
+        const auto began = Clock::now();
+        done.status = persistence::MapPager::flushPages(flush);
+        const auto flushed = Clock::now();
+        done.flush_ms = ms(flushed - began);
+        if (!done.status) return done;
+        done.status = persistence::StateDirectory::writeSnapshotFile(path, id, seq, bytes, pages);
+        if (done.status) persistence::StateDirectory::retireOldJournal(retired);
+        done.write_ms = ms(Clock::now() - flushed);
+        return done;
+      });
+  try {
+    w.written = std::async(std::launch::async, [write] { return (*write)(); });
+  } catch (const std::system_error& e) {
+    // No thread to be had (resource limits): the snapshot is written here, holding up mapping meanwhile.
+    spdlog::warn("snapshot: no thread to write it on ({}); written on the worker", e.what());
+    std::promise<SnapshotWritten> now;
+    now.set_value((*write)());
+    w.written = now.get_future();
+  }
   w.cut_ms = ms(Clock::now() - w.began);
   snapshot_write_ = std::move(w);
   if (wait) finishSnapshotWrite(true);
