@@ -22,6 +22,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Milliseconds from `since` until now, for the log and the status.
+double msSince(Clock::time_point since) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
+}
+
 // A worker that has not come round its loop for this long is stuck (the watchdog stops being fed).
 constexpr std::int64_t kWorkerStuckUs = 10'000'000;
 
@@ -130,8 +135,8 @@ bool MapperDaemon::applyRecovered(const persistence::RecoveredState& rec, const 
   const auto& map = mapper_.filter();
   const filter::BlockHashSum held = pager_ ? pager_->heldBlocks() : filter::BlockHashSum{};
   spdlog::info("restored map {} at seq {} (snapshot {} + {} journal records): {} cells, checksum {:016x}", rec.map_id,
-               rec.last_seq, rec.snapshot_seq, rec.replay.size(), map.allocatedCells() + held.blocks * map.cellsPerBlock(),
-               map.checksum(held));
+               rec.last_seq, rec.snapshot_seq, rec.replay.size(),
+               map.allocatedCells() + held.blocks * map.cellsPerBlock(), map.checksum(held));
   return true;
 }
 
@@ -411,7 +416,7 @@ void MapperDaemon::workerLoop() {
         }
         mapScan(scan);
       }
-      const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      const double ms = msSince(t0);
       lk.lock();
       worker_heartbeat_ = steadyUtime();
       if (coverage == fusion::PoseCoverage::kCovered) {
@@ -502,7 +507,7 @@ bool MapperDaemon::publishKeyframe() {
   const auto began = Clock::now();
   KeyframeSender::Job job{delta::KeyframeWriter(deltas_, wallUtime()), deltas_.map().sortedCells(),
                           pager_ ? pager_->heldPublishedPages() : std::vector<std::filesystem::path>{}, 0.0};
-  job.cut_ms = std::chrono::duration<double, std::milli>(Clock::now() - began).count();
+  job.cut_ms = msSince(began);
   keyframe_sender_->send(std::move(job));
   return true;
 }
@@ -535,13 +540,12 @@ void MapperDaemon::takeSnapshot(bool wait) {
   if (!state_ || snapshot_seq_ == deltas_.seq()) return;
   // The map in memory, and the pages holding the rest (a page is written before its region leaves memory;
   // the writer's thread flushes the new ones before the snapshot that names them).
-  const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
   SnapshotWrite w;
   w.began = Clock::now();
   w.seq = deltas_.seq();
   auto bytes = filter::encodeMap(mapper_.filter());
   w.bytes = bytes.size();
-  w.encode_ms = ms(Clock::now() - w.began);
+  w.encode_ms = msSince(w.began);
   if (pager_) {
     w.pages = pager_->files();
     w.page_flush = pager_->takeUnsynced();
@@ -553,17 +557,17 @@ void MapperDaemon::takeSnapshot(bool wait) {
     return;
   }
   auto write = std::make_shared<std::function<SnapshotWritten()>>(
-      [path = state_->snapshotPath(), id = state_->mapId(), seq = w.seq, bytes = std::move(bytes), pages = w.pages,
-       flush = w.page_flush, retired = state_->retiredJournalPath(), ms] {
+      [path = state_->snapshotPath(), id = state_->mapId(), seq = w.seq, bytes = std::move(bytes),
+       pages = w.pages, flush = w.page_flush, retired = state_->retiredJournalPath()] {
         SnapshotWritten done;
         const auto began = Clock::now();
         done.status = persistence::MapPager::flushPages(flush);
+        done.flush_ms = msSince(began);
         const auto flushed = Clock::now();
-        done.flush_ms = ms(flushed - began);
         if (!done.status) return done;
         done.status = persistence::StateDirectory::writeSnapshotFile(path, id, seq, bytes, pages);
         if (done.status) persistence::StateDirectory::retireOldJournal(retired);
-        done.write_ms = ms(Clock::now() - flushed);
+        done.write_ms = msSince(flushed);
         return done;
       });
   try {
@@ -575,7 +579,7 @@ void MapperDaemon::takeSnapshot(bool wait) {
     now.set_value((*write)());
     w.written = now.get_future();
   }
-  w.cut_ms = ms(Clock::now() - w.began);
+  w.cut_ms = msSince(w.began);
   snapshot_write_ = std::move(w);
   if (wait) finishSnapshotWrite(true);
 }
@@ -608,10 +612,9 @@ void MapperDaemon::finishSnapshotWrite(bool wait) {
     pager_->collect(keep);
   }
   snapshot_seq_ = w.seq;
-  const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
   spdlog::info("snapshot at seq {}: {} bytes and {} pages in {:.0f} ms; the worker {:.0f} ms (encoding {:.0f}), "
                "its own thread flushing {} new pages {:.0f} ms and writing the file {:.0f} ms",
-               snapshot_seq_, w.bytes, w.pages.size(), ms(Clock::now() - w.began), w.cut_ms, w.encode_ms,
+               snapshot_seq_, w.bytes, w.pages.size(), msSince(w.began), w.cut_ms, w.encode_ms,
                w.page_flush.names.size(), written.flush_ms, written.write_ms);
   std::lock_guard lk(mu_);
   if (!stats_.persistence_ok) spdlog::info("persistence: {} is written again; the map is saved at seq {}",

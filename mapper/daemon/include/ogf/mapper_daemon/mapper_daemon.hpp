@@ -20,8 +20,8 @@
 
 #include <boost/asio/steady_timer.hpp>
 
-#include <condition_variable>
 #include <chrono>
+#include <condition_variable>
 #include <deque>
 #include <future>
 #include <memory>
