@@ -1,4 +1,4 @@
-// The real capture (a VLP-16 without GPS: its device clock is ~24 min from the capture time) replayed
+// The real capture (a VLP-16 without GPS), its device clock set 20 minutes ahead of the host's, replayed
 // onto UDP into ogf-driver, with odometry stamped on the host clock, into two ogf-mappers as real
 // processes on udpm loopback: one with the default configuration maps every scan on the host clock; one
 // told time_base: device maps none and says why, once, in its log and its status.
@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "support/child_process.hpp"
+#include "support/device_clock_shift.hpp"
 #include "support/host_odometry.hpp"
 #include "support/latest_message.hpp"
 #include "support/multicast.hpp"
@@ -44,6 +45,19 @@ TEST(ClocksOnTheRealCapture, DefaultMapsEveryScanAndDeviceTimeBaseSaysWhyNone) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::ofstream(dir / "mapper.yaml") << "status_interval_s: 0.1\n";
+  // Without a GPS lock the driver places each packet's counter in the host's hour, so the capture's own
+  // counters would put its device clock anywhere within ±30 min of the host's depending on the time of
+  // day. The counters are shifted so that the first packet reads 20 minutes past the host's time now.
+  constexpr std::int64_t kAheadUs = 20LL * 60 * 1'000'000;
+  const auto toh = ogf::testing::firstDataPacketToh(pcap);
+  ASSERT_TRUE(toh.has_value()) << pcap;
+  const auto now = std::chrono::system_clock::now().time_since_epoch();
+  const std::int64_t host_toh =
+      std::chrono::duration_cast<std::chrono::microseconds>(now).count() % 3'600'000'000;
+  const std::int64_t shift_us = host_toh + kAheadUs - static_cast<std::int64_t>(*toh);
+  const fs::path capture = dir / "capture.pcap";
+  const auto shift_error = ogf::testing::copyWithDeviceClockShift(pcap, capture, shift_us);
+  ASSERT_FALSE(shift_error.has_value()) << *shift_error;
   const std::string url = ogf::testing::loopbackUdpmUrl(221);
   const std::string data_port = std::to_string(40000 + (::getpid() % 20000) + 222);
   const std::string position_port = std::to_string(40000 + (::getpid() % 20000) + 223);
@@ -66,7 +80,7 @@ TEST(ClocksOnTheRealCapture, DefaultMapsEveryScanAndDeviceTimeBaseSaysWhyNone) {
   {
     HostOdometry odometry(url);
     std::this_thread::sleep_for(200ms);
-    ChildProcess replay({kBin + "/ogf-replay", "--pcap", pcap.string(), "--dest", "127.0.0.1", "--data-port", data_port,
+    ChildProcess replay({kBin + "/ogf-replay", "--pcap", capture.string(), "--dest", "127.0.0.1", "--data-port", data_port,
                          "--position-port", position_port, "--speed", "1"},
                         (dir / "replay.log").string());
     const auto rc = replay.wait(60s);
@@ -106,7 +120,8 @@ TEST(ClocksOnTheRealCapture, DefaultMapsEveryScanAndDeviceTimeBaseSaysWhyNone) {
     EXPECT_EQ(none->scans_mapped, 0);
     EXPECT_EQ(none->clocks, ogf::mapper_status_t::CLOCKS_DISAGREE);
     EXPECT_EQ(none->scan_clock, ogf::mapper_status_t::SCAN_CLOCK_DEVICE);
-    EXPECT_GT(std::llabs(none->clock_offset_us), 60'000'000);
+    // 20 minutes less the time from the shift to the replay's start (the waits above: seconds).
+    EXPECT_NEAR(static_cast<double>(std::llabs(none->clock_offset_us)), static_cast<double>(kAheadUs), 60e6);
   }
   mapper.signal(SIGTERM);
   device_mapper.signal(SIGTERM);
