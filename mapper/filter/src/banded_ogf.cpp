@@ -338,9 +338,9 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   // 4. With a sink: the cells the updates can change (the stencils of the measurements), and their mean and
   //    variance before, to find what changed. Blocks in key order, cells in position order.
   std::vector<std::uint32_t>& touchedOrder = batchWork.touchedOrder;
-  std::vector<float>& before = batchWork.before;
+  std::vector<float>& meansBefore = batchWork.meansBefore;
+  std::vector<std::uint32_t>& variancesBefore = batchWork.variancesBefore;
   touchedOrder.clear();
-  before.clear();
   if (sink != nullptr) {
     for (std::size_t r = 0; r < sorted.size(); ++r) {
       // The group's measured positions, dilated by the stencil: one shift per offset and layer instead of
@@ -365,12 +365,22 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
     std::sort(touchedOrder.begin(), touchedOrder.end(), [&](std::uint32_t a, std::uint32_t b) {
       return batchWork.touched[a].key < batchWork.touched[b].key;
     });
+    std::size_t cells = 0;
+    for (const TouchedBlock& block : batchWork.touched) {
+      for (const std::uint64_t word : block.cells) {
+        cells += static_cast<std::size_t>(std::popcount(word));
+      }
+    }
+    meansBefore.resize(cells);
+    variancesBefore.resize(cells);
+    std::size_t visited = 0;
     for (const std::uint32_t t : touchedOrder) {
       const TouchedBlock& block = batchWork.touched[t];
+      const float* data = block.block->data();
       forEachBit(block.cells, [&](std::size_t l) {
-        const Moments c = momentsAt(block.block->data(), l);
-        before.push_back(c.mean);
-        before.push_back(c.variance);
+        meansBefore[visited] = meanAt(data, l);
+        variancesBefore[visited] = storedVarianceAt(data, l);
+        ++visited;
       });
     }
   }
@@ -422,12 +432,18 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
     std::array<float, kChunk> variances1;
     std::array<float, kChunk> means0;
     std::array<float, kChunk> variances0;
+    std::array<std::uint32_t, kChunk> stored1;  // the variances as stored, decoded in flush()
+    std::array<std::uint32_t, kChunk> stored0;
     std::array<std::uint32_t, kChunk> where;  // touched block << 9 | position
     std::array<PublishedState, kChunk> now;
     std::array<PublishedState, kChunk> was;
     std::array<CellChange, kChunk> changes;
     std::size_t n = 0;
     const auto flush = [&] {
+      for (std::size_t i = 0; i < n; ++i) {
+        variances1[i] = varianceOfStored(stored1[i]);
+        variances0[i] = varianceOfStored(stored0[i]);
+      }
       published_.statesOf(std::span(means1).first(n), std::span(variances1).first(n), std::span(now).first(n));
       published_.statesOf(std::span(means0).first(n), std::span(variances0).first(n), std::span(was).first(n));
       std::size_t changed = 0;
@@ -443,18 +459,20 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
       sink->cellsChanged(std::span(changes).first(changed));
       n = 0;
     };
-    const float* old = before.data();
+    std::size_t visited = 0;
     for (const std::uint32_t t : touchedOrder) {
       const TouchedBlock& block = batchWork.touched[t];
+      const float* data = block.block->data();
       forEachBit(block.cells, [&](std::size_t l) {
-        const Moments cell = momentsAt(block.block->data(), l);
-        means1[n] = cell.mean;
-        variances1[n] = cell.variance;
-        means0[n] = old[0];
-        variances0[n] = old[1];
+        const float mean = meanAt(data, l);
+        const std::uint32_t stored = storedVarianceAt(data, l);
+        means1[n] = mean;
+        stored1[n] = stored;
+        means0[n] = meansBefore[visited];
+        stored0[n] = variancesBefore[visited];
         where[n] = t << 9 | static_cast<std::uint32_t>(l);
-        n += static_cast<std::size_t>(!(cell.mean == old[0] && cell.variance == old[1]));
-        old += 2;
+        n += static_cast<std::size_t>(!(mean == meansBefore[visited] && stored == variancesBefore[visited]));
+        ++visited;
         if (n == kChunk) {
           flush();
         }

@@ -115,15 +115,22 @@ TEST(PublishedStateRule, StatesOfManyCellsEqualTheExactClassAndQuantisedProbabil
       variances.push_back(s);
     }
   }
-  std::vector<PublishedState> states(means.size());
-  rule.statesOf(means, variances, states);
-  for (std::size_t i = 0; i < means.size(); ++i) {
-    const double m = static_cast<double>(means[i]);
-    const double s = static_cast<double>(variances[i]);
-    ASSERT_EQ(states[i].occupancyClass, occupancyClass(m, ro, rf)) << "mean " << m << ", variance " << s;
-    ASSERT_EQ(states[i].quantisedProbability, quantiseProbability(predictiveProbability(m, s)))
-        << "mean " << m << ", variance " << s;
-    ASSERT_EQ(states[i], rule.stateOf(m, s));
+  // Both paths (four cells per AVX2 step where the CPU has it, the staged scalar code), and a length that
+  // leaves a remainder after the last step of four.
+  means.push_back(-0.5F);
+  variances.push_back(0.5F);
+  for (const bool avx2 : {true, false}) {
+    const PublishedStateRule path(ro, rf, avx2);
+    std::vector<PublishedState> states(means.size());
+    path.statesOf(means, variances, states);
+    for (std::size_t i = 0; i < means.size(); ++i) {
+      const double m = static_cast<double>(means[i]);
+      const double s = static_cast<double>(variances[i]);
+      ASSERT_EQ(states[i].occupancyClass, occupancyClass(m, ro, rf)) << "mean " << m << ", variance " << s;
+      ASSERT_EQ(states[i].quantisedProbability, quantiseProbability(predictiveProbability(m, s)))
+          << "mean " << m << ", variance " << s << (avx2 ? " (AVX2 path)" : " (scalar path)");
+      ASSERT_EQ(states[i], rule.stateOf(m, s));
+    }
   }
 }
 

@@ -147,6 +147,22 @@ class BandedOgf {
     const float* d = blockData + local * floatsPerCell();
     return {d[0], d[1]};
   }
+  // A cell's variance as stored: the 16-bit code in compact storage, the float's bits in banded storage.
+  // Equal words are equal variances, so the change detection compares these and decodes only the cells
+  // that changed.
+  std::uint32_t storedVarianceAt(const float* blockData, std::size_t local) const {
+    if (compact()) {
+      return reinterpret_cast<const std::uint16_t*>(blockData + storage_.cellsPerBlock())[local];
+    }
+    return std::bit_cast<std::uint32_t>(blockData[local * floatsPerCell() + 1]);
+  }
+  float meanAt(const float* blockData, std::size_t local) const {
+    return blockData[compact() ? local : local * floatsPerCell()];
+  }
+  float varianceOfStored(std::uint32_t stored) const {
+    return compact() ? priorVariance_ * decodeVarianceRatio(static_cast<std::uint16_t>(stored))
+                     : std::bit_cast<float>(stored);
+  }
   Block& obtainBlock(const CellKey& blockKey, std::size_t& allocated);
   // The number of `blockKey` in scratch_.touched, looked up in the map the first time in a batch.
   std::uint32_t lookUp(const CellKey& blockKey);
@@ -177,7 +193,8 @@ class BandedOgf {
     std::vector<TouchedBlock> touched;
     std::vector<std::uint32_t> groupTouched;
     std::vector<std::uint32_t> touchedOrder;
-    std::vector<float> before;  // mean and variance of each touched cell before the batch
+    std::vector<float> meansBefore;  // of each touched cell before the batch: its mean
+    std::vector<std::uint32_t> variancesBefore;  // and its stored variance (storedVarianceAt)
     std::vector<std::array<std::uint64_t, 8>> occupiedReach;  // dropClampedFree's per-group cells
     std::vector<std::uint32_t> around;
   };

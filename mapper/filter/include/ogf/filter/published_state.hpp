@@ -20,14 +20,18 @@ struct PublishedState {
 
 class PublishedStateRule {
  public:
+  // Where the CPU has AVX2, statesOf works on four cells at a time (the same doubles, so the same states).
   PublishedStateRule(double occupiedThreshold, double freeThreshold);
+  // avx2 false: the scalar code only (for tests comparing the two).
+  PublishedStateRule(double occupiedThreshold, double freeThreshold, bool avx2);
 
   std::int8_t occupancyClass(double mean) const;
   std::uint16_t quantisedProbability(double mean, double variance) const;
   PublishedState stateOf(double mean, double variance) const;
-  // The states of many cells (out[i] of means[i], variances[i]; the spans of one size), in stages over a
-  // few hundred cells at a time: all divisions and square roots, then all table look-ups, then the rare
-  // exact fallbacks, so the long chain of dependent instructions of one cell overlaps with the others'.
+  // The states of many cells (out[i] of means[i], variances[i]; the spans of one size). With AVX2, four
+  // cells per step (divisions, square roots and the table's polynomial in 256-bit vectors); otherwise in stages over
+  // a few hundred cells at a time: all divisions and square roots, then all table look-ups, so the long
+  // chain of dependent instructions of one cell overlaps with the others'. The rare exact fallbacks last.
   void statesOf(std::span<const float> means, std::span<const float> variances, std::span<PublishedState> out) const;
 
  private:
@@ -39,6 +43,7 @@ class PublishedStateRule {
   double freeZ_;      // Φ⁻¹(r_f)
   const double* value_;  // Φ at the table's nodes (one table per process)
   const double* slope_;  // φ at the nodes, times the node spacing
+  bool avx2_ = false;
 };
 
 }  // namespace ogf::filter
