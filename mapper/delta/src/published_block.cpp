@@ -25,32 +25,44 @@ static_assert(sizeof(PublishedBlock) == 16, "a slab is its mask and one pointer"
 static_assert(PublishedBlock::kCellBytes == sizeof(PublishedValue::probability) +
                                                 sizeof(PublishedValue::cell_class) + sizeof(PublishedValue::variance));
 
-PublishedValue PublishedBlock::at(unsigned local) const { return decode(cells_.get() + rank(local) * kCellBytes); }
+PublishedValue PublishedBlock::at(unsigned local) const { return valueAt(rank(local)); }
+
+PublishedValue PublishedBlock::valueAt(std::size_t rank) const { return decode(cells_.get() + rank * kCellBytes); }
+
+void PublishedBlock::replaceAt(std::size_t rank, const PublishedValue& value) {
+  encode(cells_.get() + rank * kCellBytes, value);
+}
 
 std::optional<PublishedValue> PublishedBlock::put(unsigned local, const PublishedValue& value) {
   const std::size_t r = rank(local);
   if (has(local)) {
-    std::byte* at = cells_.get() + r * kCellBytes;
-    const PublishedValue old = decode(at);
-    encode(at, value);
+    const PublishedValue old = valueAt(r);
+    replaceAt(r, value);
     return old;
   }
+  insertAt(local, r, value);
+  return std::nullopt;
+}
+
+std::size_t PublishedBlock::insertAt(unsigned local, std::size_t rank, const PublishedValue& value) {
   const std::size_t n = size();
-  const std::size_t tail = (n - r) * kCellBytes;
+  const std::size_t tail = (n - rank) * kCellBytes;
+  std::size_t grown_by = 0;
   if (n == capacity()) {
     // Full: move into storage kGrowth cells larger, leaving the new cell's place open on the way.
     auto grown = std::make_unique_for_overwrite<std::byte[]>((n + kGrowth) * kCellBytes);
     if (n > 0) {
-      std::memcpy(grown.get(), cells_.get(), r * kCellBytes);
-      std::memcpy(grown.get() + (r + 1) * kCellBytes, cells_.get() + r * kCellBytes, tail);
+      std::memcpy(grown.get(), cells_.get(), rank * kCellBytes);
+      std::memcpy(grown.get() + (rank + 1) * kCellBytes, cells_.get() + rank * kCellBytes, tail);
     }
     cells_ = std::move(grown);
+    grown_by = kGrowth;
   } else {
-    std::memmove(cells_.get() + (r + 1) * kCellBytes, cells_.get() + r * kCellBytes, tail);
+    std::memmove(cells_.get() + (rank + 1) * kCellBytes, cells_.get() + rank * kCellBytes, tail);
   }
-  encode(cells_.get() + r * kCellBytes, value);
+  encode(cells_.get() + rank * kCellBytes, value);
   present_ |= std::uint64_t{1} << local;
-  return std::nullopt;
+  return grown_by;
 }
 
 }  // namespace ogf::delta

@@ -18,17 +18,25 @@ PublishedCell cellOf(const CellKey& key, const PublishedValue& v) {
   return {key, v.probability, v.cell_class, v.variance};
 }
 
+// cellChecksum in two parts: the key's hash, then the value mixed into it. A cell that changes hashes its
+// key once for the old value's term and the new one's.
+std::uint64_t keyHash(const CellKey& key) {
+  std::uint64_t h = mix(static_cast<std::uint32_t>(key.x));
+  h = mix(h ^ static_cast<std::uint32_t>(key.y));
+  return mix(h ^ static_cast<std::uint32_t>(key.z));
+}
+
+std::uint64_t valueHash(std::uint64_t key_hash, const PublishedValue& v) {
+  return mix(key_hash ^ (static_cast<std::uint64_t>(static_cast<std::uint16_t>(v.probability)) |
+                         static_cast<std::uint64_t>(static_cast<std::uint8_t>(v.cell_class)) << 16 |
+                         static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(v.variance)) << 24));
+}
+
+PublishedValue valueOf(const PublishedCell& c) { return {c.probability, c.cell_class, c.variance}; }
+
 }  // namespace
 
-std::uint64_t cellChecksum(const PublishedCell& c) {
-  std::uint64_t h = mix(static_cast<std::uint32_t>(c.key.x));
-  h = mix(h ^ static_cast<std::uint32_t>(c.key.y));
-  h = mix(h ^ static_cast<std::uint32_t>(c.key.z));
-  h = mix(h ^ (static_cast<std::uint64_t>(static_cast<std::uint16_t>(c.probability)) |
-               static_cast<std::uint64_t>(static_cast<std::uint8_t>(c.cell_class)) << 16 |
-               static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(c.variance)) << 24));
-  return h;
-}
+std::uint64_t cellChecksum(const PublishedCell& c) { return valueHash(keyHash(c.key), valueOf(c)); }
 
 void PublishedMap::set(const PublishedCell& cell) { put(blocks_[PublishedBlock::blockKeyOf(cell.key)], cell); }
 
@@ -42,24 +50,36 @@ bool PublishedMap::setIfVisiblyDiffers(const PublishedCell& cell) {
     lastKey_ = blockKey;
   }
   const unsigned local = PublishedBlock::localIndexOf(cell.key);
-  const PublishedValue old = last_ != nullptr ? last_->find(local).value_or(PublishedValue{}) : PublishedValue{};
+  const bool present = last_ != nullptr && last_->has(local);
+  const std::size_t rank = last_ != nullptr ? last_->rank(local) : 0;
+  const PublishedValue old = present ? last_->valueAt(rank) : PublishedValue{};
   if (!cell.visiblyDiffers(cellOf(cell.key, old))) return false;
   // Only a cell that differs allocates a slab: candidates equal to the prior leave no trace.
   if (last_ == nullptr) last_ = &blocks_[blockKey];  // nodes do not move when the table grows
-  put(*last_, cell);
+  const std::uint64_t key_hash = keyHash(cell.key);
+  if (present) {
+    last_->replaceAt(rank, valueOf(cell));
+    checksum_ -= valueHash(key_hash, old);
+  } else {
+    stored_ += last_->insertAt(local, rank, valueOf(cell));
+    ++size_;
+  }
+  checksum_ += valueHash(key_hash, valueOf(cell));
   return true;
 }
 
 void PublishedMap::put(PublishedBlock& block, const PublishedCell& cell) {
-  const std::size_t capacity = block.capacity();
-  const auto old = block.put(PublishedBlock::localIndexOf(cell.key), {cell.probability, cell.cell_class, cell.variance});
-  if (old) {
-    checksum_ -= cellChecksum(cellOf(cell.key, *old));
+  const unsigned local = PublishedBlock::localIndexOf(cell.key);
+  const std::size_t rank = block.rank(local);
+  const std::uint64_t key_hash = keyHash(cell.key);
+  if (block.has(local)) {
+    checksum_ -= valueHash(key_hash, block.valueAt(rank));
+    block.replaceAt(rank, valueOf(cell));
   } else {
+    stored_ += block.insertAt(local, rank, valueOf(cell));
     ++size_;
-    stored_ += block.capacity() - capacity;
   }
-  checksum_ += cellChecksum(cell);
+  checksum_ += valueHash(key_hash, valueOf(cell));
 }
 
 std::optional<PublishedCell> PublishedMap::find(const CellKey& key) const {

@@ -6,7 +6,6 @@
 // rather than the slab's 64.
 #pragma once
 
-#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -44,7 +43,7 @@ class PublishedBlock {
 
   std::uint64_t present() const { return present_; }
   bool has(unsigned local) const { return (present_ >> local & 1U) != 0; }
-  std::size_t size() const { return static_cast<std::size_t>(std::popcount(present_)); }
+  std::size_t size() const { return bitCount(present_); }
   // Cells the storage has room for: size() rounded up to kGrowth (derived, so the slab stays 16 bytes).
   std::size_t capacity() const { return (size() + kGrowth - 1) / kGrowth * kGrowth; }
 
@@ -57,10 +56,23 @@ class PublishedBlock {
   // Stores the cell's value; returns the value it replaces, nullopt when the cell was absent.
   std::optional<PublishedValue> put(unsigned local, const PublishedValue& value);
 
+  // The same in steps, for a caller that reads a cell before it writes it (one rank for both): the place of
+  // cell `local` among the stored cells (how many present cells precede it), the value at a present cell's
+  // place, a present cell's value replaced, and an absent cell inserted at its place (returns by how many
+  // cells the storage grew: 0 or kGrowth).
+  std::size_t rank(unsigned local) const { return bitCount(present_ & ((std::uint64_t{1} << local) - 1)); }
+  PublishedValue valueAt(std::size_t rank) const;
+  void replaceAt(std::size_t rank, const PublishedValue& value);
+  std::size_t insertAt(unsigned local, std::size_t rank, const PublishedValue& value);
+
  private:
-  // The place of cell `local` among the stored cells: how many present cells precede it.
-  std::size_t rank(unsigned local) const {
-    return static_cast<std::size_t>(std::popcount(present_ & ((std::uint64_t{1} << local) - 1)));
+  // The set bits of a word. std::popcount is a library call on the x86-64 baseline (no POPCNT), which made
+  // up a good part of a delta's per-cell cost; this is a few inline instructions.
+  static std::size_t bitCount(std::uint64_t v) {
+    v -= (v >> 1) & 0x5555555555555555ULL;
+    v = (v & 0x3333333333333333ULL) + ((v >> 2) & 0x3333333333333333ULL);
+    v = (v + (v >> 4)) & 0x0F0F0F0F0F0F0F0FULL;
+    return static_cast<std::size_t>((v * 0x0101010101010101ULL) >> 56);
   }
 
   std::uint64_t present_ = 0;
