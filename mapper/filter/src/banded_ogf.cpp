@@ -735,11 +735,32 @@ std::uint64_t BandedOgf::blockHash(const CellKey& blockKey) const {
 }
 
 BlockHashSum BandedOgf::blockHashSum() const {
+  // Known hashes are summed as they come; the blocks changed since their last hash (those a scan touched)
+  // are hashed four at a time (blockChecksums), the rest one by one.
   BlockHashSum total;
+  std::array<BlockBytes, 4> pending;
+  std::array<const Block*, 4> pendingBlocks{};
+  std::size_t waiting = 0;
   storage_.forEachBlock([&](const CellKey& key, const Block& block) {
-    total.sum += blockHash(key, block);
     ++total.blocks;
+    if (block.hashKnown()) {
+      total.sum += block.hash();
+      return;
+    }
+    pending[waiting] = {key, block.values(), block.marks()};
+    pendingBlocks[waiting] = &block;
+    if (++waiting == pending.size()) {
+      const std::array<std::uint64_t, 4> hashes = blockChecksums(pending);
+      for (std::size_t j = 0; j < hashes.size(); ++j) {
+        pendingBlocks[j]->setHash(hashes[j]);
+        total.sum += hashes[j];
+      }
+      waiting = 0;
+    }
   });
+  for (std::size_t j = 0; j < waiting; ++j) {
+    total.sum += blockHash(pending[j].key, *pendingBlocks[j]);
+  }
   return total;
 }
 

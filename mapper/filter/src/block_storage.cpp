@@ -54,11 +54,4 @@ std::size_t BlockStorage::memoryBytes() const {
   return blocks_.size() * perBlock + blocks_.bucket_count() * sizeof(void*);
 }
 
-CellKey BlockStorage::cellKey(const CellKey& blockKey, std::size_t local) const {
-  const auto l = static_cast<std::int32_t>(local);
-  const std::int32_t z = dimensions_ == 3 ? blockKey.z * kBlockSide + l / (kBlockSide * kBlockSide) : 0;
-  return {blockKey.x * kBlockSide + l % kBlockSide, blockKey.y * kBlockSide + (l / kBlockSide) % kBlockSide,
-          z};
-}
-
 }  // namespace ogf::filter

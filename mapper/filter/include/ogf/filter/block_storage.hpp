@@ -93,8 +93,14 @@ class BlockStorage {
   bool erase(const CellKey& blockKey) { return blocks_.erase(blockKey) != 0; }
   // Bytes in use: block arrays and marks, block headers and the hash table.
   std::size_t memoryBytes() const;
-  // Key of the cell at `local` in block `blockKey`.
-  CellKey cellKey(const CellKey& blockKey, std::size_t local) const;
+  // Key of the cell at `local` in block `blockKey` (inline: the change detection calls it for every cell
+  // it reports).
+  CellKey cellKey(const CellKey& blockKey, std::size_t local) const {
+    const auto l = static_cast<std::int32_t>(local);
+    const std::int32_t z = dimensions_ == 3 ? blockKey.z * kBlockSide + l / (kBlockSide * kBlockSide) : 0;
+    return {blockKey.x * kBlockSide + l % kBlockSide, blockKey.y * kBlockSide + (l / kBlockSide) % kBlockSide,
+            z};
+  }
 
  private:
   int dimensions_;
