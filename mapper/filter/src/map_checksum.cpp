@@ -23,6 +23,12 @@ void MapChecksum::add(std::span<const std::byte> bytes) {
 
 void MapChecksum::addFour(std::array<MapChecksum, 4>& sums, const std::array<std::span<const std::byte>, 4>& bytes) {
   const std::size_t size = bytes[0].size();
+  if (bytes[1].size() != size || bytes[2].size() != size || bytes[3].size() != size) {
+    for (std::size_t j = 0; j < 4; ++j) {
+      sums[j].add(bytes[j]);
+    }
+    return;
+  }
   std::array<std::uint64_t, 4> state{sums[0].state_, sums[1].state_, sums[2].state_, sums[3].state_};
   std::size_t i = 0;
   for (; i + 8 <= size; i += 8) {

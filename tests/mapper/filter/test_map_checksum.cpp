@@ -35,6 +35,18 @@ TEST(MapChecksum, FourBlocksAtOnceEqualOneAtATime) {
   }
 }
 
+TEST(MapChecksum, FourBlocksOfDifferentSizesEqualOneAtATime) {
+  const std::vector<float> a{1.0F, 2.0F, 3.0F};
+  const std::vector<float> b{4.0F};
+  const std::vector<std::uint8_t> m{1, 2, 3, 4, 5, 6, 7, 8, 9};
+  const std::array<BlockBytes, 4> blocks{{{CellKey{0, 0, 0}, a, m}, {CellKey{1, 0, 0}, b, m},
+                                          {CellKey{2, 0, 0}, {}, m}, {CellKey{3, 0, 0}, a, {}}}};
+  const std::array<std::uint64_t, 4> together = blockChecksums(blocks);
+  for (std::size_t j = 0; j < 4; ++j) {
+    EXPECT_EQ(together[j], blockChecksum(blocks[j].key, blocks[j].stored, blocks[j].marks)) << "block " << j;
+  }
+}
+
 TEST(MapChecksum, MapSumIsTheSumOfEachBlocksChecksum) {
   FilterConfig config;
   config.covariance = CovarianceStorage::kCompact;

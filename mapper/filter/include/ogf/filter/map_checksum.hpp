@@ -19,8 +19,9 @@ class MapChecksum {
     add(std::as_bytes(std::span<const T>(&v, 1)));
   }
   std::uint64_t value() const;
-  // Adds bytes[j] to sums[j] for four sums at once (the spans of one size): FNV-1a chains one multiply per
-  // word, so four side by side keep four chains in flight. The same states as four add() calls.
+  // Adds bytes[j] to sums[j]: the same states as four add() calls. Spans of one size are taken together
+  // (FNV-1a chains one multiply per word, so four side by side keep four chains in flight); others one by
+  // one.
   static void addFour(std::array<MapChecksum, 4>& sums, const std::array<std::span<const std::byte>, 4>& bytes);
 
  private:
@@ -31,8 +32,8 @@ class MapChecksum {
 // The hash of one block for BandedOgf::checksum: its key, its stored values and its cell marks.
 std::uint64_t blockChecksum(const CellKey& key, std::span<const float> stored, std::span<const std::uint8_t> marks);
 
-// blockChecksum of four blocks whose stored values, and whose marks, have one size (a map's blocks do),
-// computed together (MapChecksum::addFour).
+// blockChecksum of four blocks, computed together (MapChecksum::addFour) when their stored values, and
+// their marks, have one size, as a map's blocks do.
 struct BlockBytes {
   CellKey key;
   std::span<const float> stored;
