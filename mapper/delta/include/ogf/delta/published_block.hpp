@@ -66,8 +66,8 @@ class PublishedBlock {
   std::size_t insertAt(unsigned local, std::size_t rank, const PublishedValue& value);
 
  private:
-  // The set bits of a word. std::popcount is a library call on the x86-64 baseline (no POPCNT), which made
-  // up a good part of a delta's per-cell cost; this is a few inline instructions.
+  // The set bits of a word in a few inline instructions: std::popcount is a library call on the x86-64
+  // baseline (no POPCNT), a visible part of a delta's per-cell cost.
   static std::size_t bitCount(std::uint64_t v) {
     v -= (v >> 1) & 0x5555555555555555ULL;
     v = (v & 0x3333333333333333ULL) + ((v >> 2) & 0x3333333333333333ULL);
