@@ -12,6 +12,7 @@
 #include <immintrin.h>
 #endif
 
+#include "ogf/filter/band_kernel.hpp"
 #include "ogf/filter/cubic_hermite.hpp"
 #include "ogf/filter/inverse_mills.hpp"
 #include "ogf/filter/occupancy.hpp"
@@ -164,21 +165,17 @@ __attribute__((target("avx2"))) unsigned tableStatesAvx2(const double* value, co
   }
   return static_cast<unsigned>(~_mm256_movemask_pd(certain)) & 0xFU;
 }
-
-bool cpuHasAvx2() { return __builtin_cpu_supports("avx2") != 0; }
-#else
-bool cpuHasAvx2() { return false; }
 #endif
 
 }  // namespace
 
 PublishedStateRule::PublishedStateRule(double occupiedThreshold, double freeThreshold)
-    : PublishedStateRule(occupiedThreshold, freeThreshold, cpuHasAvx2()) {}
+    : PublishedStateRule(occupiedThreshold, freeThreshold, cpuHasFma()) {}
 
 PublishedStateRule::PublishedStateRule(double occupiedThreshold, double freeThreshold, bool avx2)
     : occupiedThreshold_(occupiedThreshold), freeThreshold_(freeThreshold),
       occupiedZ_(inverseNormalCdf(occupiedThreshold)), freeZ_(inverseNormalCdf(freeThreshold)),
-      value_(normalCdfTable().value.data()), slope_(normalCdfTable().slope.data()), avx2_(avx2 && cpuHasAvx2()) {}
+      value_(normalCdfTable().value.data()), slope_(normalCdfTable().slope.data()), avx2_(avx2 && cpuHasFma()) {}
 
 std::int8_t PublishedStateRule::occupancyClass(double mean) const { return stateOf(mean, 0.0).occupancyClass; }
 
