@@ -1,4 +1,4 @@
-// CellMarks: brick lookup and the read-back in CellKey order.
+// CellMarks: brick lookup and the read-back in BrickOrder.
 #include <ogf/fusion/cell_marks.hpp>
 
 #include <algorithm>
@@ -147,39 +147,19 @@ void CellMarks::appendSorted(std::vector<Measurement>& out) {
   std::sort(order_.begin(), order_.end(),
             [this](std::uint32_t l, std::uint32_t r) { return bricks_[l].key < bricks_[r].key; });
 
-  // Lexicographic (x, y, z) order across bricks sorted by (bx, by, bz): for each brick column x, each local
-  // x; then for each brick row y within it, each local y; then the bricks of that row in z order.
-  std::size_t x_begin = 0;
-  while (x_begin < order_.size()) {
-    const std::int32_t bx = bricks_[order_[x_begin]].key.x;
-    std::size_t x_end = x_begin;
-    while (x_end < order_.size() && bricks_[order_[x_end]].key.x == bx) ++x_end;
-    for (std::int32_t lx = 0; lx < 8; ++lx) {
-      std::size_t y_begin = x_begin;
-      while (y_begin < x_end) {
-        const std::int32_t by = bricks_[order_[y_begin]].key.y;
-        std::size_t y_end = y_begin;
-        while (y_end < x_end && bricks_[order_[y_end]].key.y == by) ++y_end;
-        for (std::int32_t ly = 0; ly < 8; ++ly) {
-          const auto shift = static_cast<unsigned>(ly * 8);
-          for (std::size_t i = y_begin; i < y_end; ++i) {
-            const Brick& brick = bricks_[order_[i]];
-            const auto w = static_cast<std::size_t>(lx);
-            const auto occupied = static_cast<unsigned>((brick.occupied[w] >> shift) & 0xFFU);
-            const auto any = static_cast<unsigned>(((brick.free[w] | brick.occupied[w]) >> shift) & 0xFFU);
-            if (any == 0U) continue;
-            // Only the set bits, lowest z first.
-            for (unsigned rest = any; rest != 0U; rest &= rest - 1U) {
-              const int lz = std::countr_zero(rest);
-              out.push_back({CellKey{bx * 8 + lx, by * 8 + ly, brick.key.z * 8 + lz},
-                             ((occupied >> lz) & 1U) != 0U ? Measurement::kOccupied : Measurement::kFree});
-            }
-          }
-        }
-        y_begin = y_end;
+  // Each brick's cells in CellKey order: a word per local x, in it bit 8·(local y) + local z.
+  for (const std::uint32_t b : order_) {
+    const Brick& brick = bricks_[b];
+    const CellKey base{brick.key.x * 8, brick.key.y * 8, brick.key.z * 8};
+    for (std::size_t lx = 0; lx < 8; ++lx) {
+      const std::uint64_t occupied = brick.occupied[lx];
+      for (std::uint64_t rest = brick.free[lx] | occupied; rest != 0; rest &= rest - 1) {
+        const int bit = std::countr_zero(rest);
+        out.push_back(
+            {CellKey{base.x + static_cast<std::int32_t>(lx), base.y + (bit >> 3), base.z + (bit & 7)},
+             ((occupied >> bit) & 1U) != 0U ? Measurement::kOccupied : Measurement::kFree});
       }
     }
-    x_begin = x_end;
   }
 }
 

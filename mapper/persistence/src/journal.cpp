@@ -22,7 +22,8 @@ constexpr char kMagic[8] = {'O', 'G', 'F', 'J', 'R', 'N', 'L', '1'};
 constexpr std::uint32_t kVersion = 2;
 constexpr std::uint32_t kFixedVersion = 1;  // still read: every record's measurements in 13 bytes
 constexpr std::uint32_t kFixedRecordMagic = 0x4352524A;  // "JRRC"
-constexpr std::uint32_t kCodedRecordMagic = 0x3243524A;  // "JRC2"
+constexpr std::uint32_t kCodedRecordMagic2 = 0x3243524A;  // "JRC2": still read; coding version 2
+constexpr std::uint32_t kCodedRecordMagic = 0x3343524A;   // "JRC3": coding version 3
 constexpr std::size_t kHeaderSize = 8 + 4 + 8 + 8 + 4;
 constexpr std::size_t kFixedRecordFixed = 4 + 4 + 8 + 8;      // before the measurements
 constexpr std::size_t kCodedRecordFixed = 4 + 4 + 8 + 8 + 4;  // and the length of their coding
@@ -71,7 +72,9 @@ Status writeAll(int fd, const std::filesystem::path& path, const std::vector<std
 
 namespace {
 
-bool isRecordMagic(std::uint32_t magic) { return magic == kFixedRecordMagic || magic == kCodedRecordMagic; }
+bool isRecordMagic(std::uint32_t magic) {
+  return magic == kFixedRecordMagic || magic == kCodedRecordMagic2 || magic == kCodedRecordMagic;
+}
 
 // The record at `off` when it is whole (magic, length within the file, checksum, measurements that decode
 // into `rec`), else why not.
@@ -87,7 +90,7 @@ RecordAt recordAt(const std::byte* data, std::size_t size, std::size_t off, Jour
   if (!isRecordMagic(magic)) return {0, "bad record magic"};
   const auto n = get<std::uint32_t>(r + 4);
   if (n > kMaxMeasurements) return {0, "absurd measurement count " + std::to_string(n)};
-  const bool coded = magic == kCodedRecordMagic;
+  const bool coded = magic != kFixedRecordMagic;
   std::size_t len = kFixedRecordFixed + static_cast<std::size_t>(n) * kMeasurementSize + 4;
   if (coded) {
     if (size - off < kCodedRecordFixed + 4) return {0, "record header truncated"};
@@ -102,7 +105,9 @@ RecordAt recordAt(const std::byte* data, std::size_t size, std::size_t off, Jour
   rec.utime = get<std::int64_t>(r + 16);
   rec.offset = off;
   if (coded) {
-    if (!decodeMeasurements(std::span(r + kCodedRecordFixed, len - 4 - kCodedRecordFixed), n, rec.measurements))
+    const CodingVersion version = magic == kCodedRecordMagic2 ? CodingVersion::k2 : CodingVersion::k3;
+    if (!decodeMeasurements(std::span(r + kCodedRecordFixed, len - 4 - kCodedRecordFixed), n,
+                            rec.measurements, version))
       return {0, "measurements not in the journal's coding"};
     return {len, ""};
   }

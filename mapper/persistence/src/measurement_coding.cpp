@@ -1,4 +1,4 @@
-// The compact coding of a measurement set: difference from the previous key in one of three forms.
+// The compact coding of a measurement set: difference from the previous key in one of four forms.
 #include "ogf/persistence/measurement_coding.hpp"
 
 #include <limits>
@@ -8,6 +8,7 @@ namespace {
 
 constexpr unsigned kFormB = 0x80;
 constexpr unsigned kFormC = 0xC0;
+constexpr unsigned kFormD = 0xE0;
 constexpr unsigned kExplicitY = 0x02;
 
 std::uint64_t zigzag(std::int64_t v) {
@@ -52,6 +53,10 @@ void encodeMeasurements(std::span<const Measurement> measurements, std::vector<s
     } else if (unit && dx == 0 && dy >= 1 && dy <= 32 && dz >= -128 && dz <= 127) {
       out.push_back(static_cast<std::byte>(kFormB | (static_cast<unsigned>(dy - 1) << 1) | o));
       out.push_back(static_cast<std::byte>(static_cast<std::uint8_t>(static_cast<std::int8_t>(dz))));
+    } else if (unit && dx >= -8 && dx <= 7 && dy >= -8 && dy <= 7 && dz >= -8 && dz <= 7) {
+      out.push_back(static_cast<std::byte>(kFormD | (static_cast<unsigned>(dx + 8) << 1) | o));
+      out.push_back(
+          static_cast<std::byte>((static_cast<unsigned>(dy + 8) << 4) | static_cast<unsigned>(dz + 8)));
     } else {
       out.push_back(static_cast<std::byte>(kFormC | (unit ? o : kExplicitY)));
       putVarint(out, zigzag(dx));
@@ -62,7 +67,8 @@ void encodeMeasurements(std::span<const Measurement> measurements, std::vector<s
   }
 }
 
-bool decodeMeasurements(std::span<const std::byte> bytes, std::size_t count, std::vector<Measurement>& out) {
+bool decodeMeasurements(std::span<const std::byte> bytes, std::size_t count, std::vector<Measurement>& out,
+                        CodingVersion version) {
   out.clear();
   if (count > bytes.size()) return false;  // every form takes a byte at least
   out.reserve(count);
@@ -81,6 +87,12 @@ bool decodeMeasurements(std::span<const std::byte> bytes, std::size_t count, std
       if (at == end) return false;
       y += static_cast<std::int64_t>((tag >> 1) & 0x1FU) + 1;
       z += static_cast<std::int8_t>(static_cast<std::uint8_t>(*at++));
+    } else if ((tag & 0xE0U) == kFormD && version == CodingVersion::k3) {
+      if (at == end) return false;
+      const auto steps = static_cast<unsigned>(*at++);
+      x += static_cast<std::int64_t>((tag >> 1) & 0x0FU) - 8;
+      y += static_cast<std::int64_t>(steps >> 4) - 8;
+      z += static_cast<std::int64_t>(steps & 0x0FU) - 8;
     } else {
       if ((tag & ~(kExplicitY | 1U)) != kFormC || tag == (kFormC | kExplicitY | 1U)) return false;
       std::uint64_t ux = 0, uy = 0, uz = 0;

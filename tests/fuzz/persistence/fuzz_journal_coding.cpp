@@ -1,7 +1,7 @@
 // Fuzzes the journal's measurement coding (measurement_coding.hpp) with any bytes: the first two give the
 // count, the rest are decoded. Every input must be refused or decoded to exactly that many measurements,
-// which then code to bytes that decode to the same measurements. The same bytes read as 13-byte
-// measurements must round-trip too.
+// which then code to bytes that decode to the same measurements; what coding version 2 reads, version 3
+// reads the same. The same bytes read as 13-byte measurements must round-trip too.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -31,6 +31,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (ogf::persistence::decodeMeasurements(bytes, count, decoded)) {
     if (decoded.size() != count) std::abort();
     roundTrip(decoded);
+  }
+  // Version 2's forms are a subset of version 3's: what version 2 reads, version 3 reads the same.
+  std::vector<ogf::Measurement> version2;
+  if (ogf::persistence::decodeMeasurements(bytes, count, version2, ogf::persistence::CodingVersion::k2)) {
+    if (!ogf::persistence::decodeMeasurements(bytes, count, decoded) || decoded != version2) std::abort();
   }
   std::vector<ogf::Measurement> raw;
   for (std::size_t at = 2; at + 13 <= size; at += 13) {

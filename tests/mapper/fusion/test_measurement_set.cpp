@@ -32,7 +32,7 @@ std::vector<Measurement> copy(std::span<const Measurement> m) { return {m.begin(
 // The rules written the slow, obvious way.
 std::vector<Measurement> referenceSet(const MeasurementConfig& c, const std::vector<Eigen::Vector3d>& origins,
                                       const std::vector<Eigen::Vector3d>& endpoints) {
-  std::map<CellKey, std::int8_t> cells;
+  std::map<CellKey, std::int8_t, BrickOrder> cells;
   auto mark = [&](const CellKey& k, std::int8_t y) {
     auto [it, inserted] = cells.emplace(k, y);
     if (!inserted) it->second = std::max(it->second, y);
@@ -105,7 +105,7 @@ TEST(MeasurementSet, RaysThroughCellCornersMatchTheBruteForceCells) {
   for (int scan = 0; scan < 20; ++scan) {
     std::vector<Eigen::Vector3d> origins;
     std::vector<Eigen::Vector3d> endpoints;
-    std::map<CellKey, std::int8_t> want;
+    std::map<CellKey, std::int8_t, BrickOrder> want;
     for (int i = 0; i < 200; ++i) {
       const Eigen::Vector3d o = point();
       Eigen::Vector3d e = point();
@@ -124,12 +124,15 @@ TEST(MeasurementSet, RaysThroughCellCornersMatchTheBruteForceCells) {
   EXPECT_GT(rays_with_ties, 100) << "the grid should produce many edge and corner ties";
 }
 
-TEST(MeasurementSet, OutputIsSortedByCellKeyWithOneMeasurementPerCell) {
+TEST(MeasurementSet, OutputIsInBrickOrderWithOneMeasurementPerCell) {
   MeasurementSet set(config());
   const RandomScan scan = randomScan(9, 3000, 9.0);
   const auto m = copy(set.build(scan.origins, scan.endpoints));
   ASSERT_FALSE(m.empty());
-  for (std::size_t i = 1; i < m.size(); ++i) ASSERT_LT(m[i - 1].key, m[i].key) << "at " << i;
+  for (std::size_t i = 1; i < m.size(); ++i) ASSERT_TRUE(BrickOrder{}(m[i - 1].key, m[i].key)) << "at " << i;
+  // Brick order, not CellKey order: cells on both sides of a brick face interleave.
+  EXPECT_FALSE(
+      std::is_sorted(m.begin(), m.end(), [](const auto& a, const auto& b) { return a.key < b.key; }));
 }
 
 TEST(MeasurementSet, RayOrderDoesNotChangeTheResult) {

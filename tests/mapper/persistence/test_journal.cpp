@@ -241,7 +241,8 @@ TEST_F(JournalTest, MeasurementCodingRoundTripsAnySetExactly) {
   std::vector<ogf::Measurement> walk;  // small steps: every form, y mostly ±1
   ogf::CellKey at{0, 0, 0};
   for (int i = 0; i < 5000; ++i) {
-    at = at + ogf::CellKey{small(rng) == 0 ? small(rng) : 0, small(rng) > 1 ? small(rng) * 20 : 0, small(rng) * 30};
+    at = at + ogf::CellKey{small(rng) == 0 ? small(rng) : 0, small(rng) > 1 ? small(rng) * 20 : 0,
+                           small(rng) * (i % 2 == 0 ? 30 : 1)};
     walk.push_back({at, static_cast<std::int8_t>(i % 97 == 0 ? value(rng) : (i % 3 == 0 ? 1 : -1))});
   }
   sets.push_back(walk);
@@ -262,10 +263,17 @@ TEST_F(JournalTest, MeasurementCodingRoundTripsAnySetExactly) {
     EXPECT_FALSE(decodeMeasurements(std::span(bytes).first(bytes.size() - 1), set.size(), back));
   }
   std::vector<ogf::Measurement> back;
-  for (const unsigned tag : {0xC3U, 0xC4U, 0xE0U, 0xFFU}) {
+  for (const unsigned tag : {0xC3U, 0xC4U, 0xDFU}) {
     const std::vector<std::byte> bad{static_cast<std::byte>(tag), std::byte{0}, std::byte{0}, std::byte{0}};
     EXPECT_FALSE(decodeMeasurements(bad, 1, back)) << tag;
   }
+  // Form D (version 3 only): 0xE0 | (dx + 8) << 1 | o, then (dy + 8) << 4 | (dz + 8).
+  const std::vector<std::byte> formD{std::byte{0xE0 | (3 + 8) << 1 | 1}, std::byte{(-8 + 8) << 4 | (7 + 8)},
+                                     std::byte{0xE0 | (-8 + 8) << 1}, std::byte{(7 + 8) << 4 | (-1 + 8)}};
+  ASSERT_TRUE(decodeMeasurements(formD, 2, back));
+  EXPECT_EQ(back, (std::vector<ogf::Measurement>{{{3, -8, 7}, 1}, {{-5, -1, 6}, -1}}));
+  EXPECT_FALSE(decodeMeasurements(formD, 2, back, CodingVersion::k2));
+  EXPECT_FALSE(decodeMeasurements(std::span(formD).first(3), 2, back));  // the second byte of form D missing
   // A difference that leaves int32: x = INT32_MAX + 1.
   std::vector<std::byte> beyond;
   encodeMeasurements(std::vector<ogf::Measurement>{{{kHigh, 0, 0}, 1}}, beyond);
@@ -276,9 +284,9 @@ TEST_F(JournalTest, MeasurementCodingRoundTripsAnySetExactly) {
   EXPECT_FALSE(decodeMeasurements(beyond, 2, back));
 }
 
-// A scan's set comes sorted by cell: the coding takes a small part of the 13 bytes a measurement of the
-// fixed form took. Cells of a few rays' worth of shells and columns, sorted as MeasurementSet gives them.
-TEST_F(JournalTest, SortedScanLikeSetsTakeUnderTwoBytesAMeasurement) {
+// A scan's set comes brick by brick: the coding takes a small part of the 13 bytes a measurement of the
+// fixed form took. Cells of a few rays' worth of shells and columns, in the order MeasurementSet gives them.
+TEST_F(JournalTest, ScanLikeSetsTakeUnderTwoBytesAMeasurement) {
   std::mt19937 rng(12);
   std::bernoulli_distribution keep(0.35);
   std::vector<ogf::Measurement> set;
@@ -290,11 +298,16 @@ TEST_F(JournalTest, SortedScanLikeSetsTakeUnderTwoBytesAMeasurement) {
       for (int z = -2; z < top; ++z) set.push_back({{x, y, z}, static_cast<std::int8_t>(z == -2 ? 1 : -1)});
     }
   }
-  ASSERT_TRUE(std::is_sorted(set.begin(), set.end(), [](const auto& a, const auto& b) { return a.key < b.key; }));
+  // Bricks of 8 x 8 x 8 cells in key order, each brick's cells in key order.
+  const auto brick = [](const ogf::CellKey& k) { return ogf::CellKey{k.x >> 3, k.y >> 3, k.z >> 3}; };
+  std::sort(set.begin(), set.end(), [&](const auto& a, const auto& b) {
+    return brick(a.key) == brick(b.key) ? a.key < b.key : brick(a.key) < brick(b.key);
+  });
   std::vector<std::byte> bytes;
   encodeMeasurements(set, bytes);
   const double per = static_cast<double>(bytes.size()) / static_cast<double>(set.size());
   EXPECT_LT(per, 2.0) << set.size() << " measurements";
+
   std::vector<ogf::Measurement> back;
   ASSERT_TRUE(decodeMeasurements(bytes, set.size(), back));
   EXPECT_EQ(back, set);
@@ -349,6 +362,46 @@ TEST_F(JournalTest, VersionOneJournalIsReadAndContinued) {
   EXPECT_EQ(again->records[2].seq, 7);
   EXPECT_EQ(again->records[2].measurements, first);
   EXPECT_TRUE(again->damaged.empty());
+}
+
+// Records of coding version 2 ("JRC2", no form D) are still read; form D inside one is damage, not a step.
+TEST_F(JournalTest, CodingVersionTwoRecordsAreReadAndRefuseFormD) {
+  const auto path = dir_ / "journal";
+  // {1, 2, 3} by form C, {1, 2, 4} by form A; then a record whose only measurement is form D.
+  const std::vector<std::byte> version2{std::byte{0xC1}, std::byte{2}, std::byte{4}, std::byte{6},
+                                        std::byte{0}};
+  const std::vector<std::byte> formD{std::byte{0xE0 | (1 + 8) << 1 | 1}, std::byte{8 << 4 | 8}};
+  const std::vector<ogf::Measurement> set{{{1, 2, 3}, 1}, {{1, 2, 4}, -1}};
+  {
+    std::vector<std::byte> file;
+    for (char c : std::string("OGFJRNL1")) file.push_back(static_cast<std::byte>(c));
+    ogf::putLittleEndian<std::uint32_t>(file, 2);
+    ogf::putLittleEndian<std::int64_t>(file, 9);
+    ogf::putLittleEndian<std::int64_t>(file, 0);
+    ogf::putLittleEndian<std::uint32_t>(file, ogf::crc32(file.data(), file.size()));
+    std::int64_t seq = 1;
+    for (const auto& [coding, count] :
+         {std::pair{version2, 2U}, std::pair{formD, 1U}, std::pair{version2, 2U}}) {
+      const std::size_t start = file.size();
+      ogf::putLittleEndian<std::uint32_t>(file, 0x3243524A);  // "JRC2"
+      ogf::putLittleEndian<std::uint32_t>(file, count);
+      ogf::putLittleEndian<std::int64_t>(file, seq++);
+      ogf::putLittleEndian<std::int64_t>(file, 1000);
+      ogf::putLittleEndian<std::uint32_t>(file, static_cast<std::uint32_t>(coding.size()));
+      file.insert(file.end(), coding.begin(), coding.end());
+      ogf::putLittleEndian<std::uint32_t>(file, ogf::crc32(file.data() + start, file.size() - start));
+    }
+    std::ofstream(path, std::ios::binary)
+        .write(reinterpret_cast<const char*>(file.data()), static_cast<std::streamsize>(file.size()));
+  }
+  auto r = readJournal(path);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_EQ(r->records.size(), 2u);
+  EXPECT_EQ(r->records[0].seq, 1);
+  EXPECT_EQ(r->records[0].measurements, set);
+  EXPECT_EQ(r->records[1].seq, 3);
+  EXPECT_EQ(r->records[1].measurements, set);
+  ASSERT_EQ(r->damaged.size(), 1u);
 }
 
 // A record whose checksum holds but whose measurements are not a coding (written by no ogf) is damage:

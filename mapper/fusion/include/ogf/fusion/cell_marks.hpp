@@ -1,7 +1,8 @@
 // The cells one scan has marked free or occupied, kept as bits in 8×8×8 bricks found through a small
 // open-addressing table. Consecutive cells of a ray mostly fall in the brick of the previous one, so a mark
 // is usually a shift, a compare and an OR on a cache-hot brick; the table is only consulted when a ray
-// enters another brick. Read back in CellKey order with occupied winning over free (Sun et al. Sec. VI-B).
+// enters another brick. Read back brick by brick (BrickOrder) with occupied winning over free (Sun et al.
+// Sec. VI-B): the filter's blocks are these bricks, so it gets each block's measurements together.
 // Buffers are reused from scan to scan: no allocation in steady state.
 #pragma once
 
@@ -17,6 +18,16 @@
 
 namespace ogf::fusion {
 
+// The order of a scan's measurements: by brick (cell >> 3 on each axis, as the filter's blocks), bricks in
+// CellKey order, and by CellKey within a brick.
+struct BrickOrder {
+  bool operator()(const CellKey& a, const CellKey& b) const {
+    const CellKey ba{a.x >> 3, a.y >> 3, a.z >> 3};
+    const CellKey bb{b.x >> 3, b.y >> 3, b.z >> 3};
+    return ba == bb ? a < b : ba < bb;
+  }
+};
+
 class CellMarks {
  public:
   void clear();
@@ -29,7 +40,7 @@ class CellMarks {
   // leaves the brick; a store per cell would chain each mark to the last through memory.
   void markFree(const RayCaster& ray);
 
-  // Appends one measurement per marked cell to `out`, sorted by CellKey; occupied where both were marked.
+  // Appends one measurement per marked cell to `out`, in BrickOrder; occupied where both were marked.
   void appendSorted(std::vector<Measurement>& out);
 
   std::size_t brickCount() const { return used_; }

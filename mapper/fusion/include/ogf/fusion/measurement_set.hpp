@@ -3,9 +3,9 @@
 // traversal, RayCaster). One measurement per cell per scan: occupied wins over free for the same cell, which
 // is also what keeps a thin floor alive under the VLP-16's grazing rays. A return beyond max range is cut
 // there and gives free cells only; a return closer than min range is ignored; a beam with no return gives
-// free cells up to max range only when configured. The result is sorted by CellKey, so the same scan gives
-// the same measurements in the same order whatever the order of its rays (the filter's update depends on
-// the order, so the order must be fixed).
+// free cells up to max range only when configured. The result comes in BrickOrder (cell_marks.hpp), so the
+// same scan gives the same measurements in the same order whatever the order of its rays, and the filter
+// finds the measurements of each of its blocks together.
 //
 //   MeasurementSet set(config.measurement);     // once; buffers are reused from scan to scan
 //   set.begin();
@@ -49,7 +49,7 @@ class MeasurementSet {
   // A beam that did not return, along `direction` (any length > 0) from origin.
   void addNoReturn(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction);
 
-  // The scan's measurements, sorted by CellKey. Valid until the next begin().
+  // The scan's measurements, in BrickOrder. Valid until the next begin().
   std::span<const Measurement> finish();
 
   // begin(), addReturn for each pair, finish(). origins.size() must equal endpoints.size().

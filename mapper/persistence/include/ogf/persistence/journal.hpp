@@ -7,12 +7,12 @@
 //
 // Format (little-endian):
 //   header  "OGFJRNL1" | u32 version=2 | i64 map_id | i64 base_seq | u32 crc32(previous 28 bytes)
-//   record  u32 0x3243524A ("JRC2") | u32 n | i64 seq | i64 utime | u32 length | the n measurements in
-//           `length` bytes (measurement_coding.hpp, about 1.2 bytes a measurement for a scan's set)
-//           | u32 crc32(record so far)
-// Journals of version 1 are still read: their records are u32 0x4352524A ("JRRC") | u32 n | i64 seq |
-// i64 utime | n x (i32 x, i32 y, i32 z, i8 y) | u32 crc32(record so far). Each record names its own
-// form by its magic.
+//   record  u32 0x3343524A ("JRC3") | u32 n | i64 seq | i64 utime | u32 length | the n measurements in
+//           `length` bytes (measurement_coding.hpp, coding version 3, about 1.3 bytes a measurement for
+//           a scan's set) | u32 crc32(record so far)
+// Records u32 0x3243524A ("JRC2"), the same with coding version 2, are still read. Journals of version 1
+// are still read too: their records are u32 0x4352524A ("JRRC") | u32 n | i64 seq | i64 utime |
+// n x (i32 x, i32 y, i32 z, i8 y) | u32 crc32(record so far). Each record names its own form by its magic.
 // base_seq is the update sequence of the snapshot this journal continues; records carry seq > base_seq,
 // strictly increasing.
 #pragma once
