@@ -36,6 +36,16 @@ class JournalTest : public ::testing::Test {
     for (int i = 0; i < n; ++i) out.push_back({{c(rng), c(rng), c(rng)}, static_cast<std::int8_t>(i % 3 == 0 ? 1 : -1)});
     return out;
   }
+  // A journal header written by hand, for journals of older versions.
+  static std::vector<std::byte> header(std::uint32_t version, std::int64_t map_id, std::int64_t base_seq) {
+    std::vector<std::byte> file;
+    for (char c : std::string("OGFJRNL1")) file.push_back(static_cast<std::byte>(c));
+    ogf::putLittleEndian<std::uint32_t>(file, version);
+    ogf::putLittleEndian<std::int64_t>(file, map_id);
+    ogf::putLittleEndian<std::int64_t>(file, base_seq);
+    ogf::putLittleEndian<std::uint32_t>(file, ogf::crc32(file.data(), file.size()));
+    return file;
+  }
   fs::path dir_;
 };
 
@@ -319,12 +329,7 @@ TEST_F(JournalTest, VersionOneJournalIsReadAndContinued) {
   const std::vector<ogf::Measurement> first{{{1, 2, 3}, 1}, {{-4, 5, -6}, -1}};
   const std::vector<ogf::Measurement> second{{{7, 8, 9}, -1}};
   {
-    std::vector<std::byte> file;
-    for (char c : std::string("OGFJRNL1")) file.push_back(static_cast<std::byte>(c));
-    ogf::putLittleEndian<std::uint32_t>(file, 1);
-    ogf::putLittleEndian<std::int64_t>(file, 55);
-    ogf::putLittleEndian<std::int64_t>(file, 4);
-    ogf::putLittleEndian<std::uint32_t>(file, ogf::crc32(file.data(), file.size()));
+    std::vector<std::byte> file = header(1, 55, 4);
     std::int64_t seq = 5;
     for (const auto* set : {&first, &second}) {
       const std::size_t start = file.size();
@@ -373,12 +378,7 @@ TEST_F(JournalTest, CodingVersionTwoRecordsAreReadAndRefuseFormD) {
   const std::vector<std::byte> formD{std::byte{0xE0 | (1 + 8) << 1 | 1}, std::byte{8 << 4 | 8}};
   const std::vector<ogf::Measurement> set{{{1, 2, 3}, 1}, {{1, 2, 4}, -1}};
   {
-    std::vector<std::byte> file;
-    for (char c : std::string("OGFJRNL1")) file.push_back(static_cast<std::byte>(c));
-    ogf::putLittleEndian<std::uint32_t>(file, 2);
-    ogf::putLittleEndian<std::int64_t>(file, 9);
-    ogf::putLittleEndian<std::int64_t>(file, 0);
-    ogf::putLittleEndian<std::uint32_t>(file, ogf::crc32(file.data(), file.size()));
+    std::vector<std::byte> file = header(2, 9, 0);
     std::int64_t seq = 1;
     for (const auto& [coding, count] :
          {std::pair{version2, 2U}, std::pair{formD, 1U}, std::pair{version2, 2U}}) {
