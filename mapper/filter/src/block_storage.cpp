@@ -16,42 +16,25 @@ BlockStorage::BlockStorage(int dimensions, std::size_t floatsPerBlock)
       cellsPerBlock_(dimensions == 3 ? kBlockSide * kBlockSide * kBlockSide : kBlockSide * kBlockSide),
       floatsPerBlock_(floatsPerBlock) {}
 
-Block* BlockStorage::find(const CellKey& blockKey) {
-  const auto it = blocks_.find(blockKey);
-  return it == blocks_.end() ? nullptr : it->second.get();
-}
-
-const Block* BlockStorage::find(const CellKey& blockKey) const {
-  const auto it = blocks_.find(blockKey);
-  return it == blocks_.end() ? nullptr : it->second.get();
-}
-
 Block& BlockStorage::obtain(const CellKey& blockKey, bool& fresh) {
-  auto& slot = blocks_[blockKey];
-  fresh = slot == nullptr;
-  if (fresh) {
-    slot = std::make_unique<Block>(cellsPerBlock_, floatsPerBlock_);
-  }
-  slot->changed();  // handed out for writing
-  return *slot;
+  Block& block = blocks_.findOrInsert(
+      blockKey, [&] { return std::make_unique<Block>(cellsPerBlock_, floatsPerBlock_); }, fresh);
+  block.changed();  // handed out for writing
+  return block;
 }
 
 std::vector<CellKey> BlockStorage::sortedKeys() const {
   std::vector<CellKey> keys;
   keys.reserve(blocks_.size());
-  for (const auto& [key, block] : blocks_) {
-    keys.push_back(key);
-  }
+  blocks_.forEach([&](const CellKey& key, const Block&) { keys.push_back(key); });
   std::sort(keys.begin(), keys.end());
   return keys;
 }
 
 std::size_t BlockStorage::memoryBytes() const {
-  // Per block: the float arrays, the Block object, and an unordered_map node (key, pointer, next
-  // pointer, cached hash); plus one bucket pointer per bucket.
-  const std::size_t perBlock = floatsPerBlock_ * sizeof(float) + cellsPerBlock_ + sizeof(Block) +
-                               sizeof(CellKey) + 3 * sizeof(void*) + sizeof(std::size_t);
-  return blocks_.size() * perBlock + blocks_.bucket_count() * sizeof(void*);
+  // Per block: the float arrays and marks and the Block object; plus the table's slots (key and pointer).
+  const std::size_t perBlock = floatsPerBlock_ * sizeof(float) + cellsPerBlock_ + sizeof(Block);
+  return blocks_.size() * perBlock + blocks_.capacity() * BlockTable<Block>::bytesPerSlot();
 }
 
 }  // namespace ogf::filter

@@ -9,9 +9,9 @@
 #include <cstdint>
 #include <memory>
 #include <span>
-#include <unordered_map>
 #include <vector>
 
+#include "ogf/filter/block_table.hpp"
 #include "ogf/filter/filter_config.hpp"
 
 namespace ogf::filter {
@@ -75,8 +75,8 @@ class BlockStorage {
 
   std::size_t cellsPerBlock() const { return cellsPerBlock_; }
   std::size_t floatsPerBlock() const { return floatsPerBlock_; }
-  Block* find(const CellKey& blockKey);
-  const Block* find(const CellKey& blockKey) const;
+  Block* find(const CellKey& blockKey) { return blocks_.find(blockKey); }
+  const Block* find(const CellKey& blockKey) const { return blocks_.find(blockKey); }
   // The block, allocated (and `fresh` set) when missing. Not thread-safe.
   Block& obtain(const CellKey& blockKey, bool& fresh);
   std::size_t size() const { return blocks_.size(); }
@@ -85,12 +85,10 @@ class BlockStorage {
   // Every block in the table's order (not deterministic: for order-independent sums and for selections).
   template <class Visit>
   void forEachBlock(Visit visit) const {
-    for (const auto& [key, block] : blocks_) {
-      visit(key, *block);
-    }
+    blocks_.forEach(visit);
   }
   // Removes a block; false when there is none.
-  bool erase(const CellKey& blockKey) { return blocks_.erase(blockKey) != 0; }
+  bool erase(const CellKey& blockKey) { return blocks_.erase(blockKey); }
   // Bytes in use: block arrays and marks, block headers and the hash table.
   std::size_t memoryBytes() const;
   // Key of the cell at `local` in block `blockKey` (inline: the change detection calls it for every cell
@@ -106,7 +104,7 @@ class BlockStorage {
   int dimensions_;
   std::size_t cellsPerBlock_;
   std::size_t floatsPerBlock_;
-  std::unordered_map<CellKey, std::unique_ptr<Block>, CellKeyHash> blocks_;
+  BlockTable<Block> blocks_;
 };
 
 }  // namespace ogf::filter
