@@ -374,8 +374,9 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
     meansBefore.resize(cells);
     variancesBefore.resize(cells);
     std::size_t visited = 0;
-    for (const std::uint32_t t : touchedOrder) {
-      const TouchedBlock& block = batchWork.touched[t];
+    for (std::size_t k = 0; k < touchedOrder.size(); ++k) {
+      prefetchTouchedCells(batchWork, k + 1);
+      const TouchedBlock& block = batchWork.touched[touchedOrder[k]];
       const float* data = block.block->data();
       forEachBit(block.cells, [&](std::size_t l) {
         meansBefore[visited] = meanAt(data, l);
@@ -460,7 +461,9 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
       n = 0;
     };
     std::size_t visited = 0;
-    for (const std::uint32_t t : touchedOrder) {
+    for (std::size_t k = 0; k < touchedOrder.size(); ++k) {
+      prefetchTouchedCells(batchWork, k + 1);
+      const std::uint32_t t = touchedOrder[k];
       const TouchedBlock& block = batchWork.touched[t];
       const float* data = block.block->data();
       forEachBit(block.cells, [&](std::size_t l) {
@@ -481,6 +484,25 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
     flush();
   }
   return stats;
+}
+
+void BandedOgf::prefetchTouchedCells(const Batch& work, std::size_t k) const {
+  // Compact storage: the means of a z layer (64 cells) take four cache lines, their variance codes two.
+  if (!compact() || k >= work.touchedOrder.size()) {
+    return;
+  }
+  const TouchedBlock& block = work.touched[work.touchedOrder[k]];
+  const float* means = block.block->data();
+  const auto* codes = reinterpret_cast<const std::uint16_t*>(means + storage_.cellsPerBlock());
+  for (std::size_t layer = 0; layer < block.cells.size(); ++layer) {
+    if (block.cells[layer] != 0) {
+      for (std::size_t line = 0; line < 4; ++line) {
+        __builtin_prefetch(means + layer * 64 + line * 16);
+      }
+      __builtin_prefetch(codes + layer * 64);
+      __builtin_prefetch(codes + layer * 64 + 32);
+    }
+  }
 }
 
 void BandedOgf::dropClampedFree(std::span<Group> groups, UpdateStats& stats) {

@@ -217,6 +217,8 @@ class BandedOgf {
   // OccupiedPriority::kMap: whether a free measurement of the cell with this mark is held back (and the
   // mark counted on, or released); and the marks of a group's occupied measurements.
   bool holdBackFree(std::uint8_t& mark) const;
+  // Starts loading the cells the change detection reads in the k-th block of work.touchedOrder (if any).
+  void prefetchTouchedCells(const Batch& work, std::size_t k) const;
   static void markOccupied(Block& block, std::span<const std::uint16_t> codes);
   static constexpr unsigned kOwnBlock = 13;  // (0, 0, 0) in the 3×3×3 neighbourhood's numbering
   static constexpr std::size_t kPrefetchAhead = 4;
