@@ -26,7 +26,7 @@ class BlockTable {
       return nullptr;
     }
     const std::size_t mask = slots_.size() - 1;
-    for (std::size_t s = CellKeyHash{}(key)&mask;; s = (s + 1) & mask) {
+    for (std::size_t s = home(key);; s = (s + 1) & mask) {
       const Slot& slot = slots_[s];
       if (slot.value == nullptr || slot.key == key) {
         return slot.value.get();
@@ -65,8 +65,8 @@ class BlockTable {
     // Backward shift: a later slot of the run moves into the hole unless its home lies cyclically in
     // (hole, s], where it would no longer be found.
     for (std::size_t s = (hole + 1) & mask; slots_[s].value != nullptr; s = (s + 1) & mask) {
-      const std::size_t home = CellKeyHash{}(slots_[s].key) & mask;
-      const bool stays = hole <= s ? (hole < home && home <= s) : (hole < home || home <= s);
+      const std::size_t h = home(slots_[s].key);
+      const bool stays = hole <= s ? (hole < h && h <= s) : (hole < h || h <= s);
       if (!stays) {
         slots_[hole] = std::move(slots_[s]);
         hole = s;
@@ -91,10 +91,13 @@ class BlockTable {
     std::unique_ptr<Value> value;  // null: empty
   };
 
+  // The first slot `key` may be in (its run goes on from there).
+  std::size_t home(const CellKey& key) const { return CellKeyHash{}(key) & (slots_.size() - 1); }
+
   // The slot holding `key`, or the empty slot where it would go.
   std::size_t probe(const CellKey& key) const {
     const std::size_t mask = slots_.size() - 1;
-    std::size_t s = CellKeyHash{}(key)&mask;
+    std::size_t s = home(key);
     while (slots_[s].value != nullptr && !(slots_[s].key == key)) {
       s = (s + 1) & mask;
     }
