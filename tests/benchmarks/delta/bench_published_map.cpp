@@ -99,8 +99,8 @@ void BM_MemoryPerCell(benchmark::State& state) {
 }
 
 // A scan's worth of changed cells: `batch` cells of the shape in random order. The filter reports a scan's
-// changes block by block, each block's cells in order, so this is the worst case for the slab look-ups; a
-// street scan at 0.2 m costs ogf-bench-octomap --deltas about 50 ns a published cell.
+// changes block by block, each block's cells in order, so this is the worst case for the slab look-ups;
+// `ogf-bench-octomap --deltas` prints what the delta stream costs on a street scan in the filter's order.
 std::vector<PublishedCell> scanBatch(Shape shape, std::size_t batch, std::uint32_t salt) {
   std::vector<CellKey> keys = cellsOf(shape, batch);
   std::mt19937 rng(42);

@@ -8,7 +8,7 @@
 // Format (little-endian):
 //   header  "OGFJRNL1" | u32 version=2 | i64 map_id | i64 base_seq | u32 crc32(previous 28 bytes)
 //   record  u32 0x3343524A ("JRC3") | u32 n | i64 seq | i64 utime | u32 length | the n measurements in
-//           `length` bytes (measurement_coding.hpp, coding version 3, about 1.3 bytes a measurement for
+//           `length` bytes (measurement_coding.hpp, coding version 3, about 1.4 bytes a measurement for
 //           a scan's set) | u32 crc32(record so far)
 // Records u32 0x3243524A ("JRC2"), the same with coding version 2, are still read. Journals of version 1
 // are still read too: their records are u32 0x4352524A ("JRRC") | u32 n | i64 seq | i64 utime |
