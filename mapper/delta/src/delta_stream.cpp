@@ -11,8 +11,18 @@ DeltaStream::DeltaStream(const DeltaStreamConfig& config) : config_(config) {
 
 std::vector<ogf::map_delta_t> DeltaStream::update(std::int64_t utime, std::span<const PublishedCell> candidates) {
   changed_.clear();
-  for (const PublishedCell& c : candidates) {
-    if (map_.setIfVisiblyDiffers(c)) changed_.push_back(c);
+  // Candidates come in runs of one slab: each new slab's slot is asked for kAhead candidates ahead, so
+  // its look-up finds it in cache.
+  constexpr std::size_t kAhead = 128;
+  const std::size_t n = candidates.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i + kAhead < n) {
+      const CellKey& next = candidates[i + kAhead].key;
+      if (!(PublishedBlock::blockKeyOf(next) == PublishedBlock::blockKeyOf(candidates[i + kAhead - 1].key))) {
+        map_.prefetch(next);
+      }
+    }
+    if (map_.setIfVisiblyDiffers(candidates[i])) changed_.push_back(candidates[i]);
   }
   ++seq_;
   return split(utime, ogf::map_delta_t::KIND_DELTA, seq_ - 1, changed_);

@@ -38,15 +38,17 @@ PublishedValue valueOf(const PublishedCell& c) { return {c.probability, c.cell_c
 
 std::uint64_t cellChecksum(const PublishedCell& c) { return valueHash(keyHash(c.key), valueOf(c)); }
 
-void PublishedMap::set(const PublishedCell& cell) { put(blocks_[PublishedBlock::blockKeyOf(cell.key)], cell); }
+void PublishedMap::set(const PublishedCell& cell) {
+  last_ = nullptr;  // obtain() may move the slabs
+  put(blocks_.obtain(PublishedBlock::blockKeyOf(cell.key)), cell);
+}
 
 bool PublishedMap::setIfVisiblyDiffers(const PublishedCell& cell) {
   const CellKey blockKey = PublishedBlock::blockKeyOf(cell.key);
   // Candidates come in runs of one slab (the filter reports a block's cells in position order, x fastest):
   // the slab of the last one is checked before the table.
   if (last_ == nullptr || !(lastKey_ == blockKey)) {
-    const auto it = blocks_.find(blockKey);
-    last_ = it != blocks_.end() ? &it->second : nullptr;
+    last_ = blocks_.find(blockKey);
     lastKey_ = blockKey;
   }
   const unsigned local = PublishedBlock::localIndexOf(cell.key);
@@ -55,7 +57,7 @@ bool PublishedMap::setIfVisiblyDiffers(const PublishedCell& cell) {
   const PublishedValue old = present ? last_->valueAt(rank) : PublishedValue{};
   if (!cell.visiblyDiffers(cellOf(cell.key, old))) return false;
   // Only a cell that differs allocates a slab: candidates equal to the prior leave no trace.
-  if (last_ == nullptr) last_ = &blocks_[blockKey];  // nodes do not move when the table grows
+  if (last_ == nullptr) last_ = &blocks_.obtain(blockKey);  // other slabs may move; only this one is kept
   const std::uint64_t key_hash = keyHash(cell.key);
   if (present) {
     last_->replaceAt(rank, valueOf(cell));
@@ -83,9 +85,9 @@ void PublishedMap::put(PublishedBlock& block, const PublishedCell& cell) {
 }
 
 std::optional<PublishedCell> PublishedMap::find(const CellKey& key) const {
-  const auto it = blocks_.find(PublishedBlock::blockKeyOf(key));
-  if (it == blocks_.end()) return std::nullopt;
-  const auto value = it->second.find(PublishedBlock::localIndexOf(key));
+  const PublishedBlock* block = blocks_.find(PublishedBlock::blockKeyOf(key));
+  if (block == nullptr) return std::nullopt;
+  const auto value = block->find(PublishedBlock::localIndexOf(key));
   return value ? std::optional<PublishedCell>(cellOf(key, *value)) : std::nullopt;
 }
 
@@ -100,14 +102,14 @@ void PublishedMap::clear() {
 
 template <class Visit>
 void PublishedMap::forEachSlabIn(const CellKey& lo, const CellKey& hi, Visit visit) const {
-  if (blocks_.empty()) return;
+  if (blocks_.size() == 0) return;
   const CellKey a = PublishedBlock::blockKeyOf(lo);
   const CellKey b = PublishedBlock::blockKeyOf(hi - CellKey{1, 1, 1});
   for (std::int32_t z = a.z; z <= b.z; ++z)
     for (std::int32_t y = a.y; y <= b.y; ++y)
       for (std::int32_t x = a.x; x <= b.x; ++x) {
-        const auto it = blocks_.find(CellKey{x, y, z});
-        if (it != blocks_.end()) visit(it->first, it->second);
+        const CellKey key{x, y, z};
+        if (const PublishedBlock* block = blocks_.find(key)) visit(key, *block);
       }
 }
 
@@ -142,11 +144,12 @@ PublishedMap::Held PublishedMap::evict(const CellKey& lo, const CellKey& hi) {
 }
 
 void PublishedMap::restore(std::span<const PublishedCell> cells) {
+  last_ = nullptr;  // obtain() may move the slabs
   for (const PublishedCell& cell : cells) {
     const std::uint64_t hash = cellChecksum(cell);
     --held_.cells;
     held_.checksum -= hash;
-    PublishedBlock& block = blocks_[PublishedBlock::blockKeyOf(cell.key)];
+    PublishedBlock& block = blocks_.obtain(PublishedBlock::blockKeyOf(cell.key));
     const unsigned local = PublishedBlock::localIndexOf(cell.key);
     if (block.has(local)) {
       // Published again while held: the cell in memory is the newer, the held copy is dropped.
@@ -180,7 +183,7 @@ std::vector<PublishedCell> PublishedMap::sortedCells() const {
   // in z order.
   std::vector<std::pair<CellKey, const PublishedBlock*>> slabs;
   slabs.reserve(blocks_.size());
-  for (const auto& [key, block] : blocks_) slabs.emplace_back(key, &block);
+  blocks_.forEach([&](const CellKey& key, const PublishedBlock& block) { slabs.emplace_back(key, &block); });
   std::sort(slabs.begin(), slabs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
 
   std::vector<PublishedCell> out;
@@ -209,9 +212,7 @@ std::vector<PublishedCell> PublishedMap::sortedCells() const {
 }
 
 std::size_t PublishedMap::memoryBytes() const {
-  // A libstdc++ node holds the next pointer, the key and the slab (CellKeyHash is fast, so no cached hash).
-  constexpr std::size_t kNode = sizeof(void*) + sizeof(std::pair<const CellKey, PublishedBlock>);
-  return sizeof(*this) + blocks_.size() * kNode + blocks_.bucket_count() * sizeof(void*) +
+  return sizeof(*this) + blocks_.capacity() * SlabTable::bytesPerSlot() +
          stored_ * PublishedBlock::kCellBytes;
 }
 

@@ -146,9 +146,9 @@ TEST(PublishedMap, RandomSetsAndOverwritesAgreeWithAPlainMap) {
   }
 }
 
-// Stated bounds: at most 8.5 bytes per cell where the slabs are full (7 bytes of cell, the slab's hash node
-// and bucket shared by 64 cells); at most 17 per cell where each slab holds one row of 8 (a wall crossing
-// 8 × 8 × 1 slabs edge-on).
+// Stated bounds: at most 8.5 bytes per cell where the slabs are full (7 bytes of cell, and the slab's table
+// slots, 32 bytes each at 3/8 to 3/4 load, shared by 64 cells); at most 18 per cell where each slab holds one
+// row of 8 (a wall crossing 8 × 8 × 1 slabs edge-on).
 TEST(PublishedMap, MemoryPerCellIsWithinTheStatedBounds) {
   PublishedMap full;
   for (int x = -256; x < 256; ++x)
@@ -161,7 +161,7 @@ TEST(PublishedMap, MemoryPerCellIsWithinTheStatedBounds) {
   for (int y = -512; y < 512; ++y)
     for (int z = -32; z < 32; ++z) wall.set({{3, y, z}, 7000, 1, 0.5f});
   const double wallPerCell = static_cast<double>(wall.memoryBytes()) / static_cast<double>(wall.size());
-  EXPECT_LE(wallPerCell, 17.0);
+  EXPECT_LE(wallPerCell, 18.0);
   std::cout << "full slabs " << fullPerCell << " bytes per cell, one row per slab " << wallPerCell << "\n";
 }
 

@@ -11,11 +11,11 @@
 #include <cstdint>
 #include <optional>
 #include <span>
-#include <unordered_map>
 #include <vector>
 
 #include "ogf/delta/published_block.hpp"
 #include "ogf/delta/published_cell.hpp"
+#include "ogf/delta/slab_table.hpp"
 
 namespace ogf::delta {
 
@@ -27,6 +27,8 @@ class PublishedMap {
   // a cell never published reads as the prior); returns whether it did. One lookup where find() and set()
   // take two, for DeltaStream::update's per-cell test.
   bool setIfVisiblyDiffers(const PublishedCell& cell);
+  // A hint that the cell's slab is wanted soon (DeltaStream::update asks a few slabs ahead): nothing is read.
+  void prefetch(const CellKey& key) const { blocks_.prefetch(PublishedBlock::blockKeyOf(key)); }
   // The cell, or nullopt when it was never published. A copy: cells are stored packed, not as
   // PublishedCell objects.
   std::optional<PublishedCell> find(const CellKey& key) const;
@@ -59,8 +61,8 @@ class PublishedMap {
   // Every cell in memory in CellKey order (deterministic; for keyframes and exports).
   std::vector<PublishedCell> sortedCells() const;
 
-  // Bytes the storage holds: the cells' packed storage, the slabs and their hash-table nodes, and the
-  // bucket array. Counts what is asked of the allocator, not its own headers and rounding.
+  // Bytes the storage holds: the cells' packed storage and the slab table's slots. Counts what is asked of
+  // the allocator, not its own headers and rounding.
   std::size_t memoryBytes() const;
 
  private:
@@ -70,12 +72,12 @@ class PublishedMap {
   template <class Visit>
   void forEachSlabIn(const CellKey& lo, const CellKey& hi, Visit visit) const;
 
-  std::unordered_map<CellKey, PublishedBlock, CellKeyHash> blocks_;
+  SlabTable blocks_;
   std::size_t size_ = 0;
   std::size_t stored_ = 0;  // cells the slabs have room for (their capacities), for memoryBytes() in O(1)
   std::uint64_t checksum_ = 0;
   Held held_;
-  // setIfVisiblyDiffers' last slab (null: look it up); reset whenever a slab is erased.
+  // setIfVisiblyDiffers' last slab (null: look it up); reset whenever slabs may move (SlabTable).
   PublishedBlock* last_ = nullptr;
   CellKey lastKey_{};
 };
