@@ -70,8 +70,9 @@ class SlabTable {
     return true;
   }
 
+  // Empties the table and gives its slots back to the allocator.
   void clear() {
-    slots_.clear();
+    std::vector<Slot>().swap(slots_);
     size_ = 0;
   }
 
