@@ -8,6 +8,7 @@
 // next obtain() or erase().
 #pragma once
 
+#include <cassert>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -38,8 +39,9 @@ class SlabTable {
     return const_cast<PublishedBlock*>(std::as_const(*this).find(key));
   }
 
-  // The slab of `key`, an empty one added when there is none.
+  // The slab of `key`, an empty one added when there is none. `key` is a slab key (see kEmpty).
   PublishedBlock& obtain(const CellKey& key) {
+    assert(key.x != kEmpty);
     if ((size_ + 1) * 4 > slots_.size() * 3) grow();
     Slot& slot = slots_[probe(key)];
     if (slot.key.x == kEmpty) {
