@@ -43,7 +43,7 @@ Status PoseCorrectorConfig::validate() const {
 }
 
 Result<PoseCorrector> PoseCorrector::create(const PoseCorrectorConfig& config) {
-  PoseCorrector pc(config.mode);
+  PoseCorrector pc;
   if (config.mode == CorrectionMode::kNone) return pc;
   auto slam = GridFastSlam::create(effectiveSlamConfig(config));
   if (!slam) return slam.error();

@@ -47,10 +47,9 @@ class PoseCorrector {
   const GridFastSlam* slam() const { return slam_ ? &*slam_ : nullptr; }
 
  private:
-  explicit PoseCorrector(CorrectionMode mode) : mode_(mode) {}
+  PoseCorrector() = default;
 
-  CorrectionMode mode_;
-  std::optional<GridFastSlam> slam_;
+  std::optional<GridFastSlam> slam_;  // absent in mode none
   std::uint64_t next_scan_id_ = 0;
 };
 
