@@ -100,70 +100,88 @@ double tableCoordinate(double mean, double variance) { return (mean / std::sqrt(
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
-// tableState for four cells in 256-bit vectors: the same operations in the same order (no fused
-// multiply-add), so the same doubles as the scalar code. Returns a 4-bit mask of the cells it is not
-// certain of.
-__attribute__((target("avx2"))) unsigned tableStatesAvx2(const double* value, const double* slope, double occupiedZ,
-                                                         double freeZ, const float* means, const float* variances,
-                                                         PublishedState* state) {
+// tableState for cells [0, n), four at a time in 256-bit vectors (n a multiple of 4): the same operations
+// in the same order (no fused multiply-add), so the same doubles as the scalar code. The cells it is not
+// certain of go to `unsure` (their indices); returns how many. One call for many cells, so the constants
+// are set up once and the loop's iterations overlap.
+__attribute__((target("avx2"))) std::size_t tableStatesAvx2(const double* value, const double* slope,
+                                                            double occupiedZ, double freeZ,
+                                                            const float* means, const float* variances,
+                                                            PublishedState* state, std::size_t n,
+                                                            std::uint32_t* unsure) {
   const __m256d one = _mm256_set1_pd(1.0);
   const __m256d shift = _mm256_set1_pd(kRoundingShift);
   const __m256d signBit = _mm256_set1_pd(-0.0);
-  const __m256d m = _mm256_cvtps_pd(_mm_loadu_ps(means));
-  const __m256d s = _mm256_cvtps_pd(_mm_loadu_ps(variances));
-  // tableCoordinate
-  const __m256d u = _mm256_mul_pd(
-      _mm256_sub_pd(_mm256_div_pd(m, _mm256_sqrt_pd(_mm256_add_pd(one, s))), _mm256_set1_pd(kLow)),
-      _mm256_set1_pd(static_cast<double>(kNodesPerUnit)));
-  const __m256d inTable = _mm256_and_pd(_mm256_cmp_pd(u, _mm256_setzero_pd(), _CMP_GE_OQ),
-                                        _mm256_cmp_pd(u, _mm256_set1_pd(static_cast<double>(kIntervals)), _CMP_LT_OQ));
-  const __m256d v = _mm256_and_pd(u, inTable);
-  const __m256d nodeShifted = _mm256_add_pd(_mm256_sub_pd(v, _mm256_set1_pd(0.5)), shift);
-  const __m256d t = _mm256_sub_pd(v, _mm256_sub_pd(nodeShifted, shift));
-  const __m256i k = _mm256_sub_epi64(_mm256_castpd_si256(nodeShifted), _mm256_castpd_si256(shift));
-  // cubicHermite
-  const __m256d t2 = _mm256_mul_pd(t, t);
-  const __m256d t3 = _mm256_mul_pd(t2, t);
-  const __m256d h01 = _mm256_sub_pd(_mm256_mul_pd(_mm256_set1_pd(3.0), t2), _mm256_mul_pd(_mm256_set1_pd(2.0), t3));
-  const __m256d h00 = _mm256_sub_pd(one, h01);
-  const __m256d h10 = _mm256_add_pd(_mm256_sub_pd(t3, _mm256_mul_pd(_mm256_set1_pd(2.0), t2)), t);
-  const __m256d h11 = _mm256_sub_pd(t3, t2);
-  // The two nodes of each cell's interval by 128-bit loads (a gather is microcode on some CPUs), then
-  // transposed: (value[k], value[k + 1]) of cells 0 and 2, 1 and 3, unpacked into node k and node k + 1.
-  alignas(32) std::array<std::int64_t, 4> node{};
-  _mm256_store_si256(reinterpret_cast<__m256i*>(node.data()), k);
-  const __m256d valuesEven = _mm256_set_m128d(_mm_loadu_pd(value + node[2]), _mm_loadu_pd(value + node[0]));
-  const __m256d valuesOdd = _mm256_set_m128d(_mm_loadu_pd(value + node[3]), _mm_loadu_pd(value + node[1]));
-  const __m256d slopesEven = _mm256_set_m128d(_mm_loadu_pd(slope + node[2]), _mm_loadu_pd(slope + node[0]));
-  const __m256d slopesOdd = _mm256_set_m128d(_mm_loadu_pd(slope + node[3]), _mm_loadu_pd(slope + node[1]));
-  const __m256d v0 = _mm256_unpacklo_pd(valuesEven, valuesOdd);
-  const __m256d v1 = _mm256_unpackhi_pd(valuesEven, valuesOdd);
-  const __m256d d0 = _mm256_unpacklo_pd(slopesEven, slopesOdd);
-  const __m256d d1 = _mm256_unpackhi_pd(slopesEven, slopesOdd);
-  const __m256d hermite =
-      _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(h00, v0), _mm256_mul_pd(h01, v1)), _mm256_mul_pd(h10, d0)),
-                    _mm256_mul_pd(h11, d1));
-  const __m256d scaled = _mm256_mul_pd(hermite, _mm256_set1_pd(10000.0));
-  const __m256d roundedShifted = _mm256_add_pd(scaled, shift);
-  const __m256d fraction = _mm256_sub_pd(scaled, _mm256_sub_pd(roundedShifted, shift));
-  const __m256i q = _mm256_sub_epi64(_mm256_castpd_si256(roundedShifted), _mm256_castpd_si256(shift));
+  const __m256d low = _mm256_set1_pd(kLow);
+  const __m256d nodesPerUnit = _mm256_set1_pd(static_cast<double>(kNodesPerUnit));
+  const __m256d intervals = _mm256_set1_pd(static_cast<double>(kIntervals));
+  const __m256d half = _mm256_set1_pd(0.5);
+  const __m256d three = _mm256_set1_pd(3.0);
+  const __m256d two = _mm256_set1_pd(2.0);
+  const __m256d tenThousand = _mm256_set1_pd(10000.0);
   const __m256d oz = _mm256_set1_pd(occupiedZ);
   const __m256d fz = _mm256_set1_pd(freeZ);
-  const int above = _mm256_movemask_pd(_mm256_cmp_pd(m, oz, _CMP_GT_OQ));
-  const int below = _mm256_movemask_pd(_mm256_cmp_pd(m, fz, _CMP_LT_OQ));
   const __m256d classBand = _mm256_set1_pd(kClassBand);
-  const __m256d certain = _mm256_and_pd(
-      _mm256_and_pd(inTable, _mm256_cmp_pd(_mm256_andnot_pd(signBit, fraction), _mm256_set1_pd(0.5 - kRoundingBand),
-                                           _CMP_LE_OQ)),
-      _mm256_and_pd(_mm256_cmp_pd(_mm256_andnot_pd(signBit, _mm256_sub_pd(m, oz)), classBand, _CMP_GT_OQ),
-                    _mm256_cmp_pd(_mm256_andnot_pd(signBit, _mm256_sub_pd(m, fz)), classBand, _CMP_GT_OQ)));
-  alignas(32) std::array<std::int64_t, 4> quantised{};
-  _mm256_store_si256(reinterpret_cast<__m256i*>(quantised.data()), q);
-  for (unsigned i = 0; i < 4; ++i) {
-    state[i].quantisedProbability = static_cast<std::uint16_t>(quantised[i]);
-    state[i].occupancyClass = static_cast<std::int8_t>(static_cast<int>((above >> i) & 1) - ((below >> i) & 1));
+  const __m256d roundingLimit = _mm256_set1_pd(0.5 - kRoundingBand);
+  std::size_t unsureCount = 0;
+  for (std::size_t i = 0; i + 4 <= n; i += 4) {
+    const __m256d m = _mm256_cvtps_pd(_mm_loadu_ps(means + i));
+    const __m256d s = _mm256_cvtps_pd(_mm_loadu_ps(variances + i));
+    // tableCoordinate
+    const __m256d u = _mm256_mul_pd(
+        _mm256_sub_pd(_mm256_div_pd(m, _mm256_sqrt_pd(_mm256_add_pd(one, s))), low), nodesPerUnit);
+    const __m256d inTable = _mm256_and_pd(_mm256_cmp_pd(u, _mm256_setzero_pd(), _CMP_GE_OQ),
+                                          _mm256_cmp_pd(u, intervals, _CMP_LT_OQ));
+    const __m256d v = _mm256_and_pd(u, inTable);
+    const __m256d nodeShifted = _mm256_add_pd(_mm256_sub_pd(v, half), shift);
+    const __m256d t = _mm256_sub_pd(v, _mm256_sub_pd(nodeShifted, shift));
+    const __m256i k = _mm256_sub_epi64(_mm256_castpd_si256(nodeShifted), _mm256_castpd_si256(shift));
+    // cubicHermite
+    const __m256d t2 = _mm256_mul_pd(t, t);
+    const __m256d t3 = _mm256_mul_pd(t2, t);
+    const __m256d h01 = _mm256_sub_pd(_mm256_mul_pd(three, t2), _mm256_mul_pd(two, t3));
+    const __m256d h00 = _mm256_sub_pd(one, h01);
+    const __m256d h10 = _mm256_add_pd(_mm256_sub_pd(t3, _mm256_mul_pd(two, t2)), t);
+    const __m256d h11 = _mm256_sub_pd(t3, t2);
+    // The two nodes of each cell's interval by 128-bit loads (a gather is microcode on some CPUs), then
+    // transposed: (value[k], value[k + 1]) of cells 0 and 2, 1 and 3, unpacked into node k and node k + 1.
+    alignas(32) std::array<std::int64_t, 4> node{};
+    _mm256_store_si256(reinterpret_cast<__m256i*>(node.data()), k);
+    const __m256d valuesEven = _mm256_set_m128d(_mm_loadu_pd(value + node[2]), _mm_loadu_pd(value + node[0]));
+    const __m256d valuesOdd = _mm256_set_m128d(_mm_loadu_pd(value + node[3]), _mm_loadu_pd(value + node[1]));
+    const __m256d slopesEven = _mm256_set_m128d(_mm_loadu_pd(slope + node[2]), _mm_loadu_pd(slope + node[0]));
+    const __m256d slopesOdd = _mm256_set_m128d(_mm_loadu_pd(slope + node[3]), _mm_loadu_pd(slope + node[1]));
+    const __m256d v0 = _mm256_unpacklo_pd(valuesEven, valuesOdd);
+    const __m256d v1 = _mm256_unpackhi_pd(valuesEven, valuesOdd);
+    const __m256d d0 = _mm256_unpacklo_pd(slopesEven, slopesOdd);
+    const __m256d d1 = _mm256_unpackhi_pd(slopesEven, slopesOdd);
+    const __m256d hermite = _mm256_add_pd(
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(h00, v0), _mm256_mul_pd(h01, v1)), _mm256_mul_pd(h10, d0)),
+        _mm256_mul_pd(h11, d1));
+    const __m256d scaled = _mm256_mul_pd(hermite, tenThousand);
+    const __m256d roundedShifted = _mm256_add_pd(scaled, shift);
+    const __m256d fraction = _mm256_sub_pd(scaled, _mm256_sub_pd(roundedShifted, shift));
+    const __m256i q = _mm256_sub_epi64(_mm256_castpd_si256(roundedShifted), _mm256_castpd_si256(shift));
+    const int above = _mm256_movemask_pd(_mm256_cmp_pd(m, oz, _CMP_GT_OQ));
+    const int below = _mm256_movemask_pd(_mm256_cmp_pd(m, fz, _CMP_LT_OQ));
+    const __m256d certain = _mm256_and_pd(
+        _mm256_and_pd(inTable, _mm256_cmp_pd(_mm256_andnot_pd(signBit, fraction), roundingLimit, _CMP_LE_OQ)),
+        _mm256_and_pd(_mm256_cmp_pd(_mm256_andnot_pd(signBit, _mm256_sub_pd(m, oz)), classBand, _CMP_GT_OQ),
+                      _mm256_cmp_pd(_mm256_andnot_pd(signBit, _mm256_sub_pd(m, fz)), classBand, _CMP_GT_OQ)));
+    alignas(32) std::array<std::int64_t, 4> quantised{};
+    _mm256_store_si256(reinterpret_cast<__m256i*>(quantised.data()), q);
+    for (unsigned j = 0; j < 4; ++j) {
+      state[i + j].quantisedProbability = static_cast<std::uint16_t>(quantised[j]);
+      state[i + j].occupancyClass =
+          static_cast<std::int8_t>(static_cast<int>((above >> j) & 1) - ((below >> j) & 1));
+    }
+    for (unsigned rest = static_cast<unsigned>(~_mm256_movemask_pd(certain)) & 0xFU; rest != 0;
+         rest &= rest - 1) {
+      unsure[unsureCount++] =
+          static_cast<std::uint32_t>(i + static_cast<std::size_t>(std::countr_zero(rest)));
+    }
   }
-  return static_cast<unsigned>(~_mm256_movemask_pd(certain)) & 0xFU;
+  return unsureCount;
 }
 #endif
 
@@ -193,14 +211,20 @@ void PublishedStateRule::statesOf(std::span<const float> means, std::span<const 
   std::size_t done = 0;
 #if defined(__x86_64__) && defined(__GNUC__)
   if (avx2_) {
-    for (; done + 4 <= means.size(); done += 4) {
+    std::array<std::uint32_t, kStage> unsure{};
+    for (; done + 4 <= means.size(); done += kStage) {
+      const std::size_t n = std::min(kStage, means.size() - done) / 4 * 4;
       const float* m = means.data() + done;
       const float* s = variances.data() + done;
       PublishedState* state = out.data() + done;
-      for (unsigned rest = tableStatesAvx2(value_, slope_, occupiedZ_, freeZ_, m, s, state); rest != 0;
-           rest &= rest - 1) {
-        const auto j = static_cast<std::size_t>(std::countr_zero(rest));
-        state[j] = exactStateOf(static_cast<double>(m[j]), static_cast<double>(s[j]));
+      const std::size_t count =
+          tableStatesAvx2(value_, slope_, occupiedZ_, freeZ_, m, s, state, n, unsure.data());
+      for (std::size_t j = 0; j < count; ++j) {
+        state[unsure[j]] = exactStateOf(static_cast<double>(m[unsure[j]]), static_cast<double>(s[unsure[j]]));
+      }
+      if (n < kStage) {
+        done += n;
+        break;
       }
     }
   }
