@@ -1,6 +1,7 @@
-// SlabTable against std::unordered_map: random look-ups, additions and erases in a small key range (so probe
-// runs collide, wrap around the table's end and shift back on erase), each slab carrying a value that names
-// it, the whole table compared every few steps, and the table growing past several doublings.
+// SlabTable (a CellKeyTable at most 3/4 full, the slabs in its slots) against std::unordered_map: random
+// look-ups, additions and erases in a small key range (so probe runs collide, wrap around the table's end
+// and shift back on erase), each slab carrying a value that names it, the whole table compared every few
+// steps, and the table growing past several doublings.
 #include <gtest/gtest.h>
 
 #include <random>
