@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -13,6 +13,7 @@
 #include <thread>
 #include <utility>
 
+#include "ogf/filter/layer_changes.hpp"
 #include "ogf/filter/map_checksum.hpp"
 #include "ogf/filter/occupancy.hpp"
 #include "ogf/filter/probit_update.hpp"
@@ -127,12 +128,16 @@ Result<BandedOgf> BandedOgf::create(const FilterConfig& config) {
 }
 
 BandedOgf::BandedOgf(const FilterConfig& resolved)
-    : config_(resolved), prior_(resolved.prior()), stencil_(resolved.dimensions, resolved.stencilShape()),
+    : config_(resolved),
+      prior_(resolved.prior()),
+      stencil_(resolved.dimensions, resolved.stencilShape()),
       storage_(resolved.dimensions, floatsPerBlockOf(resolved.dimensions, resolved.covariance, stencil_)),
       published_(resolved.occupiedThreshold, resolved.freeThreshold),
       band_(stencil_, resolved.dimensions, resolved.covariance),
       locate_(resolved.covariance == CovarianceStorage::kBanded ? bandLocateFor(band_) : &compactBandLocate),
-      kernel_(resolved.covariance == CovarianceStorage::kBanded ? bandKernelFor(band_) : compactBandKernelFor(band_)) {
+      kernel_(resolved.covariance == CovarianceStorage::kBanded ? bandKernelFor(band_)
+                                                                : compactBandKernelFor(band_)),
+      layerChanges_(layerChangesFor(cpuHasFma())) {
   if (resolved.covariance == CovarianceStorage::kBanded) {
     for (const CellKey& o : stencil_.forwardOffsets()) {
       priorSlots_.push_back(static_cast<float>(prior_(o)));
@@ -219,12 +224,25 @@ Block& BandedOgf::obtainBlock(const CellKey& blockKey, std::size_t& allocated) {
   return block;
 }
 
+inline bool BandedOgf::holdBackFree(std::uint8_t& mark) const {
+  if ((mark & CellMark::kHit) == 0) {
+    return false;
+  }
+  const int count = (mark & CellMark::kCount) + 1;
+  if (config_.freeReleaseCount == 0 || count < config_.freeReleaseCount) {
+    mark = static_cast<std::uint8_t>(CellMark::kHit | std::min(count, static_cast<int>(CellMark::kCount)));
+    return true;
+  }
+  mark = 0;  // released: free measurements apply again until the next occupied one
+  return false;
+}
+
 UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* sink) {
   UpdateStats stats;
   const bool flat = config_.dimensions == 2;
 
   // 1. The blocks of the batch (a group each), and per measurement its group and a code (position in the
-  //    block, y). Consecutive measurements mostly share a block: the last one is checked first.
+  //    block, y).
   Batch& batchWork = scratch_;
   batchWork.blocks.clear();
   batchWork.touchedIndex.clear();
@@ -233,42 +251,83 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   batchWork.codes.resize(batch.size());
   std::size_t accepted = 0;
   std::vector<Group> groups;
-  CellKey lastBlock{};
-  std::uint32_t lastGroup = BlockKeyTable::kAbsent;
   const bool occupiedPriority = config_.occupiedPriority == OccupiedPriority::kMap;
-  for (const Measurement& m : batch) {
-    if ((m.y != 1 && m.y != -1) || (flat && m.key.z != 0)) {
-      ++stats.rejected;
-      continue;
+  const bool readsBlocks = occupiedPriority || dropsClampedFree_;
+  // Runs of consecutive measurements in one block (a scan's come block by block), each run's block looked
+  // up once. The blocks of the runs ahead are asked of the CPU in stages, the table's slot, then the
+  // block's header, then its marks: a scan reaches thousands of blocks, far more than the cache holds.
+  std::vector<std::size_t>& runs = batchWork.runs;
+  runs.clear();
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    if (i == 0 || !(blockKeyOf(batch[i].key) == blockKeyOf(batch[i - 1].key))) {
+      runs.push_back(i);
     }
-    const CellKey block = blockKeyOf(m.key);
-    if (lastGroup == BlockKeyTable::kAbsent || !(block == lastBlock)) {
-      bool inserted = false;
-      lastGroup = batchWork.blocks.findOrInsert(block, static_cast<std::uint32_t>(groups.size()), inserted);
-      lastBlock = block;
-      if (inserted) {
-        Block* existing = occupiedPriority || dropsClampedFree_ ? batchWork.touched[lookUp(block)].block : nullptr;
-        std::uint8_t* marks = nullptr;
-        if (existing != nullptr && occupiedPriority) {
-          existing->changed();  // holding back free measurements counts on the marks
-          marks = existing->marks().data();
+  }
+  runs.push_back(batch.size());
+  const std::size_t runCount = runs.size() - 1;
+  const auto runBlock = [&](std::size_t r) { return blockKeyOf(batch[runs[r]].key); };
+  for (std::size_t r = 0; r < runCount; ++r) {
+    if (readsBlocks) {
+      if (r + kRunSlotAhead < runCount) {
+        storage_.prefetch(runBlock(r + kRunSlotAhead));
+      }
+      if (r + kRunHeaderAhead < runCount) {
+        if (const Block* b = storage_.find(runBlock(r + kRunHeaderAhead)); b != nullptr) {
+          __builtin_prefetch(b, 1);
         }
-        groups.push_back({block, colourOf(block), 0, 0, 0, marks, existing != nullptr ? existing->data() : nullptr});
+      }
+      if (occupiedPriority && r + kRunMarksAhead < runCount) {
+        if (const Block* b = storage_.find(runBlock(r + kRunMarksAhead)); b != nullptr) {
+          const std::span<const std::uint8_t> marks = b->marks();
+          for (std::size_t line = 0; line < marks.size(); line += 64) {
+            __builtin_prefetch(marks.data() + line, 1);
+          }
+        }
       }
     }
-    const std::size_t local = localIndexOf(m.key);
-    Group& g = groups[lastGroup];
-    // A cell's marks before the batch decide (occupied measurements mark it in step 3), so the outcome does
-    // not depend on the order of the batch.
-    if (m.y < 0 && g.marks != nullptr && holdBackFree(g.marks[local])) {
-      ++stats.heldBack;
-      continue;
+    const CellKey block = runBlock(r);
+    std::uint32_t group = BlockKeyTable::kAbsent;
+    std::uint32_t neighbours = 0;
+    std::size_t count = 0;
+    std::uint8_t* marks = nullptr;
+    for (std::size_t i = runs[r]; i < runs[r + 1]; ++i) {
+      const Measurement& m = batch[i];
+      if ((m.y != 1 && m.y != -1) || (flat && m.key.z != 0)) {
+        ++stats.rejected;
+        continue;
+      }
+      if (group == BlockKeyTable::kAbsent) {
+        bool inserted = false;
+        group = batchWork.blocks.findOrInsert(block, static_cast<std::uint32_t>(groups.size()), inserted);
+        if (inserted) {
+          Block* existing = readsBlocks ? batchWork.touched[lookUp(block)].block : nullptr;
+          std::uint8_t* existingMarks = nullptr;
+          if (existing != nullptr && occupiedPriority) {
+            existing->changed();  // holding back free measurements counts on the marks
+            existingMarks = existing->marks().data();
+          }
+          groups.push_back({block, colourOf(block), 0, 0, 0, existingMarks,
+                            existing != nullptr ? existing->data() : nullptr});
+        }
+        marks = groups[group].marks;
+      }
+      const std::size_t local = localIndexOf(m.key);
+      // A cell's marks before the batch decide (occupied measurements mark it in step 3), so the outcome
+      // does not depend on the order of the batch.
+      if (m.y < 0 && marks != nullptr && holdBackFree(marks[local])) {
+        ++stats.heldBack;
+        continue;
+      }
+      neighbours |= neighbourMask_[local];
+      ++count;
+      batchWork.groupOf[accepted] = group;
+      batchWork.codes[accepted] = static_cast<std::uint16_t>((local << 1) | (m.y > 0 ? 1U : 0U));
+      ++accepted;
     }
-    g.neighbours |= neighbourMask_[local];
-    ++g.end;  // the count for now
-    batchWork.groupOf[accepted] = lastGroup;
-    batchWork.codes[accepted] = static_cast<std::uint16_t>((local << 1) | (m.y > 0 ? 1U : 0U));
-    ++accepted;
+    if (group != BlockKeyTable::kAbsent) {
+      groups[group].neighbours |= neighbours;
+      groups[group].end += count;  // the count for now
+    }
   }
   batchWork.groupOf.resize(accepted);
   batchWork.codes.resize(accepted);
@@ -365,24 +424,27 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
     std::sort(touchedOrder.begin(), touchedOrder.end(), [&](std::uint32_t a, std::uint32_t b) {
       return batchWork.touched[a].key < batchWork.touched[b].key;
     });
-    std::size_t cells = 0;
-    for (const TouchedBlock& block : batchWork.touched) {
-      for (const std::uint64_t word : block.cells) {
-        cells += static_cast<std::size_t>(std::popcount(word));
+    if (compact()) {
+      copyTouchedLayers(batchWork);
+    } else {
+      std::size_t cells = 0;
+      for (const TouchedBlock& block : batchWork.touched) {
+        for (const std::uint64_t word : block.cells) {
+          cells += static_cast<std::size_t>(std::popcount(word));
+        }
       }
-    }
-    meansBefore.resize(cells);
-    variancesBefore.resize(cells);
-    std::size_t visited = 0;
-    for (std::size_t k = 0; k < touchedOrder.size(); ++k) {
-      prefetchTouchedCells(batchWork, k + 1);
-      const TouchedBlock& block = batchWork.touched[touchedOrder[k]];
-      const float* data = block.block->data();
-      forEachBit(block.cells, [&](std::size_t l) {
-        meansBefore[visited] = meanAt(data, l);
-        variancesBefore[visited] = storedVarianceAt(data, l);
-        ++visited;
-      });
+      meansBefore.resize(cells);
+      variancesBefore.resize(cells);
+      std::size_t visited = 0;
+      for (std::size_t k = 0; k < touchedOrder.size(); ++k) {
+        const TouchedBlock& block = batchWork.touched[touchedOrder[k]];
+        const float* data = block.block->data();
+        forEachBit(block.cells, [&](std::size_t l) {
+          meansBefore[visited] = meanAt(data, l);
+          variancesBefore[visited] = storedVarianceAt(data, l);
+          ++visited;
+        });
+      }
     }
   }
 
@@ -460,48 +522,106 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
       sink->cellsChanged(std::span(changes).first(changed));
       n = 0;
     };
-    std::size_t visited = 0;
-    for (std::size_t k = 0; k < touchedOrder.size(); ++k) {
-      prefetchTouchedCells(batchWork, k + 1);
-      const std::uint32_t t = touchedOrder[k];
-      const TouchedBlock& block = batchWork.touched[t];
-      const float* data = block.block->data();
-      forEachBit(block.cells, [&](std::size_t l) {
-        const float mean = meanAt(data, l);
-        const std::uint32_t stored = storedVarianceAt(data, l);
-        means1[n] = mean;
-        stored1[n] = stored;
-        means0[n] = meansBefore[visited];
-        stored0[n] = variancesBefore[visited];
-        where[n] = t << 9 | static_cast<std::uint32_t>(l);
-        n += static_cast<std::size_t>(!(mean == meansBefore[visited] && stored == variancesBefore[visited]));
-        ++visited;
-        if (n == kChunk) {
-          flush();
+    if (compact()) {
+      // A layer at a time: the cells whose mean or code differ from the copy, found in vectors, then only
+      // those read.
+      const std::size_t cellsPerBlock = storage_.cellsPerBlock();
+      const std::vector<TouchedLayer>& layers = batchWork.touchedLayers;
+      for (std::size_t e = 0; e < layers.size(); ++e) {
+        if (e + 1 < layers.size() && layers[e + 1].touched != layers[e].touched) {
+          prefetchTouchedLayers(batchWork, e + 1);
         }
-      });
+        const TouchedLayer& layer = layers[e];
+        const float* data = batchWork.touched[layer.touched].block->data();
+        const float* means = data + layer.layer * kLayerCells;
+        const auto* codes =
+            reinterpret_cast<const std::uint16_t*>(data + cellsPerBlock) + layer.layer * kLayerCells;
+        const float* meansCopy = batchWork.layerMeansBefore.data() + e * kLayerCells;
+        const std::uint16_t* codesCopy = batchWork.layerCodesBefore.data() + e * kLayerCells;
+        const std::uint32_t base = layer.touched << 9 | layer.layer * static_cast<std::uint32_t>(kLayerCells);
+        for (std::uint64_t rest = layer.cells & layerChanges_(means, codes, meansCopy, codesCopy); rest != 0;
+             rest &= rest - 1) {
+          const auto j = static_cast<std::size_t>(std::countr_zero(rest));
+          means1[n] = means[j];
+          stored1[n] = codes[j];
+          means0[n] = meansCopy[j];
+          stored0[n] = codesCopy[j];
+          where[n] = base | static_cast<std::uint32_t>(j);
+          if (++n == kChunk) {
+            flush();
+          }
+        }
+      }
+    } else {
+      std::size_t visited = 0;
+      for (std::size_t k = 0; k < touchedOrder.size(); ++k) {
+        const std::uint32_t t = touchedOrder[k];
+        const TouchedBlock& block = batchWork.touched[t];
+        const float* data = block.block->data();
+        forEachBit(block.cells, [&](std::size_t l) {
+          const float mean = meanAt(data, l);
+          const std::uint32_t stored = storedVarianceAt(data, l);
+          means1[n] = mean;
+          stored1[n] = stored;
+          means0[n] = meansBefore[visited];
+          stored0[n] = variancesBefore[visited];
+          where[n] = t << 9 | static_cast<std::uint32_t>(l);
+          n +=
+              static_cast<std::size_t>(!(mean == meansBefore[visited] && stored == variancesBefore[visited]));
+          ++visited;
+          if (n == kChunk) {
+            flush();
+          }
+        });
+      }
     }
     flush();
   }
   return stats;
 }
 
-void BandedOgf::prefetchTouchedCells(const Batch& work, std::size_t k) const {
-  // Compact storage: the means of a z layer (64 cells) take four cache lines, their variance codes two.
-  if (!compact() || k >= work.touchedOrder.size()) {
-    return;
-  }
-  const TouchedBlock& block = work.touched[work.touchedOrder[k]];
-  const float* means = block.block->data();
-  const auto* codes = reinterpret_cast<const std::uint16_t*>(means + storage_.cellsPerBlock());
-  for (std::size_t layer = 0; layer < block.cells.size(); ++layer) {
-    if (block.cells[layer] != 0) {
-      for (std::size_t line = 0; line < 4; ++line) {
-        __builtin_prefetch(means + layer * 64 + line * 16);
+void BandedOgf::copyTouchedLayers(Batch& work) const {
+  // The touched layers in block key order, then their means and codes copied before the updates.
+  std::vector<TouchedLayer>& layers = work.touchedLayers;
+  layers.clear();
+  for (const std::uint32_t t : work.touchedOrder) {
+    const std::array<std::uint64_t, 8>& cells = work.touched[t].cells;
+    for (std::uint32_t layer = 0; layer < cells.size(); ++layer) {
+      if (cells[layer] != 0) {
+        layers.push_back({t, layer, cells[layer]});
       }
-      __builtin_prefetch(codes + layer * 64);
-      __builtin_prefetch(codes + layer * 64 + 32);
     }
+  }
+  work.layerMeansBefore.resize(layers.size() * kLayerCells);
+  work.layerCodesBefore.resize(layers.size() * kLayerCells);
+  const std::size_t cellsPerBlock = storage_.cellsPerBlock();
+  for (std::size_t e = 0; e < layers.size(); ++e) {
+    if (e + 1 < layers.size() && layers[e + 1].touched != layers[e].touched) {
+      prefetchTouchedLayers(work, e + 1);
+    }
+    const float* data = work.touched[layers[e].touched].block->data();
+    const auto* codes = reinterpret_cast<const std::uint16_t*>(data + cellsPerBlock);
+    std::memcpy(work.layerMeansBefore.data() + e * kLayerCells, data + layers[e].layer * kLayerCells,
+                kLayerCells * sizeof(float));
+    std::memcpy(work.layerCodesBefore.data() + e * kLayerCells, codes + layers[e].layer * kLayerCells,
+                kLayerCells * sizeof(std::uint16_t));
+  }
+}
+
+void BandedOgf::prefetchTouchedLayers(const Batch& work, std::size_t e) const {
+  // The touched layers of the block whose first touched layer is e: a layer's 64 means take four cache
+  // lines, their variance codes two.
+  const std::vector<TouchedLayer>& layers = work.touchedLayers;
+  const std::uint32_t t = layers[e].touched;
+  const float* data = work.touched[t].block->data();
+  const auto* codes = reinterpret_cast<const std::uint16_t*>(data + storage_.cellsPerBlock());
+  for (; e < layers.size() && layers[e].touched == t; ++e) {
+    const std::size_t first = layers[e].layer * kLayerCells;
+    for (std::size_t line = 0; line < 4; ++line) {
+      __builtin_prefetch(data + first + line * 16);
+    }
+    __builtin_prefetch(codes + first);
+    __builtin_prefetch(codes + first + 32);
   }
 }
 
@@ -538,28 +658,52 @@ void BandedOgf::dropClampedFree(std::span<Group> groups, UpdateStats& stats) {
   // z = −μ/√(1+s) > c tested as μ² > c²(1+s) with μ < 0, a relative 1e-9 to spare so that rounding in
   // either form cannot drop a measurement applyMeasurement's z would keep (μ² of a float is exact in double).
   const double bound = freeClampZ_ * freeClampZ_ * (1.0 + 1e-9);
+  const std::size_t n = work.codes.size();
   std::size_t kept = 0;
-  for (std::size_t i = 0; i < work.codes.size(); ++i) {
+  std::size_t dropped = 0;
+  std::uint32_t dropGroup = n > 0 ? work.groupOf[0] : 0;  // the group of the run being read, and its drops
+  std::size_t droppedInGroup = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    // The mean and code of the measurement kDropAhead places on: the blocks are too many to stay in cache.
+    if (i + kDropAhead < n) {
+      const float* ahead = groups[work.groupOf[i + kDropAhead]].data;
+      if (ahead != nullptr) {
+        const std::size_t local = work.codes[i + kDropAhead] >> 1;
+        __builtin_prefetch(ahead + local);
+        __builtin_prefetch(reinterpret_cast<const std::uint16_t*>(ahead + storage_.cellsPerBlock()) + local);
+      }
+    }
     const std::uint16_t code = work.codes[i];
     const std::uint32_t g = work.groupOf[i];
     const float* data = groups[g].data;  // null for a new block: its cells are at the prior, z = 0
     const std::size_t local = code >> 1;
-    if ((code & 1U) == 0 && data != nullptr && ((reach[g][local >> 6] >> (local & 63U)) & 1U) == 0) {
+    // Without a branch on the outcome, which a scan's measurements leave unpredictable (about half go).
+    unsigned drop = 0;
+    if (data != nullptr) {
       const float ratio =
           decodeVarianceRatio(reinterpret_cast<const std::uint16_t*>(data + storage_.cellsPerBlock())[local]);
       const auto mean = static_cast<double>(data[local]);
-      if (ratio >= floorRatio && mean < 0.0 &&
-          mean * mean > bound * (1.0 + static_cast<double>(priorVariance_ * ratio))) {
-        ++stats.skipped;
-        ++stats.skippedEarly;
-        --groups[g].end;
-        continue;
-      }
+      drop = static_cast<unsigned>((code & 1U) == 0) &
+             static_cast<unsigned>(((reach[g][local >> 6] >> (local & 63U)) & 1U) == 0) &
+             static_cast<unsigned>(ratio >= floorRatio) & static_cast<unsigned>(mean < 0.0) &
+             static_cast<unsigned>(mean * mean > bound * (1.0 + static_cast<double>(priorVariance_ * ratio)));
     }
+    if (g != dropGroup) {
+      groups[dropGroup].end -= droppedInGroup;
+      dropGroup = g;
+      droppedInGroup = 0;
+    }
+    droppedInGroup += drop;
+    dropped += drop;
     work.codes[kept] = code;
     work.groupOf[kept] = g;
-    ++kept;
+    kept += 1U - drop;
   }
+  if (n > 0) {
+    groups[dropGroup].end -= droppedInGroup;
+  }
+  stats.skipped += dropped;
+  stats.skippedEarly += dropped;
   work.codes.resize(kept);
   work.groupOf.resize(kept);
 }
@@ -592,19 +736,6 @@ void BandedOgf::applyRun(std::span<const Group> groups, std::span<const std::uin
       ++stats.skipped;
     }
   }
-}
-
-bool BandedOgf::holdBackFree(std::uint8_t& mark) const {
-  if ((mark & CellMark::kHit) == 0) {
-    return false;
-  }
-  const int count = (mark & CellMark::kCount) + 1;
-  if (config_.freeReleaseCount == 0 || count < config_.freeReleaseCount) {
-    mark = static_cast<std::uint8_t>(CellMark::kHit | std::min(count, static_cast<int>(CellMark::kCount)));
-    return true;
-  }
-  mark = 0;  // released: free measurements apply again until the next occupied one
-  return false;
 }
 
 void BandedOgf::markOccupied(Block& block, std::span<const std::uint16_t> codes) {

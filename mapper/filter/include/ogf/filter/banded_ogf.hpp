@@ -25,6 +25,7 @@
 #include "ogf/filter/filter_config.hpp"
 #include "ogf/filter/inverse_mills_table.hpp"
 #include "ogf/filter/kernel.hpp"
+#include "ogf/filter/layer_changes.hpp"
 #include "ogf/filter/measurement.hpp"
 #include "ogf/filter/published_state.hpp"
 #include "ogf/filter/result.hpp"
@@ -179,12 +180,19 @@ class BandedOgf {
     bool written = false;  // obtained for the updates (BlockStorage::obtain: allocated, hash forgotten)
     std::array<std::uint64_t, 8> cells{};
   };
+  // A z layer of a touched block with cells the updates can change (compact storage's change detection).
+  struct TouchedLayer {
+    std::uint32_t touched = 0;  // in Batch::touched
+    std::uint32_t layer = 0;
+    std::uint64_t cells = 0;  // bit per position in the layer
+  };
   // Reused from batch to batch: the batch's blocks, per measurement its group and code (position << 1 | y),
   // the codes in the order of application, per group the data of its 3×3×3 neighbourhood of blocks; every
   // block looked up, numbered (the map's table is searched once per block and batch, not once per group
   // that neighbours it) and, with a change sink, per group and neighbour the block's number.
   struct Batch {
     BlockKeyTable blocks;
+    std::vector<std::size_t> runs;  // where each run of measurements in one block starts; the batch's end
     std::vector<std::uint32_t> groupOf;
     std::vector<std::uint16_t> codes;
     std::vector<std::uint16_t> sorted;
@@ -193,8 +201,12 @@ class BandedOgf {
     std::vector<TouchedBlock> touched;
     std::vector<std::uint32_t> groupTouched;
     std::vector<std::uint32_t> touchedOrder;
-    std::vector<float> meansBefore;  // of each touched cell before the batch: its mean
+    std::vector<float> meansBefore;  // banded storage: of each touched cell before the batch, its mean
     std::vector<std::uint32_t> variancesBefore;  // and its stored variance (storedVarianceAt)
+    // Compact storage: the touched layers in block key order, and their 64 means and codes before the batch.
+    std::vector<TouchedLayer> touchedLayers;
+    std::vector<float> layerMeansBefore;
+    std::vector<std::uint16_t> layerCodesBefore;
     std::vector<std::array<std::uint64_t, 8>> occupiedReach;  // dropClampedFree's per-group cells
     std::vector<std::uint32_t> around;
   };
@@ -217,11 +229,20 @@ class BandedOgf {
   // OccupiedPriority::kMap: whether a free measurement of the cell with this mark is held back (and the
   // mark counted on, or released); and the marks of a group's occupied measurements.
   bool holdBackFree(std::uint8_t& mark) const;
-  // Starts loading the cells the change detection reads in the k-th block of work.touchedOrder (if any).
-  void prefetchTouchedCells(const Batch& work, std::size_t k) const;
+  // Compact storage: lists the touched layers of work.touched in work.touchedOrder and copies their means
+  // and codes (the change detection's state before the batch).
+  void copyTouchedLayers(Batch& work) const;
+  // Starts loading the touched layers of the block whose first touched layer is work.touchedLayers[e].
+  void prefetchTouchedLayers(const Batch& work, std::size_t e) const;
   static void markOccupied(Block& block, std::span<const std::uint16_t> codes);
   static constexpr unsigned kOwnBlock = 13;  // (0, 0, 0) in the 3×3×3 neighbourhood's numbering
   static constexpr std::size_t kPrefetchAhead = 4;
+  // update()'s first step asks for the table slot, the header and the marks of the block this many runs
+  // ahead; dropClampedFree for the mean and code of the measurement kDropAhead places ahead.
+  static constexpr std::size_t kRunSlotAhead = 8;
+  static constexpr std::size_t kRunHeaderAhead = 4;
+  static constexpr std::size_t kRunMarksAhead = 2;
+  static constexpr std::size_t kDropAhead = 96;
   static constexpr std::size_t kRingSlots = 8;  // a power of two above kPrefetchAhead
   static_assert(std::has_single_bit(kRingSlots) && kRingSlots > kPrefetchAhead);
 
@@ -240,6 +261,7 @@ class BandedOgf {
   BandTables band_;                           // where the stencil cells and their pairs are
   BandLocate locate_ = nullptr;               // the records of a measurement's stencil cells, prefetched
   BandKernel kernel_ = nullptr;               // eq. (5) in the band (compiled for common stencils)
+  LayerChanges layerChanges_ = nullptr;       // the change detection's comparison of a layer
   const InverseMillsTable* lambda_ = &inverseMillsTable();  // λ(z) of eq. (5), tabulated
   bool parallelSafe_ = false;
   bool dropsClampedFree_ = false;  // compact storage, Σ0 ≥ 0 in the stencil: dropClampedFree applies

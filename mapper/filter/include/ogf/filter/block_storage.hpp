@@ -77,6 +77,8 @@ class BlockStorage {
   std::size_t floatsPerBlock() const { return floatsPerBlock_; }
   Block* find(const CellKey& blockKey) { return blocks_.find(blockKey); }
   const Block* find(const CellKey& blockKey) const { return blocks_.find(blockKey); }
+  // A hint that `blockKey` is looked up soon (its slot in the table).
+  void prefetch(const CellKey& blockKey) const { blocks_.prefetch(blockKey); }
   // The block, allocated (and `fresh` set) when missing. Not thread-safe.
   Block& obtain(const CellKey& blockKey, bool& fresh);
   std::size_t size() const { return blocks_.size(); }

@@ -21,6 +21,9 @@ class BlockTable {
     return owner != nullptr ? owner->get() : nullptr;
   }
 
+  // A hint that `key` is looked up soon: its home slot is asked of the CPU (the value itself is not).
+  void prefetch(const CellKey& key) const { table_.prefetch(key); }
+
   // The value of `key`, made by `make()` (a std::unique_ptr<Value>) when missing; `inserted` says which.
   template <class Make>
   Value& findOrInsert(const CellKey& key, Make&& make, bool& inserted) {
