@@ -20,7 +20,8 @@ struct PublishedState {
 
 class PublishedStateRule {
  public:
-  // Where the CPU has AVX2, statesOf works on four cells at a time (the same doubles, so the same states).
+  // Where the CPU has AVX2, statesOf works on eight cells at a time (the same states: the exact fallbacks
+  // allow for its float m/√(1+s)).
   PublishedStateRule(double occupiedThreshold, double freeThreshold);
   // avx2 false: the scalar code only (for tests comparing the two).
   PublishedStateRule(double occupiedThreshold, double freeThreshold, bool avx2);
@@ -28,10 +29,11 @@ class PublishedStateRule {
   std::int8_t occupancyClass(double mean) const;
   std::uint16_t quantisedProbability(double mean, double variance) const;
   PublishedState stateOf(double mean, double variance) const;
-  // The states of many cells (out[i] of means[i], variances[i]; the spans of one size). With AVX2, four
-  // cells per step (divisions, square roots and the table's polynomial in 256-bit vectors); otherwise in stages over
-  // a few hundred cells at a time: all divisions and square roots, then all table look-ups, so the long
-  // chain of dependent instructions of one cell overlaps with the others'. The rare exact fallbacks last.
+  // The states of many cells (out[i] of means[i], variances[i]; the spans of one size). With AVX2, eight
+  // cells per step (m/√(1+s) in a vector of floats, the table's polynomial in two of doubles); otherwise in
+  // stages over a few hundred cells at a time: all divisions and square roots, then all table look-ups, so
+  // the long chain of dependent instructions of one cell overlaps with the others'. The rare exact fallbacks
+  // last.
   void statesOf(std::span<const float> means, std::span<const float> variances, std::span<PublishedState> out) const;
 
  private:
