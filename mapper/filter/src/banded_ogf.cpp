@@ -63,47 +63,24 @@ void forEachBit(const std::array<std::uint64_t, 8>& bits, Visit&& visit) {
   }
 }
 
-// A block's cells as a 512-bit set (8 words, one per z layer; bit x + 8y in a layer), shifted by the cell
-// offset o (|o| < 8 on each axis): calls part(neighbour, layer, bits) for every non-empty part of the
-// result, `neighbour` the block of the 3×3×3 neighbourhood it falls in ((dx+1) + 3(dy+1) + 9(dz+1)) and
-// `layer` its z layer there.
-template <class Part>
-void forEachShiftedPart(const std::array<std::uint64_t, 8>& cells, const CellKey& o, Part&& part) {
-  // Bits of each 8-bit row with x in [from, 8), replicated over the 8 rows of a layer.
-  const auto rowsFrom = [](int from) { return (0xFFULL << from & 0xFFULL) * 0x0101010101010101ULL; };
-  for (int z = 0; z < 8; ++z) {
-    const std::uint64_t w = cells[static_cast<std::size_t>(z)];
-    if (w == 0) {
-      continue;
-    }
-    // Along x: the part that stays in the block (dx = 0) and the part that crosses into the next one.
-    std::array<std::pair<int, std::uint64_t>, 2> xs{};
-    if (o.x >= 0) {
-      xs = {{{0, (w << o.x) & rowsFrom(o.x)}, {1, o.x == 0 ? 0 : (w >> (8 - o.x)) & ~rowsFrom(o.x)}}};
+// Bits of each 8-bit row with x in [from, 8), replicated over the 8 rows of a layer.
+constexpr std::uint64_t rowsFrom(int from) { return (0xFFULL << from & 0xFFULL) * 0x0101010101010101ULL; }
+
+// A z layer of a block's cells (bit x + 8y) dilated along x by the offsets of `dxs` (bit dx + 7 per dx,
+// |dx| < 8): the parts in the block before (index 0), in the block itself (1) and in the block after (2).
+std::array<std::uint64_t, 3> dilatedAlongX(std::uint64_t w, std::uint16_t dxs) {
+  std::array<std::uint64_t, 3> parts{};
+  for (unsigned rest = dxs; rest != 0; rest &= rest - 1) {
+    const int dx = std::countr_zero(rest) - 7;
+    if (dx >= 0) {
+      parts[1] |= (w << dx) & rowsFrom(dx);
+      parts[2] |= dx == 0 ? 0 : (w >> (8 - dx)) & ~rowsFrom(dx);
     } else {
-      xs = {{{0, (w >> -o.x) & ~rowsFrom(8 + o.x)}, {-1, (w << (8 + o.x)) & rowsFrom(8 + o.x)}}};
-    }
-    const int zz = z + o.z;
-    const int dz = zz < 0 ? -1 : (zz >= 8 ? 1 : 0);
-    const auto layer = static_cast<std::size_t>(zz - 8 * dz);
-    for (const auto& [dx, bx] : xs) {
-      if (bx == 0) {
-        continue;
-      }
-      // Along y: whole rows of 8 bits.
-      std::array<std::pair<int, std::uint64_t>, 2> ys{};
-      if (o.y >= 0) {
-        ys = {{{0, bx << (8 * o.y)}, {1, o.y == 0 ? 0 : bx >> (64 - 8 * o.y)}}};
-      } else {
-        ys = {{{0, bx >> (-8 * o.y)}, {-1, bx << (64 + 8 * o.y)}}};
-      }
-      for (const auto& [dy, bits] : ys) {
-        if (bits != 0) {
-          part(static_cast<unsigned>((dx + 1) + 3 * (dy + 1) + 9 * (dz + 1)), layer, bits);
-        }
-      }
+      parts[1] |= (w >> -dx) & ~rowsFrom(8 + dx);
+      parts[0] |= (w << (8 + dx)) & rowsFrom(8 + dx);
     }
   }
+  return parts;
 }
 
 }  // namespace
@@ -154,6 +131,26 @@ BandedOgf::BandedOgf(const FilterConfig& resolved)
   derivePolicyState();
   // Same-colour blocks are one block apart: their measurements touch disjoint cells iff 2·extent ≤ B.
   parallelSafe_ = 2 * stencil_.extent() <= kBlockSide;
+  // The stencil by rows along x: per (dy, dz), the set of its dx (bit dx + 7), and the distinct sets.
+  for (const CellKey& o : stencil_.offsets()) {
+    const auto bit = static_cast<std::uint16_t>(1U << static_cast<unsigned>(o.x + 7));
+    const auto it = std::ranges::find_if(
+        stencilRows_, [&](const StencilRow& row) { return row.dy == o.y && row.dz == o.z; });
+    if (it == stencilRows_.end()) {
+      stencilRows_.push_back({o.y, o.z, bit});
+    } else {
+      it->set |= bit;  // the set itself until every offset is in
+    }
+  }
+  for (StencilRow& row : stencilRows_) {
+    const std::uint16_t dxs = static_cast<std::uint16_t>(row.set);
+    auto it = std::ranges::find(stencilRowSets_, dxs);
+    if (it == stencilRowSets_.end()) {
+      stencilRowSets_.push_back(dxs);
+      it = stencilRowSets_.end() - 1;
+    }
+    row.set = static_cast<std::uint32_t>(it - stencilRowSets_.begin());
+  }
   // Which neighbouring blocks a measurement at each local position reaches.
   const int e = stencil_.extent();
   const bool flat = config_.dimensions == 2;
@@ -401,20 +398,61 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   std::vector<std::uint32_t>& variancesBefore = batchWork.variancesBefore;
   touchedOrder.clear();
   if (sink != nullptr) {
+    // Per neighbour (of the 3×3×3 blocks) and z layer, the group's cells the stencil reaches; kept zero
+    // between groups.
+    std::array<std::array<std::uint64_t, 8>, 27> reached{};
+    std::vector<std::array<std::uint64_t, 3>>& alongX = batchWork.alongX;
     for (std::size_t r = 0; r < sorted.size(); ++r) {
-      // The group's measured positions, dilated by the stencil: one shift per offset and layer instead of
-      // one bit per stencil cell and measurement.
+      // The group's measured positions, dilated by the stencil a row of it at a time: along x once per
+      // set of dx (dilatedAlongX), then shifted by the row's dy and dz as whole 8-bit rows and layers.
       std::array<std::uint64_t, 8> measured{};
       for (std::size_t i = sorted[r].begin; i < sorted[r].end; ++i) {
         const std::size_t l = batchWork.sorted[i] >> 1;
         measured[l >> 6] |= std::uint64_t{1} << (l & 63U);
       }
-      for (const CellKey& o : stencil_.offsets()) {
-        forEachShiftedPart(measured, o, [&](unsigned neighbour, std::size_t layer, std::uint64_t bits) {
-          if (((sorted[r].neighbours >> neighbour) & 1U) != 0) {
-            batchWork.touched[batchWork.groupTouched[r * 27 + neighbour]].cells[layer] |= bits;
+      alongX.resize(stencilRowSets_.size() * 8);
+      for (std::size_t k = 0; k < stencilRowSets_.size(); ++k) {
+        for (std::size_t z = 0; z < 8; ++z) {
+          alongX[k * 8 + z] = measured[z] == 0 ? std::array<std::uint64_t, 3>{}
+                                               : dilatedAlongX(measured[z], stencilRowSets_[k]);
+        }
+      }
+      std::uint32_t reachedBlocks = 0;
+      for (const StencilRow& row : stencilRows_) {
+        for (int z = 0; z < 8; ++z) {
+          if (measured[static_cast<std::size_t>(z)] == 0) {
+            continue;
           }
-        });
+          const int zz = z + row.dz;
+          const int dzb = zz < 0 ? -1 : (zz >= 8 ? 1 : 0);
+          const auto layer = static_cast<std::size_t>(zz - 8 * dzb);
+          const std::array<std::uint64_t, 3>& parts = alongX[row.set * 8 + static_cast<std::size_t>(z)];
+          for (int dxb = -1; dxb <= 1; ++dxb) {
+            const std::uint64_t bx = parts[static_cast<std::size_t>(dxb + 1)];
+            if (bx == 0) {
+              continue;
+            }
+            // Along y: whole rows of 8 bits, in this block's row of blocks and the next (or previous) one.
+            const unsigned here = static_cast<unsigned>((dxb + 1) + 3 + 9 * (dzb + 1));
+            const unsigned next = row.dy >= 0 ? here + 3 : here - 3;
+            const std::uint64_t stay = row.dy >= 0 ? bx << (8 * row.dy) : bx >> (-8 * row.dy);
+            const std::uint64_t cross =
+                row.dy > 0 ? bx >> (64 - 8 * row.dy) : (row.dy < 0 ? bx << (64 + 8 * row.dy) : 0);
+            reached[here][layer] |= stay;
+            reached[next][layer] |= cross;
+            reachedBlocks |= (std::uint32_t{stay != 0} << here) | (std::uint32_t{cross != 0} << next);
+          }
+        }
+      }
+      for (std::uint32_t rest = reachedBlocks; rest != 0; rest &= rest - 1) {
+        const auto d = static_cast<unsigned>(std::countr_zero(rest));
+        if (((sorted[r].neighbours >> d) & 1U) != 0) {
+          std::array<std::uint64_t, 8>& cells = batchWork.touched[batchWork.groupTouched[r * 27 + d]].cells;
+          for (std::size_t layer = 0; layer < 8; ++layer) {
+            cells[layer] |= reached[d][layer];
+          }
+        }
+        reached[d] = {};
       }
     }
     touchedOrder.resize(batchWork.touched.size());

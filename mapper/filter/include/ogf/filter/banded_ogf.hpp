@@ -208,6 +208,7 @@ class BandedOgf {
     std::vector<float> layerMeansBefore;
     std::vector<std::uint16_t> layerCodesBefore;
     std::vector<std::array<std::uint64_t, 8>> occupiedReach;  // dropClampedFree's per-group cells
+    std::vector<std::array<std::uint64_t, 3>> alongX;  // a group's layers dilated along x, per set of dx
     std::vector<std::uint32_t> around;
   };
   // Removes from the batch (counted as skipped) the free measurements that applyMeasurement would skip
@@ -258,6 +259,15 @@ class BandedOgf {
   double clampZ_ = 0.0;      // for occupied measurements; +inf: never
   double freeClampZ_ = 0.0;  // for free ones
   std::vector<std::uint32_t> neighbourMask_;  // per position in a block: neighbouring blocks reached
+  // The stencil as rows along x, for the change detection's dilation: each (dy, dz) of its offsets with
+  // the index of its set of dx in stencilRowSets_ (bit dx + 7 per dx).
+  struct StencilRow {
+    int dy = 0;
+    int dz = 0;
+    std::uint32_t set = 0;
+  };
+  std::vector<StencilRow> stencilRows_;
+  std::vector<std::uint16_t> stencilRowSets_;
   BandTables band_;                           // where the stencil cells and their pairs are
   BandLocate locate_ = nullptr;               // the records of a measurement's stencil cells, prefetched
   BandKernel kernel_ = nullptr;               // eq. (5) in the band (compiled for common stencils)
