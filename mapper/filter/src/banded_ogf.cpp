@@ -263,8 +263,11 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   runs.push_back(batch.size());
   const std::size_t runCount = runs.size() - 1;
   const auto runBlock = [&](std::size_t r) { return blockKeyOf(batch[runs[r]].key); };
+  // Only for batches in runs (a scan's): in a batch in no order of blocks, a run is a measurement, and
+  // the look-ups ahead would double those the measurements make themselves.
+  const bool prefetchRuns = readsBlocks && runCount * kMinRunForPrefetch <= batch.size();
   for (std::size_t r = 0; r < runCount; ++r) {
-    if (readsBlocks) {
+    if (prefetchRuns) {
       if (r + kRunSlotAhead < runCount) {
         storage_.prefetch(runBlock(r + kRunSlotAhead));
       }

@@ -243,6 +243,7 @@ class BandedOgf {
   static constexpr std::size_t kRunSlotAhead = 8;
   static constexpr std::size_t kRunHeaderAhead = 4;
   static constexpr std::size_t kRunMarksAhead = 2;
+  static constexpr std::size_t kMinRunForPrefetch = 8;  // measurements per run, on average
   static constexpr std::size_t kDropAhead = 96;
   static constexpr std::size_t kRingSlots = 8;  // a power of two above kPrefetchAhead
   static_assert(std::has_single_bit(kRingSlots) && kRingSlots > kPrefetchAhead);
