@@ -364,15 +364,47 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   }
 
   // 3. Every block the batch touches, allocated up front (serially, in order); each group's neighbourhood
-  //    of block data kept for step 5. With a sink, the blocks are also numbered for step 4.
+  //    of block data kept for step 5, and the blocks' numbers for step 4.
   batchWork.neighbourhoods.assign(sorted.size() * 27, nullptr);
-  batchWork.groupTouched.resize(sink != nullptr ? sorted.size() * 27 : 0);
+  batchWork.groupTouched.resize(sorted.size() * 27);
+  // The neighbourhoods ahead: the table slots of their blocks asked of the CPU kGroupSlotAhead groups
+  // early, the blocks looked up (and numbered) kGroupLookAhead groups early and their headers asked for,
+  // as each is marked written below. A scan's blocks are far more than the cache holds.
+  const auto prefetchSlots = [&](const Group& g) {
+    for (std::uint32_t rest = g.neighbours; rest != 0; rest &= rest - 1) {
+      storage_.prefetch(neighbourOf(g.block, static_cast<unsigned>(std::countr_zero(rest))));
+    }
+  };
+  const auto lookUpNeighbourhood = [&](std::size_t q) {
+    const Group& g = sorted[q];
+    for (std::uint32_t rest = g.neighbours; rest != 0; rest &= rest - 1) {
+      const auto d = static_cast<unsigned>(std::countr_zero(rest));
+      const std::uint32_t t = lookUp(neighbourOf(g.block, d));
+      batchWork.groupTouched[q * 27 + d] = t;
+      const TouchedBlock& ahead = batchWork.touched[t];
+      if (ahead.block != nullptr && !ahead.written) {
+        __builtin_prefetch(ahead.block, 1);
+      }
+    }
+  };
+  for (std::size_t q = 0; q < std::min(kGroupSlotAhead, sorted.size()); ++q) {
+    prefetchSlots(sorted[q]);
+  }
+  for (std::size_t q = 0; q < std::min(kGroupLookAhead, sorted.size()); ++q) {
+    lookUpNeighbourhood(q);
+  }
   for (std::size_t r = 0; r < sorted.size(); ++r) {
+    if (r + kGroupSlotAhead < sorted.size()) {
+      prefetchSlots(sorted[r + kGroupSlotAhead]);
+    }
+    if (r + kGroupLookAhead < sorted.size()) {
+      lookUpNeighbourhood(r + kGroupLookAhead);
+    }
     const Group& g = sorted[r];
     for (unsigned d = 0; d < 27; ++d) {
       if ((g.neighbours >> d) & 1U) {
         const CellKey key = neighbourOf(g.block, d);
-        const std::uint32_t t = lookUp(key);
+        const std::uint32_t t = batchWork.groupTouched[r * 27 + d];
         TouchedBlock& touched = batchWork.touched[t];
         if (!touched.written) {
           if (touched.block == nullptr) {
@@ -386,9 +418,6 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
         batchWork.neighbourhoods[r * 27 + d] = block.data();
         if (d == kOwnBlock && occupiedPriority) {
           markOccupied(block, std::span<const std::uint16_t>(batchWork.sorted).subspan(g.begin, g.end - g.begin));
-        }
-        if (sink != nullptr) {
-          batchWork.groupTouched[r * 27 + d] = t;
         }
       }
     }

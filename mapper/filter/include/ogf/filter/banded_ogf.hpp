@@ -189,7 +189,7 @@ class BandedOgf {
   // Reused from batch to batch: the batch's blocks, per measurement its group and code (position << 1 | y),
   // the codes in the order of application, per group the data of its 3×3×3 neighbourhood of blocks; every
   // block looked up, numbered (the map's table is searched once per block and batch, not once per group
-  // that neighbours it) and, with a change sink, per group and neighbour the block's number.
+  // that neighbours it) and per group and neighbour the block's number.
   struct Batch {
     BlockKeyTable blocks;
     std::vector<std::size_t> runs;  // where each run of measurements in one block starts; the batch's end
@@ -245,6 +245,9 @@ class BandedOgf {
   static constexpr std::size_t kRunMarksAhead = 2;
   static constexpr std::size_t kMinRunForPrefetch = 8;  // measurements per run, on average
   static constexpr std::size_t kDropAhead = 96;
+  // Its third step's: table slots, then look-ups and headers, this many groups ahead.
+  static constexpr std::size_t kGroupSlotAhead = 16;
+  static constexpr std::size_t kGroupLookAhead = 6;
   static constexpr std::size_t kRingSlots = 8;  // a power of two above kPrefetchAhead
   static_assert(std::has_single_bit(kRingSlots) && kRingSlots > kPrefetchAhead);
 
