@@ -1,6 +1,7 @@
 // Which cells of one z layer of a block (64 cells, compact storage) an update changed: the change
 // detection copies each touched layer's means and variance codes before the batch and compares the copy
-// with the block after it, a layer at a time, instead of reading and comparing cell by cell.
+// with the block after it, a layer at a time in vectors; only the cells that changed are then read one
+// by one.
 #pragma once
 
 #include <cstddef>
