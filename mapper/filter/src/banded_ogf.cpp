@@ -266,18 +266,23 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   // Only for batches in runs (a scan's): in a batch in no order of blocks, a run is a measurement, and
   // the look-ups ahead would double those the measurements make themselves.
   const bool prefetchRuns = readsBlocks && runCount * kMinRunForPrefetch <= batch.size();
+  // The blocks found at the header stage, by run mod kRunHeaderAhead, for the marks stage to reuse.
+  std::array<const Block*, kRunHeaderAhead> foundAhead{};
   for (std::size_t r = 0; r < runCount; ++r) {
     if (prefetchRuns) {
       if (r + kRunSlotAhead < runCount) {
         storage_.prefetch(runBlock(r + kRunSlotAhead));
       }
       if (r + kRunHeaderAhead < runCount) {
-        if (const Block* b = storage_.find(runBlock(r + kRunHeaderAhead)); b != nullptr) {
+        const Block* b = storage_.find(runBlock(r + kRunHeaderAhead));
+        foundAhead[(r + kRunHeaderAhead) % kRunHeaderAhead] = b;
+        if (b != nullptr) {
           __builtin_prefetch(b, 1);
         }
       }
       if (occupiedPriority && r + kRunMarksAhead < runCount) {
-        if (const Block* b = storage_.find(runBlock(r + kRunMarksAhead)); b != nullptr) {
+        // Found kRunHeaderAhead − kRunMarksAhead runs ago (null for the first runs, which had no stage).
+        if (const Block* b = foundAhead[(r + kRunMarksAhead) % kRunHeaderAhead]; b != nullptr) {
           const std::span<const std::uint8_t> marks = b->marks();
           for (std::size_t line = 0; line < marks.size(); line += 64) {
             __builtin_prefetch(marks.data() + line, 1);

@@ -243,6 +243,7 @@ class BandedOgf {
   static constexpr std::size_t kRunSlotAhead = 8;
   static constexpr std::size_t kRunHeaderAhead = 4;
   static constexpr std::size_t kRunMarksAhead = 2;
+  static_assert(kRunMarksAhead < kRunHeaderAhead && kRunHeaderAhead < kRunSlotAhead);
   static constexpr std::size_t kMinRunForPrefetch = 8;  // measurements per run, on average
   static constexpr std::size_t kDropAhead = 96;
   // Its third step's: table slots, then look-ups and headers, this many groups ahead.
