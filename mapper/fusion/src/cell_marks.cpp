@@ -1,17 +1,155 @@
-// CellMarks: brick lookup and the read-back in BrickOrder.
+// CellMarks: the hashed bricks, the queue and the dense box, and the read-back in BrickOrder.
 #include <ogf/fusion/cell_marks.hpp>
 
 #include <algorithm>
 #include <bit>
 
 namespace ogf::fusion {
+namespace {
+
+constexpr std::int32_t kMin = std::numeric_limits<std::int32_t>::min();
+constexpr std::int32_t kMax = std::numeric_limits<std::int32_t>::max();
+
+}  // namespace
+
+bool CellMarks::boxAvailable() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  return __builtin_cpu_supports("avx512f");
+#else
+  return false;
+#endif
+}
+
+CellMarks::CellMarks() : CellMarks(true) {}
+
+CellMarks::CellMarks(bool wide, std::size_t maxBoxBricks)
+    : wide_(wide && boxAvailable()), max_box_bricks_(maxBoxBricks) {
+  clearQueues();
+}
 
 void CellMarks::clear() {
+  clearQueues();
   used_ = 0;
   last_cell_ = kNoCell;
   last_brick_ = nullptr;
   std::fill(table_.begin(), table_.end(), Slot{});
   recent_.fill(Slot{});
+}
+
+void CellMarks::clearQueues() {
+  rays_.clear();
+  free_cells_.clear();
+  occupied_cells_.clear();
+  lo_ = {kMax, kMax, kMax};
+  hi_ = {kMin, kMin, kMin};
+}
+
+void CellMarks::markFree(const CellKey& k) {
+  if (!wide_) return mark(k, &Brick::free);
+  free_cells_.push_back(k);
+  cover(k);
+}
+
+void CellMarks::markOccupied(const CellKey& k) {
+  if (!wide_) return mark(k, &Brick::occupied);
+  occupied_cells_.push_back(k);
+  cover(k);
+}
+
+void CellMarks::markFree(const RayCaster& ray) {
+  const RayIterator& it = ray.begin();
+  if (it.crossings_left_ == 0) return;
+  if (!wide_) return markFreeHashed(it);
+  QueuedRay& q = rays_.emplace_back();
+  for (std::size_t a = 0; a < 3; ++a) {
+    q.next[a] = it.next_[a];
+    q.delta[a] = it.delta_[a];
+    q.cell[a] = it.cell_[a];
+    q.step[a] = it.step_[a];
+    q.left[a] = it.left_[a];
+  }
+  q.crossings = it.crossings_left_;
+  // The traversal stays between its first cell and the cell past its last crossing on every axis.
+  cover({it.cell_[0], it.cell_[1], it.cell_[2]});
+  cover({static_cast<std::int32_t>(it.cell_[0] + it.step_[0] * it.left_[0]),
+         static_cast<std::int32_t>(it.cell_[1] + it.step_[1] * it.left_[1]),
+         static_cast<std::int32_t>(it.cell_[2] + it.step_[2] * it.left_[2])});
+}
+
+void CellMarks::markQueuedHashed() {
+  for (const QueuedRay& q : rays_) {
+    RayIterator it;
+    for (std::size_t a = 0; a < 3; ++a) {
+      it.next_[a] = q.next[a];
+      it.delta_[a] = q.delta[a];
+      it.cell_[a] = static_cast<std::int32_t>(q.cell[a]);
+      it.step_[a] = static_cast<std::int32_t>(q.step[a]);
+      it.left_[a] = q.left[a];
+    }
+    it.crossings_left_ = q.crossings;
+    markFreeHashed(it);
+  }
+  for (const CellKey& k : free_cells_) mark(k, &Brick::free);
+  for (const CellKey& k : occupied_cells_) mark(k, &Brick::occupied);
+}
+
+bool CellMarks::layOutBox() {
+  if (lo_.x > hi_.x) return false;  // nothing queued
+  const CellKey lo{lo_.x >> 3, lo_.y >> 3, lo_.z >> 3};
+  const std::array<std::int64_t, 3> size{std::int64_t{hi_.x >> 3} - lo.x + 1,
+                                         std::int64_t{hi_.y >> 3} - lo.y + 1,
+                                         std::int64_t{hi_.z >> 3} - lo.z + 1};
+  const auto budget = static_cast<std::int64_t>(max_box_bricks_);
+  // Each factor is checked before the product, which then cannot overflow.
+  if (size[0] > budget || size[1] > budget || size[2] > budget || size[0] * size[1] > budget ||
+      size[0] * size[1] * size[2] > budget) {
+    return false;
+  }
+  box_.lo = lo;
+  box_.size = {static_cast<std::int32_t>(size[0]), static_cast<std::int32_t>(size[1]),
+               static_cast<std::int32_t>(size[2])};
+  const auto words = static_cast<std::size_t>(size[0] * size[1] * size[2] + 1) * kBoxWordsPerBrick;
+  if (box_.words.size() < words) box_.words.resize(words, 0);  // the words already there are zero
+  return true;
+}
+
+void CellMarks::markQueuedBoxed() {
+  const auto setBit = [this](const CellKey& k, std::size_t firstWord) {
+    const auto brick =
+        (static_cast<std::size_t>((k.x >> 3) - box_.lo.x) * static_cast<std::size_t>(box_.size.y) +
+         static_cast<std::size_t>((k.y >> 3) - box_.lo.y)) *
+            static_cast<std::size_t>(box_.size.z) +
+        static_cast<std::size_t>((k.z >> 3) - box_.lo.z);
+    box_.words[brick * kBoxWordsPerBrick + firstWord + static_cast<std::size_t>(k.x & 7)] |=
+        std::uint64_t{1} << static_cast<unsigned>(((k.y & 7) << 3) | (k.z & 7));
+  };
+  for (const CellKey& k : free_cells_) setBit(k, 0);
+  for (const CellKey& k : occupied_cells_) setBit(k, 8);
+  markQueuedAvx512();
+}
+
+void CellMarks::appendBoxed(std::vector<Measurement>& out) {
+  std::uint64_t* words = box_.words.data();
+  for (std::int32_t bx = 0; bx < box_.size.x; ++bx) {
+    for (std::int32_t by = 0; by < box_.size.y; ++by) {
+      for (std::int32_t bz = 0; bz < box_.size.z; ++bz, words += kBoxWordsPerBrick) {
+        std::uint64_t any = 0;
+        for (std::size_t i = 0; i < kBoxWordsPerBrick; ++i) any |= words[i];
+        if (any == 0) continue;
+        const CellKey base{(box_.lo.x + bx) * 8, (box_.lo.y + by) * 8, (box_.lo.z + bz) * 8};
+        for (std::size_t lx = 0; lx < 8; ++lx) {
+          const std::uint64_t occupied = words[8 + lx];
+          for (std::uint64_t rest = words[lx] | occupied; rest != 0; rest &= rest - 1) {
+            const int bit = std::countr_zero(rest);
+            out.push_back(
+                {CellKey{base.x + static_cast<std::int32_t>(lx), base.y + (bit >> 3), base.z + (bit & 7)},
+                 ((occupied >> bit) & 1U) != 0U ? Measurement::kOccupied : Measurement::kFree});
+          }
+        }
+        std::fill(words, words + kBoxWordsPerBrick, std::uint64_t{0});
+      }
+    }
+  }
 }
 
 void CellMarks::grow() {
@@ -54,9 +192,8 @@ std::uint32_t CellMarks::tableIndex(CellKey b) {
   return static_cast<std::uint32_t>(used_++);
 }
 
-void CellMarks::markFree(const RayCaster& ray) {
+void CellMarks::markFreeHashed(const RayIterator& it) {
   // The traversal of RayIterator::step, unrolled per axis: same comparisons, same tie rule, same cells.
-  const RayIterator& it = ray.begin();
   std::int64_t left = it.crossings_left_;
   if (left == 0) return;
   std::int32_t x = it.cell_[0], y = it.cell_[1], z = it.cell_[2];
@@ -142,6 +279,18 @@ void CellMarks::markFree(const RayCaster& ray) {
 }
 
 void CellMarks::appendSorted(std::vector<Measurement>& out) {
+  last_boxed_ = false;
+  if (wide_) {
+    if (layOutBox()) {
+      markQueuedBoxed();
+      appendBoxed(out);
+      clearQueues();
+      last_boxed_ = true;
+      return;
+    }
+    markQueuedHashed();
+    clearQueues();
+  }
   order_.resize(used_);
   for (std::size_t i = 0; i < used_; ++i) order_[i] = static_cast<std::uint32_t>(i);
   std::sort(order_.begin(), order_.end(),
