@@ -136,16 +136,7 @@ void CellMarks::appendBoxed(std::vector<Measurement>& out) {
         std::uint64_t any = 0;
         for (std::size_t i = 0; i < kBoxWordsPerBrick; ++i) any |= words[i];
         if (any == 0) continue;
-        const CellKey base{(box_.lo.x + bx) * 8, (box_.lo.y + by) * 8, (box_.lo.z + bz) * 8};
-        for (std::size_t lx = 0; lx < 8; ++lx) {
-          const std::uint64_t occupied = words[8 + lx];
-          for (std::uint64_t rest = words[lx] | occupied; rest != 0; rest &= rest - 1) {
-            const int bit = std::countr_zero(rest);
-            out.push_back(
-                {CellKey{base.x + static_cast<std::int32_t>(lx), base.y + (bit >> 3), base.z + (bit & 7)},
-                 ((occupied >> bit) & 1U) != 0U ? Measurement::kOccupied : Measurement::kFree});
-          }
-        }
+        appendBrick({box_.lo.x + bx, box_.lo.y + by, box_.lo.z + bz}, words, words + 8, out);
         std::fill(words, words + kBoxWordsPerBrick, std::uint64_t{0});
       }
     }
@@ -296,20 +287,27 @@ void CellMarks::appendSorted(std::vector<Measurement>& out) {
   std::sort(order_.begin(), order_.end(),
             [this](std::uint32_t l, std::uint32_t r) { return bricks_[l].key < bricks_[r].key; });
 
-  // Each brick's cells in CellKey order: a word per local x, in it bit 8·(local y) + local z.
   for (const std::uint32_t b : order_) {
     const Brick& brick = bricks_[b];
-    const CellKey base{brick.key.x * 8, brick.key.y * 8, brick.key.z * 8};
-    for (std::size_t lx = 0; lx < 8; ++lx) {
-      const std::uint64_t occupied = brick.occupied[lx];
-      for (std::uint64_t rest = brick.free[lx] | occupied; rest != 0; rest &= rest - 1) {
-        const int bit = std::countr_zero(rest);
-        out.push_back(
-            {CellKey{base.x + static_cast<std::int32_t>(lx), base.y + (bit >> 3), base.z + (bit & 7)},
-             ((occupied >> bit) & 1U) != 0U ? Measurement::kOccupied : Measurement::kFree});
-      }
+    appendBrick(brick.key, brick.free.data(), brick.occupied.data(), out);
+  }
+}
+
+void CellMarks::appendBrick(const CellKey& key, const std::uint64_t* free, const std::uint64_t* occupied,
+                            std::vector<Measurement>& out) {
+  // Into a local buffer, then one insert: out.push_back per cell stored and reloaded the vector's end on
+  // every cell (a Measurement's int8 field may alias it).
+  std::array<Measurement, 512>& cells = brick_cells_;
+  std::size_t n = 0;
+  const CellKey base{key.x * 8, key.y * 8, key.z * 8};
+  for (std::size_t lx = 0; lx < 8; ++lx) {
+    for (std::uint64_t rest = free[lx] | occupied[lx]; rest != 0; rest &= rest - 1) {
+      const int bit = std::countr_zero(rest);
+      cells[n++] = {CellKey{base.x + static_cast<std::int32_t>(lx), base.y + (bit >> 3), base.z + (bit & 7)},
+                    ((occupied[lx] >> bit) & 1U) != 0U ? Measurement::kOccupied : Measurement::kFree};
     }
   }
+  out.insert(out.end(), cells.begin(), cells.begin() + static_cast<std::ptrdiff_t>(n));
 }
 
 }  // namespace ogf::fusion

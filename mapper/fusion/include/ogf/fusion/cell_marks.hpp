@@ -134,6 +134,10 @@ class CellMarks {
   void markQueuedAvx512();
   // Appends the box's marks in BrickOrder and zeroes them.
   void appendBoxed(std::vector<Measurement>& out);
+  // Appends the marks of one brick (key: cell >> 3) in CellKey order: a word per local x, in it bit
+  // 8·(local y) + local z; occupied where both are set.
+  void appendBrick(const CellKey& key, const std::uint64_t* free, const std::uint64_t* occupied,
+                   std::vector<Measurement>& out);
   void clearQueues();
 
   // The "no brick yet" cell: it shares a brick only with x in [INT32_MIN, INT32_MIN + 7], which is out of
@@ -161,6 +165,7 @@ class CellMarks {
   CellKey last_cell_ = kNoCell;  // a cell of the brick of the last mark, and where that brick is
   Brick* last_brick_ = nullptr;
   std::vector<std::uint32_t> order_;  // scratch for appendSorted
+  std::array<Measurement, 512> brick_cells_{};  // scratch for appendBrick
 
   // Boxed: the scan's marks until appendSorted, and the bounding box of their cells.
   std::vector<QueuedRay> rays_;
