@@ -135,11 +135,68 @@ void compactBandKernelDefault(float* const* records, BandUpdate update, const Ba
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
-// The same code with 8-wide vectors: IEEE operations without contraction (this file is built with
-// -ffp-contract=off), so the same floats as the baseline's, bit for bit.
+// The same arithmetic on cells 0–23 in three 8-wide vectors and cell 24 alone: IEEE operations without
+// contraction (this file is built with -ffp-contract=off), in compactBody's order, so the same floats as
+// the baseline's, bit for bit. The ratios go from the codes into vector registers directly: decoded one by
+// one into memory, as the compiler does compactBody, each 8-wide load of them waited for eight narrower
+// stores to drain (a failed store-to-load forward).
 __attribute__((target("avx2"))) void compactBandKernelDefaultAvx2(float* const* records, BandUpdate update,
                                                                  const BandTables& tables) {
-  compactBody<25>(records, update, tables);
+  constexpr std::size_t kCells = 25;
+  constexpr std::size_t kLast = 24;  // the cell after the three vectors
+  const auto code = [&](std::size_t s) { return reinterpret_cast<std::uint16_t*>(records[kCells + s]); };
+  const float prior = tables.priorVariance;
+  const float floor = update.varianceFloor / prior;
+  const float selfRatio =
+      decodeVarianceRatio(*code(tables.self));  // before the update, for every column entry
+  const __m256i codeBase = _mm256_set1_epi32(static_cast<int>(kVarianceCodeBase));
+  const __m256 selfRatios = _mm256_set1_ps(selfRatio);
+  const __m256 selfColumn = _mm256_set1_ps(prior * selfRatio);
+  const __m256i self = _mm256_set1_epi32(static_cast<int>(tables.self));
+  const __m256 shrink = _mm256_set1_ps(update.shrink);
+  const __m256 priors = _mm256_set1_ps(prior);
+  const __m256 floors = _mm256_set1_ps(floor);
+  const __m256 smallest = _mm256_set1_ps(4.656612873077393e-10F);  // encodeVarianceRatio's bounds
+  const __m256 two = _mm256_set1_ps(2.0F);
+  const __m256i largest = _mm256_set1_epi32(0xFFFF);
+  alignas(32) std::array<float, 24> columns;        // NOLINT: written below before it is read
+  alignas(32) std::array<std::uint32_t, 24> codes;  // NOLINT: written below before it is read
+  for (std::size_t v = 0; v < 3; ++v) {
+    const std::size_t s = 8 * v;
+    const __m256i stored = _mm256_setr_epi32(*code(s), *code(s + 1), *code(s + 2), *code(s + 3), *code(s + 4),
+                                             *code(s + 5), *code(s + 6), *code(s + 7));
+    const __m256 ratio = _mm256_castsi256_ps(_mm256_add_epi32(_mm256_slli_epi32(stored, 12), codeBase));
+    __m256 column =
+        _mm256_mul_ps(_mm256_loadu_ps(tables.correlation.data() + s), _mm256_mul_ps(ratio, selfRatios));
+    const __m256i lane = _mm256_setr_epi32(
+        static_cast<int>(s), static_cast<int>(s + 1), static_cast<int>(s + 2), static_cast<int>(s + 3),
+        static_cast<int>(s + 4), static_cast<int>(s + 5), static_cast<int>(s + 6), static_cast<int>(s + 7));
+    column = _mm256_blendv_ps(column, selfColumn, _mm256_castsi256_ps(_mm256_cmpeq_epi32(lane, self)));
+    // std::max(r, floor) is (r < floor ? floor : r): maxps(floor, r) returns r unless floor > r.
+    const __m256 next = _mm256_max_ps(
+        floors,
+        _mm256_sub_ps(ratio, _mm256_mul_ps(_mm256_mul_ps(shrink, column), _mm256_div_ps(column, priors))));
+    // encodeVarianceRatio: 0 below 2^-31 (or NaN), 0xFFFF from 2 on, else the rounded mantissa.
+    const __m256i rounded = _mm256_min_epu32(
+        _mm256_srli_epi32(_mm256_add_epi32(_mm256_sub_epi32(_mm256_castps_si256(next), codeBase),
+                                           _mm256_set1_epi32(1 << 11)),
+                          12),
+        largest);
+    const __m256i encoded = _mm256_and_si256(
+        _mm256_blendv_epi8(rounded, largest, _mm256_castps_si256(_mm256_cmp_ps(next, two, _CMP_GE_OQ))),
+        _mm256_castps_si256(_mm256_cmp_ps(next, smallest, _CMP_GE_OQ)));
+    _mm256_store_ps(columns.data() + s, column);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(codes.data() + s), encoded);
+  }
+  for (std::size_t s = 0; s < kLast; ++s) {
+    *records[s] += update.gain * columns[s];
+    *code(s) = static_cast<std::uint16_t>(codes[s]);
+  }
+  const float ratio = decodeVarianceRatio(*code(kLast));
+  const float column =
+      kLast == tables.self ? prior * selfRatio : tables.correlation[kLast] * (ratio * selfRatio);
+  *records[kLast] += update.gain * column;
+  *code(kLast) = encodeVarianceRatio(std::max(ratio - update.shrink * column * (column / prior), floor));
 }
 #endif
 
