@@ -15,14 +15,15 @@
 // Buffers are reused from scan to scan: no allocation in steady state.
 #pragma once
 
+#include <ogf/core/cell_key.hpp>
+#include <ogf/core/measurement.hpp>
+#include <ogf/fusion/ray_caster.hpp>
+
 #include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
-#include <ogf/core/cell_key.hpp>
-#include <ogf/core/measurement.hpp>
-#include <ogf/fusion/ray_caster.hpp>
 #include <vector>
 
 namespace ogf::fusion {
