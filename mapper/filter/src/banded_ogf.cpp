@@ -127,6 +127,14 @@ BandedOgf::BandedOgf(const FilterConfig& resolved)
   }
   priorVariance_ = static_cast<float>(prior_.variance());
   varianceFloor_ = priorVariance_ * 1e-9F;
+  if (compact()) {
+    inverseScales_.resize(std::size_t{1} << 16);
+    for (std::size_t c = 0; c < inverseScales_.size(); ++c) {
+      const double var =
+          static_cast<double>(priorVariance_ * decodeVarianceRatio(static_cast<std::uint16_t>(c)));
+      inverseScales_[c] = 1.0 / std::sqrt(1.0 + var);
+    }
+  }
   dropsClampedFree_ = compact() && std::ranges::all_of(band_.correlation, [](float c) { return c >= 0.0F; });
   derivePolicyState();
   // Same-colour blocks are one block apart: their measurements touch disjoint cells iff 2·extent ≤ B.
@@ -824,12 +832,17 @@ void BandedOgf::markOccupied(Block& block, std::span<const std::uint16_t> codes)
 
 bool BandedOgf::applyMeasurement(float* const* records, int y) {
   const float* self = records[band_.self];
-  const double var = static_cast<double>(
-      compact() ? priorVariance_ * decodeVarianceRatio(*reinterpret_cast<const std::uint16_t*>(
-                                      records[band_.cells + band_.self]))
-               : self[1]);
+  double var = 0.0;
+  double inverseScale = 0.0;
+  if (compact()) {
+    const std::uint16_t code = *reinterpret_cast<const std::uint16_t*>(records[band_.cells + band_.self]);
+    var = static_cast<double>(priorVariance_ * decodeVarianceRatio(code));
+    inverseScale = inverseScales_[code];
+  } else {
+    var = static_cast<double>(self[1]);
+    inverseScale = 1.0 / std::sqrt(1.0 + var);
+  }
   const double tolerance = config_.skipTolerance;
-  const double inverseScale = 1.0 / std::sqrt(1.0 + var);
   const double z = static_cast<double>(y) * static_cast<double>(self[0]) * inverseScale;
   if (z > (y < 0 ? freeClampZ_ : clampZ_)) {
     return false;

@@ -259,6 +259,8 @@ class BandedOgf {
   std::vector<float> priorSlots_;  // Σ0 for each forward slot
   float priorVariance_ = 0.0F;
   float varianceFloor_ = 0.0F;
+  // Compact storage: 1/√(1 + s) of each variance code's s, as applyMeasurement computes it.
+  std::vector<double> inverseScales_;
   void derivePolicyState();  // clampZ_, freeClampZ_ and published_ from config_
   PublishedStateRule published_;  // class and quantised probability for the ChangeSink
   double clampZ_ = 0.0;      // for occupied measurements; +inf: never
