@@ -4,14 +4,15 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
-
 #include <cmath>
 #include <random>
 #include <vector>
 
 #include "ogf/filter/banded_ogf.hpp"
 #include "ogf/filter/dense_ogf.hpp"
+#include "ogf/filter/inverse_mills_table.hpp"
 #include "ogf/filter/occupancy.hpp"
+#include "ogf/filter/probit_update.hpp"
 #include "random_scene.hpp"
 
 namespace ogf::filter {
@@ -281,6 +282,29 @@ TEST(BandedOgf, CompactStorageStaysWithinTheBoundsOfTheDenseFilter) {
   const Agreement repeated = compareDefaultStencil(flat, repeatedScene(15), 1e-4);
   EXPECT_LT(repeated.d, 0.04);
   EXPECT_GE(repeated.classes, 0.985);
+}
+
+// In compact storage the measured cell's own mean moves by exactly eq. (5)'s step, in the arithmetic the
+// filter documents: s its stored variance, r = 1/√(1 + s), z = y·m·r, λ from the filter's table, and the
+// mean gain y·λ·r in float times the cell's column entry s. Cells measured free 0 to 5 times first, so s
+// takes several codes (the filter looks r up by code: a wrong entry moves the mean).
+TEST(BandedOgf, CompactUpdateOfTheMeasuredCellIsEquationFive) {
+  FilterConfig config;
+  config.covariance = CovarianceStorage::kCompact;
+  BandedOgf filter = makeBanded(config);
+  for (int frees = 0; frees <= 5; ++frees) {
+    const CellKey cell{16 * frees, 0, 0};  // apart: no other cell's update reaches it
+    for (int k = 0; k < frees; ++k) filter.update(Measurement{cell, Measurement::kFree});
+    const CellEstimate before = filter.estimate(cell);
+    const double r = 1.0 / std::sqrt(1.0 + before.variance);
+    const double z = before.mean * r;  // y = +1
+    const ProbitUpdate u = probitUpdateScaled(1, r, z, inverseMillsTable()(z));
+    const float expected = static_cast<float>(before.mean) +
+                           static_cast<float>(u.meanGain) * static_cast<float>(before.variance);
+    filter.update(Measurement{cell, Measurement::kOccupied});
+    EXPECT_EQ(static_cast<float>(filter.estimate(cell).mean), expected)
+        << frees << " free measurements first";
+  }
 }
 
 // A stencil of more than 64 cells (σ = one cell in 3-D: R = 4, 257 cells) takes the cell-by-cell path of the
