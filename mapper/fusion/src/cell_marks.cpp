@@ -60,35 +60,14 @@ void CellMarks::markFree(const RayCaster& ray) {
   const RayIterator& it = ray.begin();
   if (it.crossings_left_ == 0) return;
   if (!wide_) return markFreeHashed(it);
-  QueuedRay& q = rays_.emplace_back();
-  for (std::size_t a = 0; a < 3; ++a) {
-    q.next[a] = it.next_[a];
-    q.delta[a] = it.delta_[a];
-    q.cell[a] = it.cell_[a];
-    q.step[a] = it.step_[a];
-    q.left[a] = it.left_[a];
-  }
-  q.crossings = it.crossings_left_;
-  // The traversal stays between its first cell and the cell past its last crossing on every axis.
-  cover({it.cell_[0], it.cell_[1], it.cell_[2]});
-  cover({static_cast<std::int32_t>(it.cell_[0] + it.step_[0] * it.left_[0]),
-         static_cast<std::int32_t>(it.cell_[1] + it.step_[1] * it.left_[1]),
-         static_cast<std::int32_t>(it.cell_[2] + it.step_[2] * it.left_[2])});
+  rays_.push_back(it);
+  // The traversal stays between its first cell and its end cell on every axis.
+  cover(ray.originCell());
+  cover(ray.endCell());
 }
 
 void CellMarks::markQueuedHashed() {
-  for (const QueuedRay& q : rays_) {
-    RayIterator it;
-    for (std::size_t a = 0; a < 3; ++a) {
-      it.next_[a] = q.next[a];
-      it.delta_[a] = q.delta[a];
-      it.cell_[a] = static_cast<std::int32_t>(q.cell[a]);
-      it.step_[a] = static_cast<std::int32_t>(q.step[a]);
-      it.left_[a] = q.left[a];
-    }
-    it.crossings_left_ = q.crossings;
-    markFreeHashed(it);
-  }
+  for (const RayIterator& it : rays_) markFreeHashed(it);
   for (const CellKey& k : free_cells_) mark(k, &Brick::free);
   for (const CellKey& k : occupied_cells_) mark(k, &Brick::occupied);
 }

@@ -45,7 +45,7 @@ struct LaneAxis {
 
 __attribute__((target("avx512f"))) void CellMarks::markQueuedAvx512() {
   const std::size_t rays = rays_.size();
-  const QueuedRay* ray = rays_.data();
+  const RayIterator* ray = rays_.data();
 
   const __m512i zero = _mm512_setzero_si512();
   const __m512i one = _mm512_set1_epi64(1);
@@ -93,20 +93,20 @@ __attribute__((target("avx512f"))) void CellMarks::markQueuedAvx512() {
         if (from[most] == to[most]) continue;  // the queue is empty: the lane stays inactive
         index = --to[most];
       }
-      const QueuedRay& r = ray[index];
+      const RayIterator& r = ray[index];
       const auto k = static_cast<__mmask8>(1U << lane);
       const auto load = [&](LaneAxis & a, std::size_t i) __attribute__((target("avx512f"), always_inline)) {
-        a.cell = _mm512_mask_set1_epi64(a.cell, k, r.cell[i]);
-        a.step = _mm512_mask_set1_epi64(a.step, k, r.step[i]);
-        a.next = _mm512_mask_mov_pd(a.next, k, _mm512_set1_pd(r.next[i]));
-        a.delta = _mm512_mask_mov_pd(a.delta, k, _mm512_set1_pd(r.delta[i]));
-        a.left = _mm512_mask_set1_epi64(a.left, k, r.left[i]);
-        a.up = static_cast<__mmask8>(r.step[i] > 0 ? a.up | k : a.up & ~k);
+        a.cell = _mm512_mask_set1_epi64(a.cell, k, r.cell_[i]);
+        a.step = _mm512_mask_set1_epi64(a.step, k, r.step_[i]);
+        a.next = _mm512_mask_mov_pd(a.next, k, _mm512_set1_pd(r.next_[i]));
+        a.delta = _mm512_mask_mov_pd(a.delta, k, _mm512_set1_pd(r.delta_[i]));
+        a.left = _mm512_mask_set1_epi64(a.left, k, r.left_[i]);
+        a.up = static_cast<__mmask8>(r.step_[i] > 0 ? a.up | k : a.up & ~k);
       };
       load(ax, 0);
       load(ay, 1);
       load(az, 2);
-      crossings = _mm512_mask_set1_epi64(crossings, k, r.crossings);
+      crossings = _mm512_mask_set1_epi64(crossings, k, r.crossings_left_);
       active = static_cast<__mmask8>(active | k);
     }
   };

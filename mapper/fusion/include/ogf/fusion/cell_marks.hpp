@@ -81,15 +81,6 @@ class CellMarks {
   };
   static constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
 
-  // A queued ray: RayIterator's traversal state, in the lane types of markQueuedAvx512.
-  struct QueuedRay {
-    double next[3];
-    double delta[3];
-    std::int64_t cell[3];
-    std::int64_t step[3];
-    std::int64_t left[3];
-    std::int64_t crossings;
-  };
   // The dense box: bricks [lo, lo + size) in brick coordinates, brick (x, y, z) at index
   // ((x − lo.x)·size.y + y − lo.y)·size.z + z − lo.z, which is BrickOrder; per brick 16 words, the free
   // words then the occupied ones. All zero between scans; one brick more at the end takes the marks of
@@ -169,7 +160,7 @@ class CellMarks {
   std::array<Measurement, 512> brick_cells_{};  // scratch for appendBrick
 
   // Boxed: the scan's marks until appendSorted, and the bounding box of their cells.
-  std::vector<QueuedRay> rays_;
+  std::vector<RayIterator> rays_;  // the queued rays' traversal states, each at its first cell
   std::vector<CellKey> free_cells_;
   std::vector<CellKey> occupied_cells_;
   CellKey lo_{};
