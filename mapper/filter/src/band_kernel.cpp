@@ -156,7 +156,7 @@ __attribute__((target("avx2"))) void compactBandKernelDefaultAvx2(float* const* 
   const __m256 shrink = _mm256_set1_ps(update.shrink);
   const __m256 priors = _mm256_set1_ps(prior);
   const __m256 floors = _mm256_set1_ps(floor);
-  const __m256 smallest = _mm256_set1_ps(4.656612873077393e-10F);  // encodeVarianceRatio's bounds
+  const __m256 smallest = _mm256_set1_ps(kSmallestVarianceRatio);  // encodeVarianceRatio's bounds
   const __m256 two = _mm256_set1_ps(2.0F);
   const __m256i largest = _mm256_set1_epi32(0xFFFF);
   alignas(32) std::array<float, 24> columns;        // NOLINT: written below before it is read

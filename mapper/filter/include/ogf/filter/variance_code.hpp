@@ -12,10 +12,11 @@ namespace ogf::filter {
 
 // Float bits of 2^-31: the smallest ratio kept, code 0.
 inline constexpr std::uint32_t kVarianceCodeBase = (127U - 31U) << 23;
+inline constexpr float kSmallestVarianceRatio = 4.656612873077393e-10F;  // 2^-31
 
 inline std::uint16_t encodeVarianceRatio(float ratio) {
   const std::uint32_t bits = std::bit_cast<std::uint32_t>(ratio);
-  if (!(ratio >= 4.656612873077393e-10F)) {  // below 2^-31, or NaN
+  if (!(ratio >= kSmallestVarianceRatio)) {  // below 2^-31, or NaN
     return 0;
   }
   if (ratio >= 2.0F) {
