@@ -66,12 +66,13 @@ void forEachBit(const std::array<std::uint64_t, 8>& bits, Visit&& visit) {
 // Bits of each 8-bit row with x in [from, 8), replicated over the 8 rows of a layer.
 constexpr std::uint64_t rowsFrom(int from) { return (0xFFULL << from & 0xFFULL) * 0x0101010101010101ULL; }
 
-// A z layer of a block's cells (bit x + 8y) dilated along x by the offsets of `dxs` (bit dx + 7 per dx,
-// |dx| < 8): the parts in the block before (index 0), in the block itself (1) and in the block after (2).
-std::array<std::uint64_t, 3> dilatedAlongX(std::uint64_t w, std::uint16_t dxs) {
+// A z layer of a block's cells (bit x + 8y) dilated along x by the offsets of `dxs` (bit dx + 8 per dx,
+// |dx| ≤ 8, a 2-D stencil's reach): the parts in the block before (index 0), in the block itself (1) and in
+// the block after (2).
+std::array<std::uint64_t, 3> dilatedAlongX(std::uint64_t w, std::uint32_t dxs) {
   std::array<std::uint64_t, 3> parts{};
-  for (unsigned rest = dxs; rest != 0; rest &= rest - 1) {
-    const int dx = std::countr_zero(rest) - 7;
+  for (std::uint32_t rest = dxs; rest != 0; rest &= rest - 1) {
+    const int dx = std::countr_zero(rest) - 8;
     if (dx >= 0) {
       parts[1] |= (w << dx) & rowsFrom(dx);
       parts[2] |= dx == 0 ? 0 : (w >> (8 - dx)) & ~rowsFrom(dx);
@@ -139,9 +140,9 @@ BandedOgf::BandedOgf(const FilterConfig& resolved)
   derivePolicyState();
   // Same-colour blocks are one block apart: their measurements touch disjoint cells iff 2·extent ≤ B.
   parallelSafe_ = 2 * stencil_.extent() <= kBlockSide;
-  // The stencil by rows along x: per (dy, dz), the set of its dx (bit dx + 7), and the distinct sets.
+  // The stencil by rows along x: per (dy, dz), the set of its dx (bit dx + 8), and the distinct sets.
   for (const CellKey& o : stencil_.offsets()) {
-    const auto bit = static_cast<std::uint16_t>(1U << static_cast<unsigned>(o.x + 7));
+    const std::uint32_t bit = 1U << static_cast<unsigned>(o.x + 8);
     const auto it = std::ranges::find_if(
         stencilRows_, [&](const StencilRow& row) { return row.dy == o.y && row.dz == o.z; });
     if (it == stencilRows_.end()) {
@@ -151,7 +152,7 @@ BandedOgf::BandedOgf(const FilterConfig& resolved)
     }
   }
   for (StencilRow& row : stencilRows_) {
-    const std::uint16_t dxs = static_cast<std::uint16_t>(row.set);
+    const std::uint32_t dxs = row.set;
     auto it = std::ranges::find(stencilRowSets_, dxs);
     if (it == stencilRowSets_.end()) {
       stencilRowSets_.push_back(dxs);
@@ -480,7 +481,9 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
             // Along y: whole rows of 8 bits, in this block's row of blocks and the next (or previous) one.
             const unsigned here = static_cast<unsigned>((dxb + 1) + 3 + 9 * (dzb + 1));
             const unsigned next = row.dy >= 0 ? here + 3 : here - 3;
-            const std::uint64_t stay = row.dy >= 0 ? bx << (8 * row.dy) : bx >> (-8 * row.dy);
+            // |dy| = 8 (a 2-D stencil's reach) moves every row into the next row of blocks.
+            const std::uint64_t stay =
+                row.dy >= 8 || row.dy <= -8 ? 0 : (row.dy >= 0 ? bx << (8 * row.dy) : bx >> (-8 * row.dy));
             const std::uint64_t cross =
                 row.dy > 0 ? bx >> (64 - 8 * row.dy) : (row.dy < 0 ? bx << (64 + 8 * row.dy) : 0);
             reached[here][layer] |= stay;

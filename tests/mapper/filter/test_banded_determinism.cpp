@@ -180,6 +180,21 @@ TEST(BandedDeterminism, ChangeSinkReportsExactlyTheChangesOfA2DMap) {
                                      batchAround(CellKey{3, -9, 0}, 2, 600, 1));
 }
 
+// The largest stencil a 2-D map may have reaches 8 cells along x and y, a whole block: the change
+// detection's dilation must carry cells into the neighbouring blocks at that distance too.
+TEST(BandedDeterminism, ChangeSinkReportsExactlyTheChangesOfA2DMapWithTheWidestStencil) {
+  for (const CovarianceStorage storage : {CovarianceStorage::kBanded, CovarianceStorage::kCompact}) {
+    FilterConfig config;
+    config.dimensions = 2;
+    config.covariance = storage;
+    config.kernelSigma = 0.6;  // three cells
+    config.stencilRadius = 8.5;
+    config.stencilManhattanRadius = 8;
+    expectSinkReportsExactlyTheChanges(config, batchAround(CellKey{}, 1, 600, 1),
+                                       batchAround(CellKey{3, -9, 0}, 2, 600, 1));
+  }
+}
+
 TEST(BandedDeterminism, RejectsBadMeasurementsAndCountsThem) {
   FilterConfig config;
   config.dimensions = 2;

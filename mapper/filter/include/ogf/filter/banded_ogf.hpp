@@ -267,14 +267,14 @@ class BandedOgf {
   double freeClampZ_ = 0.0;  // for free ones
   std::vector<std::uint32_t> neighbourMask_;  // per position in a block: neighbouring blocks reached
   // The stencil as rows along x, for the change detection's dilation: each (dy, dz) of its offsets with
-  // the index of its set of dx in stencilRowSets_ (bit dx + 7 per dx).
+  // the index of its set of dx in stencilRowSets_ (bit dx + 8 per dx).
   struct StencilRow {
     int dy = 0;
     int dz = 0;
     std::uint32_t set = 0;
   };
   std::vector<StencilRow> stencilRows_;
-  std::vector<std::uint16_t> stencilRowSets_;
+  std::vector<std::uint32_t> stencilRowSets_;
   BandTables band_;                           // where the stencil cells and their pairs are
   BandLocate locate_ = nullptr;               // the records of a measurement's stencil cells, prefetched
   BandKernel kernel_ = nullptr;               // eq. (5) in the band (compiled for common stencils)
