@@ -302,9 +302,12 @@ void MapperDaemon::stop() {
   {
     std::lock_guard lk(mu_);
     const auto& pc = pending_.counts();
-    spdlog::info("stopping: {} scans in, {} mapped, {} dropped behind, {} without poses; {} keyframes sent",
+    // The filter checksum is the status's filter_checksum and ogf-map's checksum of the same scans.
+    spdlog::info("stopping: {} scans in, {} mapped, {} dropped behind, {} without poses; {} keyframes sent; "
+                 "filter checksum {:016x}",
                  pc.scans_in + malformed_scans_, stats_.scans_mapped, pc.scans_dropped_behind,
-                 pc.scans_dropped_no_pose, stats_.keyframes_sent);
+                 pc.scans_dropped_no_pose, stats_.keyframes_sent,
+                 static_cast<std::uint64_t>(stats_.filter_checksum));
   }
   boost::system::error_code ec;
   status_timer_.cancel(ec);
