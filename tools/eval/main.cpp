@@ -260,6 +260,7 @@ int evaluateStaticCapture(const std::string& pcap, const std::string& calib, con
     return kExitFailed;
   }
   if (!read->warning.empty()) spdlog::warn("--pcap: {}", read->warning);
+  spdlog::info("calibration: {}", read->calibration);
   const auto& m = config.fusion.measurement;
   const double res = m.resolution_m;
   spdlog::info("{}: {} scans, {} points; resolution {} m, range {}-{} m", pcap, scans.size(), read->points, res,

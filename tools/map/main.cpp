@@ -139,6 +139,7 @@ bool reportPacketProblems(const ogf::Result<mio::PcapScanCounts>& counts) {
   }
   if (!counts->warning.empty()) spdlog::warn("{}", counts->warning);
   if (!counts->gaps.empty()) spdlog::warn("{}", counts->gaps);
+  spdlog::info("calibration: {}", counts->calibration);
   return true;
 }
 
