@@ -156,6 +156,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "ogf-decode: %s\n", bag.error().message.c_str());
       return ogf::cli::kExitFailure;
     }
+    if (const auto found = bag->whereFound(); !found.empty()) std::fprintf(stderr, "ogf-decode: %s\n", found.c_str());
     if (const auto others = ogf::rosbag::undecodedTopicsSummary(bag->topics()); !others.empty())
       std::fprintf(stderr, "ogf-decode: %s: not read (types ogf does not decode): %s\n", bag_path.c_str(),
                    others.c_str());

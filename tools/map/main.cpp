@@ -425,6 +425,7 @@ int main(int argc, char** argv) {
       return kExitNothingMapped;
     }
     bag = std::move(*opened);
+    if (const auto found = bag->whereFound(); !found.empty()) spdlog::info("{}", found);
     if (const auto others = ogf::rosbag::undecodedTopicsSummary(bag->topics()); !others.empty())
       spdlog::info("{}: not read (types ogf does not decode): {}", o.rosbag2, others);
     auto topic = ogf::rosbag::choosePacketTopic(*bag, o.packets_topic);
