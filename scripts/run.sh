@@ -125,7 +125,7 @@ echo "== scoring the map against the ground truth and an OctoMap of the same ray
 echo
 echo "map:        $out/map.ogfs        (the mapper's final snapshot; the live state stays in $out/state)"
 echo "PLY:        $out/map_occupied.ply (occupied cells)"
-echo "PNG:        $out/png/ (truth, ogf/octomap classes and errors, occupancy, entropy; walls above the floor)"
+echo "PNG:        $out/png/ (truth, ogf/octomap classes and errors, occupancy, entropy; the walls' band, chosen from the truth)"
 echo "accuracy:   $out/accuracy.txt"
 echo "OctoMap:    $out/octomap.bt"
 echo "logs:       $out/logs/ (sim, mapper, driver, map-client, view); replay summary $out/replay.txt"

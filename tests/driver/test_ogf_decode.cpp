@@ -145,3 +145,18 @@ TEST(OgfDecode, HelpDocumentsTheCsvTimeBase) {
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_NE(r.output.find("RELATIVE TO THE SCAN START"), std::string::npos);
 }
+
+// Without --calib the points come from the model's nominal table: the output says so, and names the file
+// when one is given, so a forgotten --calib is never silent.
+TEST(OgfDecode, NamesTheCalibrationItDecodedWith) {
+  OGF_REQUIRE_SHARED_FILE(pcap, "data/real/vlp-16-test-90deg-1-50-frames.pcap");
+  OGF_REQUIRE_SHARED_FILE(calib, "data/real/calib/VLP-16.xml");
+  const DecodeRun nominal = decode({"--pcap", pcap.string(), "--quiet"});
+  ASSERT_EQ(nominal.exit_code, 0) << nominal.output;
+  EXPECT_NE(nominal.output.find("calibration: the nominal VLP-16 table, built in (no --calib;"), std::string::npos)
+      << nominal.output;
+  const DecodeRun file = decode({"--pcap", pcap.string(), "--calib", calib.string(), "--quiet"});
+  ASSERT_EQ(file.exit_code, 0) << file.output;
+  EXPECT_NE(file.output.find("calibration: " + calib.string() + " (--calib)"), std::string::npos) << file.output;
+  EXPECT_EQ(file.output.find("nominal"), std::string::npos) << file.output;
+}

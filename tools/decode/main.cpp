@@ -156,6 +156,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "ogf-decode: %s\n", bag.error().message.c_str());
       return ogf::cli::kExitFailure;
     }
+    if (const auto found = bag->whereFound(); !found.empty()) std::fprintf(stderr, "ogf-decode: %s\n", found.c_str());
     if (const auto others = ogf::rosbag::undecodedTopicsSummary(bag->topics()); !others.empty())
       std::fprintf(stderr, "ogf-decode: %s: not read (types ogf does not decode): %s\n", bag_path.c_str(),
                    others.c_str());
@@ -224,6 +225,16 @@ int main(int argc, char** argv) {
       static_cast<long long>(other_ports), static_cast<long long>(fragments),
       static_cast<long long>(cut_short), model ? std::string(ov::modelName(*model)).c_str() : "unknown",
       mode ? std::string(ov::returnModeName(*mode)).c_str() : "unknown");
+  // Which angles the points were computed with: a silent default would hide a missing --calib.
+  if (!calib_path.empty())
+    std::fprintf(stderr, "ogf-decode: calibration: %s (--calib)\n", calib_path.c_str());
+  else if (model)
+    std::fprintf(stderr,
+                 "ogf-decode: calibration: the nominal %s table, built in (no --calib; give the sensor's own file "
+                 "for its exact angles)\n",
+                 std::string(ov::modelName(*model)).c_str());
+  else
+    std::fprintf(stderr, "ogf-decode: calibration: none: no data packet told the sensor model\n");
   if (const auto& pos = stream->lastPosition()) {
     std::printf("position pps %d gps_fix %s nmea %.*s\n", static_cast<int>(pos->pps),
                 pos->gpsFixValid() ? "valid" : "none", static_cast<int>(pos->nmea().size()),

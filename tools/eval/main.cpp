@@ -260,6 +260,7 @@ int evaluateStaticCapture(const std::string& pcap, const std::string& calib, con
     return kExitFailed;
   }
   if (!read->warning.empty()) spdlog::warn("--pcap: {}", read->warning);
+  spdlog::info("calibration: {}", read->calibration);
   const auto& m = config.fusion.measurement;
   const double res = m.resolution_m;
   spdlog::info("{}: {} scans, {} points; resolution {} m, range {}-{} m", pcap, scans.size(), read->points, res,
@@ -404,7 +405,7 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   bool held_out = false, is_static = false;
   bool no_octomap = false;
-  std::optional<double> png_zmin, png_zmax;  // default: the walls' band of the truth (or of the map)
+  std::optional<double> png_zmin, png_zmax;  // default: the walls' band of the truth
   int scale = 1;
   app.add_option("--map", map_path,
                  "OGF map: a map file (ogf-map --out) or a daemon snapshot (snapshot.ogfs); required unless "
@@ -430,8 +431,8 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "Seed of the held-out split")->capture_default_str();
   app.add_option("--png", png_dir, "Folder for truth.png, ogf_/octomap_classes.png, ogf_/octomap_errors.png and the "
                                    "map's occupancy.png/entropy.png");
-  app.add_option("--png-zmin", png_zmin, "Bottom of the PNGs' height band, metres (default: 0.2 m above the floor)");
-  app.add_option("--png-zmax", png_zmax, "Top of the PNGs' height band, metres (default: 2 m above the floor)");
+  app.add_option("--png-zmin", png_zmin, "Bottom of the PNGs' height band, metres (default: the truth's walls' band)");
+  app.add_option("--png-zmax", png_zmax, "Top of the PNGs' height band, metres (default: the truth's walls' band)");
   app.add_option("--png-scale", scale, "Least pixels per cell in the truth/class/error PNGs (they are at least 800 px wide or high)")
       ->capture_default_str()
       ->check(ogf::cli::between(1, 32));
@@ -616,11 +617,14 @@ int main(int argc, char** argv) {
       rc = kExitFailed;
     }
   };
+  ev::HeightBand band;  // the same for the truth's pictures and the map's
   if (!png_dir.empty()) {
     std::error_code ec;
     fs::create_directories(png_dir, ec);
-    const ev::HeightBand walls = ev::wallBand(*truth);
-    const ev::HeightBand band{png_zmin.value_or(walls.z_min), png_zmax.value_or(walls.z_max)};
+    const auto chosen = ogf::tools::pictureBand(ev::wallBand(*truth), png_zmin, png_zmax, "the truth");
+    spdlog::info("{}: every picture shows cells with centres in z {:.2f} to {:.2f} m ({})", png_dir, chosen.z_min,
+                 chosen.z_max, chosen.why);
+    band = ev::HeightBand{chosen.z_min, chosen.z_max};
     report("--png", ev::writeTruthPng(*truth, band, scale, fs::path(png_dir) / "truth.png"));
     report("--png", ev::writeMapPngs(*truth, ogf_est, band, scale, png_dir, "ogf"));
     if (octo) report("--png", ev::writeMapPngs(*truth, octo_est, band, scale, png_dir, "octomap"));
@@ -629,9 +633,7 @@ int main(int argc, char** argv) {
     const auto cells = ogf::map_io::collectCells(map);
     if (!ply_out.empty()) report("--export-ply", ogf::map_io::writeOccupiedPly(cells, ply_out));
     if (!png_dir.empty()) {
-      const auto walls = ogf::map_io::wallBand(cells).value_or(ogf::map_io::TopDownBand{});
-      auto png = ogf::map_io::writeTopDownPngs(cells, {png_zmin.value_or(walls.z_min), png_zmax.value_or(walls.z_max)},
-                                               png_dir);
+      auto png = ogf::map_io::writeTopDownPngs(cells, {band.z_min, band.z_max}, png_dir);
       if (!png) report("--png", png.error());
     }
   }

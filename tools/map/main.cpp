@@ -139,6 +139,7 @@ bool reportPacketProblems(const ogf::Result<mio::PcapScanCounts>& counts) {
   }
   if (!counts->warning.empty()) spdlog::warn("{}", counts->warning);
   if (!counts->gaps.empty()) spdlog::warn("{}", counts->gaps);
+  spdlog::info("calibration: {}", counts->calibration);
   return true;
 }
 
@@ -187,13 +188,12 @@ bool writeExports(const ogf::filter::BandedOgf& map, const Options& o) {
                                         : std::string());
   }
   if (!o.png_dir.empty()) {
-    const mio::TopDownBand walls = mio::wallBand(cells).value_or(mio::TopDownBand{});
-    const mio::TopDownBand band{o.png_zmin.value_or(walls.z_min), o.png_zmax.value_or(walls.z_max)};
-    auto png = mio::writeTopDownPngs(cells, band, o.png_dir);
+    const auto band = ogf::tools::pictureBand(mio::wallBand(cells), o.png_zmin, o.png_zmax, "the map");
+    auto png = mio::writeTopDownPngs(cells, {band.z_min, band.z_max}, o.png_dir);
     if (!png) report("--png", png.error());
     else
-      spdlog::info("{}: occupancy.png and entropy.png of {} x {} cell columns, z {:.2f} to {:.2f} m", o.png_dir,
-                   png->width, png->height, band.z_min, band.z_max);
+      spdlog::info("{}: occupancy.png and entropy.png of {} x {} cell columns, z {:.2f} to {:.2f} m ({})", o.png_dir,
+                   png->width, png->height, band.z_min, band.z_max, band.why);
   }
   return ok;
 }
@@ -286,9 +286,9 @@ int main(int argc, char** argv) {
   app.add_option("--export-bt", o.export_bt, "OctoMap binary tree (.bt) for octovis");
   auto* png_opt = app.add_option("--png", o.png_dir, "Folder for top-down occupancy.png and entropy.png");
   app.add_option("--png-zmin", o.png_zmin,
-                 "Bottom of the height band of --png, metres (default: 0.2 m above the floor, found in the map)")
+                 "Bottom of the height band of --png, metres (default: the walls' band, found in the map)")
       ->needs(png_opt);
-  app.add_option("--png-zmax", o.png_zmax, "Top of the height band of --png, metres (default: 2 m above the floor)")
+  app.add_option("--png-zmax", o.png_zmax, "Top of the height band of --png, metres (default: the walls' band)")
       ->needs(png_opt);
   auto* threads_opt = app.add_option("--threads", o.threads, "Filter threads (the map is the same for any count)")
                           ->capture_default_str()
@@ -424,6 +424,7 @@ int main(int argc, char** argv) {
       return kExitNothingMapped;
     }
     bag = std::move(*opened);
+    if (const auto found = bag->whereFound(); !found.empty()) spdlog::info("{}", found);
     if (const auto others = ogf::rosbag::undecodedTopicsSummary(bag->topics()); !others.empty())
       spdlog::info("{}: not read (types ogf does not decode): {}", o.rosbag2, others);
     auto topic = ogf::rosbag::choosePacketTopic(*bag, o.packets_topic);

@@ -136,6 +136,7 @@ int main(int argc, char** argv) {
       return kExitNothingSent;
     }
     bag = std::move(*opened);
+    if (const auto found = bag->whereFound(); !found.empty()) spdlog::info("{}", found);
     if (const auto others = ogf::rosbag::undecodedTopicsSummary(bag->topics()); !others.empty())
       spdlog::info("{}: not read (types ogf does not decode): {}", rosbag2, others);
     auto topic = ogf::rosbag::choosePacketTopic(*bag, packets_topic);

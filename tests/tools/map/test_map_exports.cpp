@@ -160,29 +160,4 @@ TEST(TopDownPng, BothViewsAreWrittenAsPngsOfTheMapExtent) {
   EXPECT_FALSE(map_io::writeTopDownPngs(cells, {50.0, 60.0}, dir / "png2").ok());
 }
 
-TEST(TopDownPng, TheDefaultBandStartsAboveTheFloor) {
-  map_io::MapCells cells;
-  cells.resolution = 0.2;
-  // A floor (layer z = -5, 100 cells), a wall (layers -4..5, 10 cells each) and a ceiling (layer 6, 100 cells).
-  for (int x = 0; x < 10; ++x) {
-    for (int y = 0; y < 10; ++y) {
-      cells.cells.push_back({CellKey{x, y, -5}, 0.9, 1, 0.1f});
-      cells.cells.push_back({CellKey{x, y, 6}, 0.9, 1, 0.1f});
-    }
-    for (int z = -4; z <= 5; ++z) cells.cells.push_back({CellKey{x, 0, z}, 0.9, 1, 0.1f});
-  }
-  cells.cells.push_back({CellKey{0, 0, -9}, 0.9, 1, 0.1f});  // one stray cell below the floor
-  auto twoLayers = cells;  // range noise: the floor spread over layers -5 and -4
-  for (int x = 0; x < 10; ++x)
-    for (int y = 1; y < 10; ++y) twoLayers.cells.push_back({CellKey{x, y, -4}, 0.9, 1, 0.1f});
-  const auto spread = map_io::wallBand(twoLayers);
-  ASSERT_TRUE(spread.has_value());
-  EXPECT_NEAR(spread->z_min, -0.6 + 0.2, 1e-9);
-  const auto band = map_io::wallBand(cells);
-  ASSERT_TRUE(band.has_value());
-  EXPECT_NEAR(band->z_min, -0.8 + 0.2, 1e-9);  // the floor layer's top is -4 × 0.2 = -0.8 m
-  EXPECT_NEAR(band->z_max, -0.8 + 2.0, 1e-9);
-  EXPECT_FALSE(map_io::wallBand(map_io::MapCells{}).has_value());
-}
-
 }  // namespace

@@ -239,3 +239,46 @@ TEST(Rosbag2Storage, AMessageThatDoesNotDecodeIsSkippedAndDescribed) {
 }
 
 }  // namespace
+
+TEST(Rosbag2Storage, TheFolderAboveOneBagOpensThatBagAndSaysSo) {
+  Scratch scratch;
+  const fs::path inner = scratch.path() / "rosbag2_2024_01_01-12_00_00";
+  ogf::testing::writeTestBag(inner, kSampleTopics, {{{"/odom", 1000, {0x00, 0x01, 0x00, 0x00}}}});
+  fs::create_directories(scratch.path() / "notes");  // a folder that is no bag does not count
+  auto bag = Rosbag2Storage::open(scratch.path());
+  ASSERT_TRUE(bag) << bag.error().message;
+  EXPECT_EQ(bag->path(), inner);
+  EXPECT_EQ(bag->searchedFolder(), scratch.path());
+  ASSERT_EQ(bag->files().size(), 1U);
+  EXPECT_EQ(bag->topic("/odom")->message_count, 1);
+  EXPECT_EQ(bag->whereFound(), scratch.path().string() + " holds no bag itself; reading the bag in its subfolder " +
+                                   inner.string());
+  // Given the bag itself, nothing was searched.
+  auto direct = Rosbag2Storage::open(inner);
+  ASSERT_TRUE(direct) << direct.error().message;
+  EXPECT_TRUE(direct->searchedFolder().empty());
+  EXPECT_TRUE(direct->whereFound().empty());
+}
+
+TEST(Rosbag2Storage, TheFolderAboveSeveralBagsIsRefusedWithTheirNames) {
+  Scratch scratch;
+  ogf::testing::writeTestBag(scratch.path() / "run_b", kSampleTopics, {{}});
+  ogf::testing::writeTestBag(scratch.path() / "run_a", kSampleTopics, {{}}, /*with_metadata=*/false);
+  auto bag = Rosbag2Storage::open(scratch.path());
+  ASSERT_FALSE(bag);
+  EXPECT_EQ(bag.error().message, scratch.path().string() +
+                                     ": no metadata.yaml and no .db3 file; 2 subfolders hold bags (run_a, run_b): "
+                                     "give one of them");
+  fs::create_directories(scratch.path() / "empty");
+  auto none = Rosbag2Storage::open(scratch.path() / "empty");
+  ASSERT_FALSE(none);
+  EXPECT_NE(none.error().message.find("no subfolder holding one"), std::string::npos) << none.error().message;
+}
+
+TEST(Rosbag2Storage, TheRealNebulaBagOpensFromTheFolderAboveIt) {
+  OGF_REQUIRE_SHARED_FILE(bag_dir, "data/real/nebula_vlp16_dual/1673400471837873222");
+  auto bag = Rosbag2Storage::open(bag_dir.parent_path());
+  ASSERT_TRUE(bag) << bag.error().message;
+  EXPECT_EQ(bag->path(), bag_dir);
+  ASSERT_FALSE(bag->topicsOfType(kVelodyneScanType).empty());
+}

@@ -128,4 +128,24 @@ TEST(RosbagPrograms, OgfMapWithoutPosesOrABagIsRefusedNamingWhy) {
   EXPECT_FALSE(fs::exists(dir / "m"));
 }
 
+// The folder above a bag (where a recorder made the bag's own folder): both programs read the bag inside
+// and say which, with the output the bag itself gives.
+TEST(RosbagPrograms, TheFolderAboveTheNebulaBagIsReadAsTheBagInsideIt) {
+  OGF_REQUIRE_SHARED_FILE(bag, kBag);
+  ogf::testing::ScratchDir dir;
+  const std::string note = bag.parent_path().string() + " holds no bag itself; reading the bag in its subfolder " +
+                           bag.string();
+  const auto above = runProgram({OGF_DECODE_BINARY, "--rosbag2", bag.parent_path().string()}, dir.path());
+  ASSERT_EQ(above.exit_code, 0) << above.output;
+  EXPECT_NE(above.output.find(note), std::string::npos) << above.output;
+  const auto direct = runProgram({OGF_DECODE_BINARY, "--rosbag2", bag.string()}, dir.path());
+  EXPECT_EQ(above.stdout_text, direct.stdout_text);
+  const auto mapped = runProgram({OGF_MAP_BINARY, "--rosbag2", bag.parent_path().string(), "--static", "--out",
+                                  (dir / "m.map").string()},
+                                 dir.path());
+  ASSERT_EQ(mapped.exit_code, 0) << mapped.output;
+  EXPECT_NE(mapped.output.find(note), std::string::npos) << mapped.output;
+  EXPECT_GE(mappedScans(mapped.stdout_text), 1) << mapped.output;
+}
+
 }  // namespace

@@ -98,21 +98,6 @@ int drawColourBar(Image& img, const ColourBar& bar, int x, int y) {
 
 }  // namespace
 
-std::optional<int> floorTopLayer(const std::map<int, int>& occupiedPerLayer) {
-  if (occupiedPerLayer.empty()) return std::nullopt;
-  int fullest = 0;
-  for (const auto& [z, n] : occupiedPerLayer) fullest = std::max(fullest, n);
-  std::optional<int> floor;
-  for (const auto& [z, n] : occupiedPerLayer) {
-    if (2 * n >= fullest && (!floor || z == *floor + 1)) {
-      floor = z;
-    } else if (floor) {
-      break;
-    }
-  }
-  return floor;
-}
-
 double niceStep(double rough) {
   if (!(rough > 0.0) || !std::isfinite(rough)) return 1.0;
   const double decade = std::pow(10.0, std::floor(std::log10(rough)));

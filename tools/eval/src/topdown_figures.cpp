@@ -11,7 +11,7 @@
 #include <algorithm>
 #include <functional>
 #include <cmath>
-#include <map>
+#include <vector>
 
 namespace ogf::eval {
 namespace {
@@ -69,16 +69,21 @@ std::string bandNote(const sim::GroundTruth& t, const HeightBand& band) {
 
 }  // namespace
 
-HeightBand wallBand(const sim::GroundTruth& truth) {
-  std::map<int, int> occupiedPerLayer;
-  const std::size_t layer = static_cast<std::size_t>(truth.size[0]) * static_cast<std::size_t>(truth.size[1]);
-  for (std::size_t i = 0; i < truth.cells.size(); ++i) {
-    if (truth.cells[i] == static_cast<std::uint8_t>(sim::CellClass::Occupied)) ++occupiedPerLayer[static_cast<int>(i / layer)];
+std::optional<tools::WallBand> wallBand(const sim::GroundTruth& truth) {
+  tools::WallBandFinder finder(truth.resolution);
+  const int nx = truth.size[0], ny = truth.size[1], nz = truth.size[2];
+  const std::size_t layer = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
+  std::vector<tools::ColumnCell> column;
+  for (std::size_t xy = 0; xy < layer; ++xy) {
+    column.clear();
+    for (int iz = 0; iz < nz; ++iz) {
+      const auto c = static_cast<sim::CellClass>(truth.cells[xy + layer * static_cast<std::size_t>(iz)]);
+      if (c == sim::CellClass::Unobservable) continue;
+      column.push_back({truth.min_key.z + iz, static_cast<std::int8_t>(c == sim::CellClass::Occupied ? 1 : -1)});
+    }
+    finder.addColumn(column);
   }
-  const auto floor = tools::floorTopLayer(occupiedPerLayer);
-  if (!floor) return {};
-  const double top = (truth.min_key.z + *floor + 1) * truth.resolution;
-  return {top + 0.2, top + 2.0};
+  return finder.band();
 }
 
 Status writeTruthPng(const sim::GroundTruth& truth, const HeightBand& band, int scale, const std::filesystem::path& path) {

@@ -53,6 +53,15 @@ void finishCounts(const ov::PacketStream& stream, PcapScanCounts& counts) {
   const ov::StreamCounters& c = stream.counters();
   counts.data_packets = c.data_packets;
   counts.bad_packets = c.bad_size + c.bad_block_flag + c.bad_other;
+  if (const auto& file = stream.config().calibration) {
+    counts.calibration = fmt::format("{} (--calib)", file->source);
+  } else if (const auto model = stream.model()) {
+    counts.calibration = fmt::format("the nominal {} table, built in (no --calib; give the sensor's own file for "
+                                     "its exact angles)",
+                                     ov::modelName(*model));
+  } else {
+    counts.calibration = "none: no data packet told the sensor model";
+  }
 }
 
 // The end of a recording's packets: the last scan out, the decoder's counts, what the reader skipped and

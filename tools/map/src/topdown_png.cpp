@@ -10,7 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
+#include <tuple>
 #include <string>
 #include <vector>
 
@@ -25,15 +25,25 @@ constexpr tools::Rgb kNotObserved{215, 215, 215};
 
 }  // namespace
 
-std::optional<TopDownBand> wallBand(const MapCells& cells) {
-  std::map<int, int> occupiedPerLayer;
-  for (const CellRecord& c : cells.cells) {
-    if (c.cell_class > 0) ++occupiedPerLayer[c.key.z];
+std::optional<tools::WallBand> wallBand(const MapCells& cells) {
+  // The cells column by column, each column's from the bottom up.
+  std::vector<const CellRecord*> order(cells.cells.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = &cells.cells[i];
+  std::sort(order.begin(), order.end(), [](const CellRecord* a, const CellRecord* b) {
+    return std::tie(a->key.x, a->key.y, a->key.z) < std::tie(b->key.x, b->key.y, b->key.z);
+  });
+  tools::WallBandFinder finder(cells.resolution);
+  std::vector<tools::ColumnCell> column;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    column.push_back({order[i]->key.z, order[i]->cell_class});
+    const bool last = i + 1 == order.size() || order[i + 1]->key.x != order[i]->key.x ||
+                      order[i + 1]->key.y != order[i]->key.y;
+    if (last) {
+      finder.addColumn(column);
+      column.clear();
+    }
   }
-  const auto floor = tools::floorTopLayer(occupiedPerLayer);
-  if (!floor) return std::nullopt;
-  const double top = (*floor + 1) * cells.resolution;
-  return TopDownBand{top + 0.2, top + 2.0};
+  return finder.band();
 }
 
 Result<TopDownSize> writeTopDownPngs(const MapCells& cells, const TopDownBand& band, const std::filesystem::path& dir) {

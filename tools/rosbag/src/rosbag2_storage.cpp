@@ -99,6 +99,20 @@ Result<std::vector<fs::path>> filesFromMetadata(const fs::path& dir, const fs::p
   }
 }
 
+// The subfolders of `dir` that look like bags (a metadata.yaml or a .db3 file in them), by name.
+std::vector<fs::path> bagSubfolders(const fs::path& dir) {
+  std::vector<fs::path> found;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    std::error_code sub_ec;
+    if (!entry.is_directory(sub_ec)) continue;
+    if (fs::exists(entry.path() / "metadata.yaml", sub_ec) || !globDb3(entry.path()).empty())
+      found.push_back(entry.path());
+  }
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
 }  // namespace
 
 Result<Rosbag2Storage> Rosbag2Storage::open(const fs::path& path) {
@@ -115,9 +129,23 @@ Result<Rosbag2Storage> Rosbag2Storage::open(const fs::path& path) {
     bag.files_ = std::move(*files);
   } else {
     bag.files_ = globDb3(path);
-    if (bag.files_.empty())
-      return Error{
-          fmt::format("{}: no metadata.yaml and no .db3 file: not a rosbag2 sqlite3 bag", path.string())};
+    if (bag.files_.empty()) {
+      // The folder above a bag (ros2 bag record names the bag's folder after the time): the one bag inside.
+      const std::vector<fs::path> inside = bagSubfolders(path);
+      if (inside.size() == 1) {
+        auto inner = open(inside.front());
+        if (inner) inner->searched_folder_ = path;
+        return inner;
+      }
+      if (inside.empty())
+        return Error{fmt::format("{}: no metadata.yaml, no .db3 file and no subfolder holding one: not a rosbag2 "
+                                 "sqlite3 bag",
+                                 path.string())};
+      std::string names;
+      for (const fs::path& p : inside) names += (names.empty() ? "" : ", ") + p.filename().string();
+      return Error{fmt::format("{}: no metadata.yaml and no .db3 file; {} subfolders hold bags ({}): give one of them",
+                               path.string(), inside.size(), names)};
+    }
   }
 
   for (const fs::path& file : bag.files_) {
@@ -152,6 +180,12 @@ Result<Rosbag2Storage> Rosbag2Storage::open(const fs::path& path) {
     if (rc != SQLITE_DONE) return stepError(db->get(), file, "counting messages");
   }
   return bag;
+}
+
+std::string Rosbag2Storage::whereFound() const {
+  if (searched_folder_.empty()) return {};
+  return fmt::format("{} holds no bag itself; reading the bag in its subfolder {}", searched_folder_.string(),
+                     path_.string());
 }
 
 const BagTopic* Rosbag2Storage::topic(std::string_view name) const {

@@ -4,7 +4,6 @@
 #pragma once
 
 #include <functional>
-#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -47,11 +46,6 @@ inline constexpr int kFigureMinLongSide = 800;  // pixels of the map itself
 // `min_scale` pixels wide.
 Image composeMapFigure(const MapRaster& raster, const std::string& title, const std::string& note,
                        const FigureKey& key, int min_scale = 1);
-
-// The top layer of a map's floor from the occupied cells per height layer (layer index -> count): the
-// lowest layer at least half as full as the fullest, and the layers right above it that are too (range
-// noise spreads a floor over two). nullopt when nothing is occupied. Figures' height bands start above it.
-std::optional<int> floorTopLayer(const std::map<int, int>& occupiedPerLayer);
 
 // A pleasant step for ticks and scale bars: 1, 2 or 5 × 10^k, the smallest not below `rough`.
 double niceStep(double rough);

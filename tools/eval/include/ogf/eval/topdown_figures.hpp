@@ -6,15 +6,18 @@
 //   <name>_classes.png        occupied, free or unknown (occupied wins, then free)
 //   <name>_errors.png         per column, the share of known truth cells in the band the map gets wrong
 //                             (unknown counts as wrong, eq. 13), white none to red all; grey no known cell
-// The default band shows walls, not the floor: 0.2 m to 2 m above the truth's floor (the lowest layer with
-// at least half as many occupied cells as the fullest layer).
+// The default band shows the walls, not the floor or the ceiling: the truth's walls' band, chosen by the rule
+// of the maps' pictures (tools::WallBandFinder, ogf/tools/wall_band.hpp) from its occupied and free cells.
 #pragma once
 
 #include <ogf/common/result.hpp>
 
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
+
+#include <ogf/tools/wall_band.hpp>
 
 #include "ogf/eval/map_scores.hpp"
 
@@ -29,8 +32,8 @@ struct HeightBand {
   double z_max = 2.0;
 };
 
-// The walls' band of the truth (see above); [0, 2] m when nothing is occupied.
-HeightBand wallBand(const sim::GroundTruth& truth);
+// The walls' band of the truth (see above) with why it was chosen; nullopt when nothing is occupied.
+std::optional<tools::WallBand> wallBand(const sim::GroundTruth& truth);
 
 Status writeTruthPng(const sim::GroundTruth& truth, const HeightBand& band, int scale, const std::filesystem::path& path);
 // `estimates` are aligned with truth.cells. Writes DIR/<name>_classes.png and DIR/<name>_errors.png. Each

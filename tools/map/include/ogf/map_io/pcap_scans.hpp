@@ -33,6 +33,7 @@ struct PcapScanCounts {
   std::int64_t bad_packets = 0;  // wrong size, bad block flag, bad azimuth
   std::string warning;           // a damaged capture: where reading stopped; batches of a log skipped
   std::string gaps;              // a log's missing batches ("" when none)
+  std::string calibration;       // what decoded the packets, for the log: the --calib file or the built-in table
 };
 
 // `progress` (optional) receives an estimate of the fraction of the file read after each scan.

@@ -1,6 +1,8 @@
 // A ROS 2 bag in rosbag2's sqlite3 storage, opened for reading: the folder's metadata.yaml names the .db3
 // files in order (relative_file_paths); without it every *.db3 in the folder is read, in name order. A
-// path to one .db3 file is read alone. Each file holds the tables `topics` (id, name, type,
+// path to one .db3 file is read alone. A folder with neither, holding exactly one subfolder that has either
+// (the folder above a bag, e.g. where `ros2 bag record` made its time-named folder), opens that bag; with
+// several such subfolders the error lists them. Each file holds the tables `topics` (id, name, type,
 // serialization_format, ...) and `messages` (id, topic_id, timestamp, data); topics are merged across files
 // by name. Messages come out file by file, each file's in timestamp order. Compressed bags and other
 // storage plugins (mcap) are refused with their name. Errors name the file and what is wrong with it.
@@ -38,7 +40,12 @@ class Rosbag2Storage {
  public:
   static Result<Rosbag2Storage> open(const std::filesystem::path& path);
 
-  const std::filesystem::path& path() const { return path_; }
+  const std::filesystem::path& path() const { return path_; }  // the bag's folder or file
+  // The folder open() was given when the bag is its only bag subfolder; empty when open() was given the bag.
+  const std::filesystem::path& searchedFolder() const { return searched_folder_; }
+  // For the log when searchedFolder() is set ("A holds no bag itself; reading the bag in its subfolder
+  // A/B"), else empty.
+  std::string whereFound() const;
   const std::vector<std::filesystem::path>& files() const { return files_; }
   const std::vector<BagTopic>& topics() const { return topics_; }
   const BagTopic* topic(std::string_view name) const;
@@ -51,6 +58,7 @@ class Rosbag2Storage {
 
  private:
   std::filesystem::path path_;
+  std::filesystem::path searched_folder_;
   std::vector<std::filesystem::path> files_;
   std::vector<BagTopic> topics_;
   // Per file: (topic id in that file, index into topics_).
