@@ -24,8 +24,8 @@ struct OfflineConfig {
   std::string unusedNote(std::string_view program) const;
 };
 
-// Reads the file at `path` for the program `user` (a mapper_daemon::ConfigUser bit). Errors name the file,
-// the line and the key.
+// Reads the file at `path` for the program `user` (a mapper_daemon::ConfigUser bit) and validates it as
+// ogf-mapper does. Errors name the file, the line and the key.
 Result<OfflineConfig> readOfflineConfig(const std::filesystem::path& path, mapper_daemon::ConfigUser user);
 
 }  // namespace ogf::map_io
