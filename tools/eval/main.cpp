@@ -197,10 +197,16 @@ void printHeldOut(const ev::HeldOutSplit& split, std::uint64_t seed, const std::
                    })}});
 }
 
+// Says once that odometry and scans are on different clocks when no scan could be placed.
+void reportClocks(const ev::SimMeasurementCounts& counts) {
+  if (counts.scans_measured == 0 && !counts.clock_mismatch.empty()) spdlog::warn("clocks: {}", counts.clock_mismatch);
+}
+
 // The held-out test on a simulator run: an OGF (through `config`, the daemon's pipeline) and an OctoMap
 // built from the rays the split keeps, scored on the rest.
 ogf::Result<std::vector<ev::HeldOutScores>> heldOutOnSimRun(const std::string& truth_dir,
                                                            const ogf::pipeline::MapperConfig& config,
+                                                           ogf::map_io::TimeBase time_base,
                                                            const ev::HeldOutSplit& split, bool octomap) {
   auto mapper = ogf::pipeline::ScanMapper::create(config);
   if (!mapper) return ogf::Error{"configuration: " + mapper.error().message};
@@ -223,8 +229,9 @@ ogf::Result<std::vector<ev::HeldOutScores>> heldOutOnSimRun(const std::string& t
     for (const auto& x : ms) measured.insert(x.key);
     mapper->apply(ms);
     if (octomap) octo.insert(ms);
-  });
+  }, time_base);
   if (!counts) return counts.error();
+  reportClocks(*counts);
   octo.finish();
   const auto& m = config.fusion.measurement;
   ev::HeldOutScorer ogf_score(res, m.min_range_m, m.max_range_m), octo_score(res, m.min_range_m, m.max_range_m);
@@ -347,21 +354,6 @@ int evaluateStaticCapture(const std::string& pcap, const std::string& calib, con
   return kExitOk;
 }
 
-// Mapping settings for the maps ogf-eval builds itself: ogf-map's flat YAML (--config).
-bool applyConfigFile(const std::string& path, ogf::pipeline::MapperConfig& config) {
-  std::ifstream in(path);
-  if (!in) {
-    spdlog::error("--config: {}: cannot open", path);
-    return false;
-  }
-  std::stringstream text;
-  text << in.rdbuf();
-  if (auto st = ogf::map_io::applyMapConfigYaml(text.str(), path, config); !st) {
-    spdlog::error("--config: {}", st.error().message);
-    return false;
-  }
-  return true;
-}
 
 }  // namespace
 
@@ -386,7 +378,8 @@ int main(int argc, char** argv) {
       "(position RMSE, mean, max; the truth interpolated to each pose's stamp), without alignment since both start on\n"
       "the true pose. --map may then be left out.\n"
       "Without --map (and without --odometry/--corrected), the OGF is built here from the run's rays through the\n"
-      "mapping pipeline with --config's settings (ogf-map's YAML), as ogf-map would build it.\n"
+      "mapping pipeline with --config's settings (ogf-mapper's configuration file, as ogf-map reads it; --time or\n"
+      "its time_base names the odometry's clock), as ogf-map would build it.\n"
       "Moving solids: when the run has swept.grid (ogf-sim --movers), the swept cells free in the truth and how many\n"
       "of them each map still classes occupied (what the moving solid left behind).\n"
       "--held-out: both maps are built again from the rays the split keeps (a hash of scan, ray and --seed below\n"
@@ -400,7 +393,7 @@ int main(int argc, char** argv) {
       "half-way along each return classed free; with --held-out also the held-out test.\n"
       "Exit 0 when scored, 1 when an input is unreadable or an output failed, 2 on bad flags."};
   std::string map_path, truth_dir, png_dir, octomap_in, octomap_out, ply_out, log_level = "info";
-  std::string odometry_path, corrected_path, config_path, pcap, calib;
+  std::string odometry_path, corrected_path, config_path, pcap, calib, time_base;
   double max_range = 30.0, min_range = 0.4, resolution = 0.2, held_out_share = 0.1;
   std::uint64_t seed = 1;
   bool held_out = false, is_static = false;
@@ -420,9 +413,13 @@ int main(int argc, char** argv) {
       ->needs(pcap_opt);
   app.add_option("--calib", calib, "Calibration for --pcap: VeloView XML or ROS YAML")->needs(pcap_opt)->check(CLI::ExistingFile);
   app.add_option("--config", config_path,
-                 "Mapping settings (ogf-map's YAML) for the maps built here: without --map, with --pcap, and "
-                 "for --held-out without --map")
+                 "ogf-mapper's configuration file (map, filter, fusion, time_base, pose_source) for the maps built "
+                 "here: without --map, with --pcap, and for --held-out without --map; flags override it")
       ->check(CLI::ExistingFile);
+  auto* time_opt = app.add_option("--time", time_base,
+                                  "Clock the run's odometry is on: auto, device or host (see ogf-map --time); "
+                                  "default: the config's time_base, else auto")
+                       ->check(CLI::IsMember({"auto", "device", "host"}));
   auto* res_opt = app.add_option("--resolution", resolution, "Cell size of the maps built here (without --map), metres")
                       ->capture_default_str();
   app.add_flag("--held-out", held_out, "Also score both maps on rays held out of them (see above)");
@@ -452,8 +449,22 @@ int main(int argc, char** argv) {
   if (!ogf::transport::setupLoggingAt("ogf-eval", "--log-level", log_level)) return kExitUsage;
 
   // The settings of the maps built here; --map's own filter settings replace the filter part below.
-  ogf::pipeline::MapperConfig built;
-  if (!config_path.empty() && !applyConfigFile(config_path, built)) return kExitUsage;
+  ogf::mapper_daemon::MapperOptions file;  // the defaults when there is no --config
+  if (!config_path.empty()) {
+    auto read = ogf::map_io::readOfflineConfig(config_path, ogf::mapper_daemon::kUsedByEval);
+    if (!read) {
+      spdlog::error("--config: {}", read.error().message);
+      return kExitUsage;
+    }
+    if (const auto note = read->unusedNote("ogf-eval"); !note.empty()) spdlog::info("--config: {}", note);
+    file = read->options;
+  }
+  ogf::pipeline::MapperConfig built = file.map;
+  const ogf::map_io::TimeBase clock = time_opt->count() == 0 ? file.time_base
+                                      : time_base == "host"  ? ogf::map_io::TimeBase::kHost
+                                      : time_base == "device" ? ogf::map_io::TimeBase::kDevice
+                                                              : ogf::map_io::TimeBase::kAuto;
+  if (file.pose_source == ogf::mapper_daemon::PoseSource::kStatic) is_static = true;
   if (config_path.empty() || res_opt->count() > 0) built.setResolution(resolution);
   if (config_path.empty() || max_opt->count() > 0) built.fusion.measurement.max_range_m = max_range;
   if (config_path.empty() || min_opt->count() > 0) built.fusion.measurement.min_range_m = min_range;
@@ -549,7 +560,7 @@ int main(int argc, char** argv) {
       }
       if (build) octo->insert(ms);
       if (own) own->apply(ms);
-    });
+    }, clock);
     if (!counts && own) {
       spdlog::error("building the map from the run: {}", counts.error().message);
       return kExitFailed;
@@ -561,6 +572,7 @@ int main(int argc, char** argv) {
     } else {
       gaps = true;
       if (build) octo->finish();
+      reportClocks(*counts);
       spdlog::info("{}: {} scans, {} measured, {} measurements recomputed", truth_dir, counts->scans,
                    counts->scans_measured, counts->measurements);
     }
@@ -599,7 +611,7 @@ int main(int argc, char** argv) {
       spdlog::error("--held-out: the run's sim.yaml has no extrinsic");
       return kExitFailed;
     }
-    auto held = heldOutOnSimRun(truth_dir, config, *split, !no_octomap);
+    auto held = heldOutOnSimRun(truth_dir, config, clock, *split, !no_octomap);
     if (!held) {
       spdlog::error("--held-out: {}", held.error().message);
       return kExitFailed;

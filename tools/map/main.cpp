@@ -80,7 +80,7 @@ class ProgressBar {
 };
 
 struct Options {
-  std::string out, config_path, pcap, calib, odometry, lcm_log, rosbag2, time_base = "device";
+  std::string out, config_path, pcap, calib, odometry, lcm_log, rosbag2, time_base = "auto";
   std::string packets_topic, pose_topic, body_frame = "base_link";
   std::string scan_channel = "VELODYNE_SCAN", pose_channel = "POSE", packets_channel = "VELODYNE_PACKETS";
   std::vector<std::string> pcd;
@@ -231,17 +231,19 @@ int main(int argc, char** argv) {
       "or exports a map already made: --from-map FILE (a map file or a daemon snapshot) with any --export-*\n"
       "and --png; then --out is optional and the last line is  map <kind> cells <allocated cells>.\n"
       "With --pose-correction scan-match|rbpf the odometry's drift is corrected scan by scan before mapping.\n"
-      "Odometry: CSV `utime,x,y,z,qw,qx,qy,qz` (utime in us on the capture's clock; the scan's device time\n"
-      "unless --time host) or an LCM log with ogf.odometry_t or bot_core.pose_t on POSE. Scans the odometry\n"
-      "does not cover are counted and left out, never extrapolated. --static holds the body at the origin.\n"
+      "Odometry: CSV `utime,x,y,z,qw,qx,qy,qz` (utime in us on the clock --time names) or an LCM log with\n"
+      "ogf.odometry_t or bot_core.pose_t on POSE. Scans the odometry does not cover are counted and left out,\n"
+      "never extrapolated; when none is covered because the two are on different clocks, the log says which\n"
+      "--time fixes it. --static (pose_source: static) holds the body at static_pose, the origin by default.\n"
+      "--config reads ogf-mapper's configuration file (ogf-mapper --print-config lists its keys); flags override it.\n"
       "At the end one line on stdout:\n"
       "  scans <mapped> measurements <cell measurements> cells <allocated cells> seconds <wall time>\n"
       "Exit 0 when at least one scan was mapped and every output written, 1 when nothing could be mapped or\n"
       "an output failed, 2 on bad flags or configuration."};
   auto* out_opt = app.add_option("--out", o.out, "Map file to write (ogf map format, see ogf/filter/map_file.hpp)");
   app.add_option("--config", o.config_path,
-                 "YAML settings (resolution, min_range, max_range, extrinsic, filter), or ogf-mapper's own "
-                 "configuration file (its map, filter and fusion sections); flags override it")
+                 "ogf-mapper's YAML configuration (map, filter, fusion, time_base, pose_source, static_pose, "
+                 "pose_correction; its other keys are ignored here); flags override it")
       ->check(CLI::ExistingFile);
   auto* res_opt = app.add_option("--resolution", o.resolution, "Cell size, metres")
                       ->capture_default_str()->check(ogf::cli::positive());
@@ -253,7 +255,9 @@ int main(int argc, char** argv) {
   auto* calib_opt =
       app.add_option("--calib", o.calib, "Calibration for --pcap or --rosbag2: VeloView XML or ROS YAML");
   auto* odo_opt = app.add_option("--odometry", o.odometry, "Odometry: CSV or LCM log (POSE)");
-  auto* static_opt = app.add_flag("--static", o.is_static, "The sensor does not move (a tripod): body at the origin");
+  auto* static_opt = app.add_flag("--static", o.is_static,
+                                  "The sensor does not move (a tripod): the body at the config's static_pose, by "
+                                  "default the origin");
   auto* lcm_opt = app.add_option("--lcm-log", o.lcm_log, "LCM log with scans (VELODYNE_SCAN, else the raw packets on VELODYNE_PACKETS) and poses (POSE)");
   auto* pcd_opt = app.add_option("--pcd", o.pcd, "PCD files, one scan each");
   auto* bag_opt =
@@ -272,8 +276,10 @@ int main(int argc, char** argv) {
       ->needs(bag_opt);
   auto* time_opt =
       app.add_option("--time", o.time_base,
-                     "Clock the odometry is on: device (scan device time) or host (receive time)")
-          ->check(CLI::IsMember({"device", "host"}))
+                     "Clock the odometry is on: device (scan device time), host (receive time) or auto (device for "
+                     "scans whose device time is GPS/PPS-locked UTC, host otherwise; ogf-mapper's rule). Default: "
+                     "the config's time_base, else auto (host for --rosbag2)")
+          ->check(CLI::IsMember({"auto", "device", "host"}))
           ->capture_default_str();
   app.add_option("--scan-channel", o.scan_channel, "Scan channel in --lcm-log")->capture_default_str();
   app.add_option("--packets-channel", o.packets_channel,
@@ -293,11 +299,12 @@ int main(int argc, char** argv) {
   auto* threads_opt = app.add_option("--threads", o.threads, "Filter threads (the map is the same for any count)")
                           ->capture_default_str()
                           ->check(ogf::cli::between(1, 256));
-  app.add_option("--pose-correction", o.pose_correction,
-                 "Correct odometry drift before mapping: none, scan-match or rbpf (2-D SLAM on a planar cut of "
-                 "each scan)")
-      ->capture_default_str();
-  app.add_option("--particles", o.particles, "Particles of --pose-correction rbpf")
+  auto* correction_opt =
+      app.add_option("--pose-correction", o.pose_correction,
+                     "Correct odometry drift before mapping: none, scan-match or rbpf (2-D SLAM on a planar cut of "
+                     "each scan); default: the config's pose_correction.mode")
+          ->capture_default_str();
+  auto* particles_opt = app.add_option("--particles", o.particles, "Particles of --pose-correction rbpf")
       ->capture_default_str()
       ->check(ogf::cli::between(1, 1000));
   app.add_option("--corrected-out", o.corrected_out,
@@ -335,41 +342,41 @@ int main(int argc, char** argv) {
     spdlog::error("--calib applies to raw packets: --pcap, --rosbag2 or an --lcm-log of packets");
     return kExitUsage;
   }
-  // A bag's packet stamps and its poses' header stamps are both on the ROS (host) clock.
-  if (!o.rosbag2.empty() && time_opt->count() == 0) o.time_base = "host";
   if (out_opt->count() == 0) {
     spdlog::error("--out is required when mapping");
     return kExitUsage;
   }
+  ogf::mapper_daemon::MapperOptions file;  // the defaults when there is no --config
+  std::optional<mio::OfflineConfig> read_config;
+  if (!o.config_path.empty()) {
+    auto read = mio::readOfflineConfig(o.config_path, ogf::mapper_daemon::kUsedByMap);
+    if (!read) {
+      spdlog::error("--config: {}", read.error().message);
+      return kExitUsage;
+    }
+    if (const auto note = read->unusedNote("ogf-map"); !note.empty()) spdlog::info("--config: {}", note);
+    file = read->options;
+    read_config = std::move(*read);
+  }
+  // The clock: --time, else the file's time_base, else auto; a bag's packet stamps and its poses' header
+  // stamps are both on the ROS (host) clock.
+  if (time_opt->count() == 0) {
+    const bool file_sets_clock = read_config && read_config->sets("time_base");
+    if (file_sets_clock) o.time_base = file.time_base == mio::TimeBase::kHost     ? "host"
+                                       : file.time_base == mio::TimeBase::kDevice ? "device"
+                                                                                   : "auto";
+    else if (!o.rosbag2.empty()) o.time_base = "host";
+  }
+  // pose_source: static in the file is --static, unless the command line names the odometry.
+  if (file.pose_source == ogf::mapper_daemon::PoseSource::kStatic && odo_opt->count() == 0 &&
+      pose_topic_opt->count() == 0 && o.pcd.empty())
+    o.is_static = true;
   if (!o.pcap.empty() && o.odometry.empty() && !o.is_static) {
     spdlog::error("--pcap needs --odometry FILE or --static");
     return kExitUsage;
   }
 
-  ogf::pipeline::MapperConfig config;
-  if (!o.config_path.empty()) {
-    std::ifstream in(o.config_path);
-    if (!in) {
-      spdlog::error("--config: {}: cannot open config file", o.config_path);
-      return kExitUsage;
-    }
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (mio::isMapperDaemonConfig(text.str())) {
-      // The robot's /etc/ogf/mapper.yaml maps a capture offline as the daemon would map it live.
-      ogf::mapper_daemon::MapperOptions daemon;
-      if (auto st = ogf::mapper_daemon::parseMapperOptions(text.str(), o.config_path, daemon); !st) {
-        spdlog::error("--config: {}", st.error().message);
-        return kExitUsage;
-      }
-      config = daemon.map;
-      spdlog::info("--config: {} is ogf-mapper's configuration: its map, filter and fusion settings are used",
-                   o.config_path);
-    } else if (auto st = mio::applyMapConfigYaml(text.str(), o.config_path, config); !st) {
-      spdlog::error("--config: {}", st.error().message);
-      return kExitUsage;
-    }
-  }
+  ogf::pipeline::MapperConfig config = file.map;
   if (o.config_path.empty() || res_opt->count() > 0) config.setResolution(o.resolution);
   if (o.config_path.empty() || max_opt->count() > 0) config.fusion.measurement.max_range_m = o.max_range;
   if (o.config_path.empty() || min_opt->count() > 0) config.fusion.measurement.min_range_m = o.min_range;
@@ -380,21 +387,24 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   mio::OfflineMapping& run = *created;
-  const auto correction_mode = ogf::slam::parseCorrectionMode(o.pose_correction);
-  if (!correction_mode) {
-    spdlog::error("--pose-correction: {}", correction_mode.error().message);
-    return kExitUsage;
+  ogf::correction::ScanPoseCorrectionConfig cc = file.pose_correction;
+  if (correction_opt->count() > 0) {
+    const auto mode = ogf::slam::parseCorrectionMode(o.pose_correction);
+    if (!mode) {
+      spdlog::error("--pose-correction: {}", mode.error().message);
+      return kExitUsage;
+    }
+    cc.corrector.mode = *mode;
   }
-  if (*correction_mode != ogf::slam::CorrectionMode::kNone) {
+  if (particles_opt->count() > 0) cc.corrector.slam.particles = o.particles;
+  o.pose_correction = std::string(ogf::slam::toString(cc.corrector.mode));
+  if (cc.corrector.mode != ogf::slam::CorrectionMode::kNone) {
     if (o.is_static || !o.pcd.empty()) {
       spdlog::error(
           "--pose-correction needs a moving sensor with odometry (--pcap with --odometry, --lcm-log or "
           "--rosbag2)");
       return kExitUsage;
     }
-    ogf::correction::ScanPoseCorrectionConfig cc;
-    cc.corrector.mode = *correction_mode;
-    cc.corrector.slam.particles = o.particles;
     auto correction = ogf::correction::ScanPoseCorrection::create(cc);
     if (!correction) {
       spdlog::error("--pose-correction: {}", correction.error().message);
@@ -469,7 +479,10 @@ int main(int argc, char** argv) {
 
   const auto start = Clock::now();
   ProgressBar bar;
-  const mio::TimeBase base = o.time_base == "host" ? mio::TimeBase::kHost : mio::TimeBase::kDevice;
+  const mio::TimeBase base = o.time_base == "host"     ? mio::TimeBase::kHost
+                            : o.time_base == "device" ? mio::TimeBase::kDevice
+                                                      : mio::TimeBase::kAuto;
+  const Eigen::Isometry3d static_pose = file.static_pose.bodyFromSensor();
   int uncovered_told = 0;
   std::string odometry_source;
   std::optional<mio::DriveReport> report;
@@ -477,7 +490,7 @@ int main(int argc, char** argv) {
   const auto addScan = [&](const mio::ScanRecord& scan) {
     const auto began = Clock::now();
     const mio::ScanOutcome outcome =
-        o.is_static ? run.addStaticScan(scan, Eigen::Isometry3d::Identity()) : run.addScan(scan, base);
+        o.is_static ? run.addStaticScan(scan, static_pose) : run.addScan(scan, base);
     if (report && outcome == mio::ScanOutcome::kMapped) {
       const auto& f = run.mapper().filter();
       report->add({scan.points(base).start_utime,
@@ -489,7 +502,7 @@ int main(int argc, char** argv) {
       const auto span = run.odometrySpan();
       const std::int64_t t = scan.points(base).start_utime;
       spdlog::warn("scan {} at utime {} ({} time) is not covered by the odometry of {} ({}); left out", scan.seq, t,
-                   o.time_base, odometry_source,
+                   ogf::fusion::clockName(scan.clock(base)), odometry_source,
                    span ? fmt::format("utime {} .. {}", span->first, span->second) : std::string("no poses"));
     }
   };
@@ -572,8 +585,13 @@ int main(int argc, char** argv) {
     spdlog::warn("{} of {} scans not covered by the odometry of {}: left out (never extrapolated)",
                  c.scans_uncovered, c.scans_in, odometry_source);
   if (c.scans_empty > 0) spdlog::info("{} scans gave no measurement (no return within range)", c.scans_empty);
+  // No scan covered and the scans far from the odometry: the two are on different clocks; say which
+  // --time or time_base fixes it.
+  const bool other_clocks = c.scans_mapped + c.scans_empty == 0 && run.clockMismatch().has_value();
+  if (other_clocks) spdlog::warn("clocks: {}", run.clockMismatch()->describe("--time"));
   if (c.scans_mapped == 0) {
-    spdlog::error("nothing could be mapped ({} scans read{})", c.scans_in, input_failed ? ", input unreadable" : "");
+    spdlog::error("nothing could be mapped ({} scans read{}{})", c.scans_in, input_failed ? ", input unreadable" : "",
+                  other_clocks ? "; scans and odometry are on different clocks: see the clocks line above" : "");
     return kExitNothingMapped;
   }
 

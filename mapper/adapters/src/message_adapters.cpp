@@ -97,14 +97,16 @@ Status validateScan(const ogf::lidar_scan_t& s) {
   return okStatus();
 }
 
-fusion::ScanClock scanClockOf(const ogf::lidar_scan_t& s, ScanTimeBase base) {
+fusion::ScanClock scanClockOf(std::int8_t time_source, ScanTimeBase base) {
   switch (base) {
     case ScanTimeBase::kDevice: return fusion::ScanClock::kDevice;
     case ScanTimeBase::kHost: return fusion::ScanClock::kHost;
     case ScanTimeBase::kAuto: break;
   }
-  return s.time_source == ogf::lidar_scan_t::TIME_SOURCE_PPS_NMEA ? fusion::ScanClock::kDevice : fusion::ScanClock::kHost;
+  return time_source == ogf::lidar_scan_t::TIME_SOURCE_PPS_NMEA ? fusion::ScanClock::kDevice : fusion::ScanClock::kHost;
 }
+
+fusion::ScanClock scanClockOf(const ogf::lidar_scan_t& s, ScanTimeBase base) { return scanClockOf(s.time_source, base); }
 
 std::int64_t scanStartOn(const ogf::lidar_scan_t& s, fusion::ScanClock clock) {
   return clock == fusion::ScanClock::kDevice ? s.device_utime_start : s.host_utime_start;

@@ -27,7 +27,8 @@ int main(int argc, char** argv) {
   std::optional<int> threads;
   std::optional<std::string> scan_ch, pose_ch, delta_ch, request_ch, status_ch;
   bool in_memory = false;
-  bool print_config = false;
+  bool is_static = false;
+  std::optional<std::string> print_config;
   app.add_option("--config", config_path, "YAML configuration file (see --print-config)")->check(CLI::ExistingFile);
   app.add_option("--lcm-url", url, "LCM URL (default: the file's lcm_url, $LCM_DEFAULT_URL, LCM's default)");
   app.add_option("--state-dir", state_dir,
@@ -49,11 +50,17 @@ int main(int argc, char** argv) {
   app.add_option("--test-drop-deltas", drop_fraction, "Testing: drop this fraction of delta updates (gap injection)")
       ->check(ogf::cli::between(0.0, 0.99));
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
-  app.add_flag("--print-config", print_config, "Print an example configuration with the defaults and exit");
+  app.add_flag("--static", is_static,
+               "The sensor does not move: the body stays at static_pose (pose_source: static), no odometry");
+  app.add_option("--print-config", print_config,
+                 "Print the configuration (every key with its value: the defaults, then --config's and the flags') "
+                 "as YAML and exit; --print-config=markdown prints the table of keys instead")
+      ->expected(0, 1)
+      ->check(CLI::IsMember({"", "yaml", "markdown"}));
   OGF_PARSE_COMMAND_LINE(app, argc, argv);
 
-  if (print_config) {
-    std::cout << ogf::mapper_daemon::exampleMapperConfig();
+  if (print_config && *print_config == "markdown") {
+    std::cout << ogf::mapper_daemon::mapperConfigMarkdown();
     return 0;
   }
   if (!ogf::transport::setupLoggingAt("ogf-mapper", "--log-level", log_level)) return ogf::cli::kExitUsage;
@@ -67,16 +74,7 @@ int main(int argc, char** argv) {
   }
   if (!url.empty()) options.lcm_url = url;
   if (!state_dir.empty()) options.state_dir = state_dir;
-  if (options.state_dir.empty()) {
-    if (const char* sd = std::getenv("STATE_DIRECTORY"); sd != nullptr && *sd != '\0') options.state_dir = sd;
-  }
-  if (in_memory) options.state_dir.clear();
-  if (options.state_dir.empty() && in_memory) {
-    spdlog::info("--in-memory: the map lives in memory only and is lost when ogf-mapper stops");
-  } else if (options.state_dir.empty()) {
-    spdlog::warn("no state directory (--state-dir, state_dir in the configuration, or $STATE_DIRECTORY): the map "
-                 "lives in memory only and is lost when ogf-mapper stops");
-  }
+  if (is_static) options.pose_source = ogf::mapper_daemon::PoseSource::kStatic;
   if (resolution) options.map.setResolution(*resolution);
   if (min_range) options.map.fusion.measurement.min_range_m = *min_range;
   if (max_range) options.map.fusion.measurement.max_range_m = *max_range;
@@ -96,6 +94,21 @@ int main(int argc, char** argv) {
   if (auto st = options.validate(); !st) {
     spdlog::critical("configuration: {}", st.error().message);
     return ogf::cli::kExitUsage;
+  }
+  if (print_config) {
+    // Before $STATE_DIRECTORY is looked up, so the output reads back to this configuration anywhere.
+    std::cout << ogf::mapper_daemon::mapperConfigYaml(options);
+    return 0;
+  }
+  if (options.state_dir.empty()) {
+    if (const char* sd = std::getenv("STATE_DIRECTORY"); sd != nullptr && *sd != '\0') options.state_dir = sd;
+  }
+  if (in_memory) options.state_dir.clear();
+  if (options.state_dir.empty() && in_memory) {
+    spdlog::info("--in-memory: the map lives in memory only and is lost when ogf-mapper stops");
+  } else if (options.state_dir.empty()) {
+    spdlog::warn("no state directory (--state-dir, state_dir in the configuration, or $STATE_DIRECTORY): the map "
+                 "lives in memory only and is lost when ogf-mapper stops");
   }
 
   // One mapper per state directory, for this process's whole life (the kernel releases it at exit).

@@ -1,89 +1,130 @@
+// The configuration file's reader, printer and table, all made from the keys of config_schema.cpp.
 #include "ogf/mapper_daemon/mapper_options.hpp"
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <set>
 #include <sstream>
+
+#include "config_schema.hpp"
 
 namespace ogf::mapper_daemon {
 namespace {
 
-std::string where(const std::filesystem::path& path, const YAML::Node& node, const std::string& key) {
-  return path.string() + ":" + std::to_string(node.Mark().line + 1) + ": " + key;
+const schema::ConfigKey* findKey(std::string_view path) {
+  for (const auto& k : schema::keys())
+    if (k.path == path) return &k;
+  return nullptr;
 }
 
-// Refuses keys this section does not know.
-Status checkKeys(const std::filesystem::path& path, const YAML::Node& node, const std::string& section,
-                 const std::set<std::string>& known) {
-  if (!node.IsMap()) return Error{where(path, node, section) + ": expected a mapping"};
-  for (const auto& kv : node) {
-    const auto key = kv.first.as<std::string>();
-    if (known.count(key) == 0)
-      return Error{where(path, kv.first, section.empty() ? key : section + "." + key) + ": unknown key"};
+// Whether `path` names a section: some key lies below it.
+bool isSection(std::string_view path) {
+  for (const auto& k : schema::keys())
+    if (k.path.size() > path.size() && k.path.compare(0, path.size(), path) == 0 && k.path[path.size()] == '.')
+      return true;
+  return false;
+}
+
+// The keys one level below `section` ("" = the top level), for an unknown key's error.
+std::string keysIn(std::string_view section) {
+  std::vector<std::string> names;
+  const std::string prefix = section.empty() ? std::string() : std::string(section) + ".";
+  for (const auto& k : schema::keys()) {
+    if (k.path.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string rest = k.path.substr(prefix.size());
+    const std::string name = rest.substr(0, rest.find('.'));
+    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
   }
-  return okStatus();
+  std::string s;
+  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
 }
 
-template <class T>
-Status read(const std::filesystem::path& path, const YAML::Node& parent, const std::string& section,
-            const char* key, T& out) {
-  const YAML::Node n = parent[key];
-  if (!n) return okStatus();
-  try {
-    out = n.as<T>();
-  } catch (const YAML::Exception&) {
-    return Error{where(path, n, section.empty() ? key : section + "." + key) + ": cannot read '" + n.Scalar() + "'"};
+struct Reader {
+  const std::filesystem::path& path;
+  MapperOptions& options;
+  std::vector<std::string>* keys_read;
+
+  std::string where(const YAML::Node& at, std::string_view key) const {
+    return path.string() + ":" + std::to_string(at.Mark().line + 1) + ": " + std::string(key);
   }
-  return okStatus();
-}
 
-template <class T>
-Status readOptional(const std::filesystem::path& path, const YAML::Node& parent, const std::string& section,
-                    const char* key, std::optional<T>& out) {
-  if (!parent[key]) return okStatus();
-  T v{};
-  if (auto st = read(path, parent, section, key, v); !st) return st;
-  out = v;
-  return okStatus();
-}
-
-// A number the map cannot do without: > 0 (or >= 0 with `zero_ok`), reported at the value's line with
-// the key as written.
-Status requireRange(const std::filesystem::path& path, const YAML::Node& parent, const std::string& section,
-                    const char* key, double value, bool zero_ok) {
-  const YAML::Node n = parent[key];
-  if (!n || value > 0 || (zero_ok && value == 0)) return okStatus();
-  return Error{where(path, n, section + "." + key) + ": must be " + (zero_ok ? "0 or more" : "greater than 0") +
-               ", got " + n.Scalar()};
-}
-
-Status readVector3(const std::filesystem::path& path, const YAML::Node& parent, const std::string& section,
-                   const char* key, Eigen::Vector3d& out) {
-  const YAML::Node n = parent[key];
-  if (!n) return okStatus();
-  if (!n.IsSequence() || n.size() != 3) return Error{where(path, n, section + "." + key) + ": expected [x, y, z]"};
-  for (std::size_t i = 0; i < 3; ++i) {
-    try {
-      out[static_cast<Eigen::Index>(i)] = n[i].as<double>();
-    } catch (const YAML::Exception&) {
-      return Error{where(path, n[i], section + "." + key) + ": cannot read '" + n[i].Scalar() + "'"};
+  // The keys of the mapping `node`, the section `section` of the file.
+  Status section(const YAML::Node& node, const std::string& section_path) {
+    if (node.IsNull()) return okStatus();  // `filter:` with nothing under it
+    if (!node.IsMap()) return Error{where(node, section_path.empty() ? "the top level" : section_path) + ": expected a mapping of keys"};
+    for (const auto& kv : node) {
+      if (!kv.first.IsScalar()) return Error{where(kv.first, section_path) + ": a key must be a name"};
+      const std::string key = section_path.empty() ? kv.first.Scalar() : section_path + "." + kv.first.Scalar();
+      if (const auto* k = findKey(key)) {
+        const schema::Locate locate = [this, &key](const YAML::Node& at, std::string_view sub) {
+          return where(at, sub.empty() ? key : key + "." + std::string(sub));
+        };
+        if (kv.second.IsNull()) return Error{where(kv.first, key) + ": needs a value"};
+        if (auto st = k->read(kv.second, options, locate); !st) return st;
+        if (keys_read) keys_read->push_back(key);
+      } else if (isSection(key)) {
+        if (auto st = section(kv.second, key); !st) return st;
+      } else {
+        for (const auto& r : schema::renamedKeys())
+          if (r.old_path == key) return Error{where(kv.first, key) + ": not a key here: use " + std::string(r.new_path)};
+        return Error{where(kv.first, key) + ": unknown key (" + (section_path.empty() ? "keys" : section_path) +
+                     ": " + keysIn(section_path) + ")"};
+      }
     }
+    return okStatus();
   }
-  return okStatus();
+};
+
+// Markdown links as plain text, for YAML comments: "[docs/slam.md](docs/slam.md)" -> "docs/slam.md".
+std::string plainText(const std::string& markdown) {
+  std::string out;
+  for (std::size_t i = 0; i < markdown.size(); ++i) {
+    if (markdown[i] == '[') {
+      const auto close = markdown.find("](", i);
+      const auto end = close == std::string::npos ? std::string::npos : markdown.find(')', close);
+      if (end != std::string::npos) {
+        out += markdown.substr(i + 1, close - i - 1);
+        i = end;
+        continue;
+      }
+    }
+    if (markdown[i] != '`') out += markdown[i];
+  }
+  return out;
 }
 
-Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path, MapperOptions& o);
+std::vector<std::string> split(const std::string& path) {
+  std::vector<std::string> parts;
+  std::size_t start = 0;
+  for (auto dot = path.find('.'); dot != std::string::npos; dot = path.find('.', start)) {
+    parts.push_back(path.substr(start, dot - start));
+    start = dot + 1;
+  }
+  parts.push_back(path.substr(start));
+  return parts;
+}
 
-#define OGF_TRY(expr)                  \
-  if (auto st_ = (expr); !st_) return st_
+std::string programsOf(unsigned used_by) {
+  constexpr unsigned kAll = kUsedByMapper | kUsedByMap | kUsedByEval;
+  if (used_by == kAll) return "all";
+  std::string s;
+  for (const auto& [bit, name] : {std::pair{kUsedByMapper, "ogf-mapper"}, std::pair{kUsedByMap, "ogf-map"},
+                                  std::pair{kUsedByEval, "ogf-eval"}})
+    if (used_by & bit) s += (s.empty() ? "" : ", ") + std::string(name);
+  return s;
+}
 
 }  // namespace
 
 Status MapperOptions::validate() const {
   if (auto st = map.validate(); !st) return Error{"map: " + st.error().message};
   if (auto st = pose_correction.validate(); !st) return Error{"pose_correction: " + st.error().message};
+  if (auto st = static_pose.validate(); !st) return Error{"static_pose: " + st.error().message};
+  if (pose_source == PoseSource::kStatic && pose_correction.corrector.mode != slam::CorrectionMode::kNone)
+    return Error{"pose_correction.mode: needs a moving sensor with odometry (pose_source: odometry)"};
   for (const auto* ch : {&scan_channel, &pose_channel, &delta_channel, &request_channel, &status_channel,
                          &corrected_pose_channel, &query_channel, &command_channel}) {
     if (ch->empty() || ch->size() > 63) return Error{"channels: '" + *ch + "' must be 1 to 63 characters"};
@@ -101,206 +142,68 @@ Status MapperOptions::validate() const {
   return okStatus();
 }
 
-Status loadMapperOptions(const std::filesystem::path& path, MapperOptions& o) {
+Status loadMapperOptions(const std::filesystem::path& path, MapperOptions& o, std::vector<std::string>* keys_read) {
   std::ifstream in(path);
   if (!in) return Error{path.string() + ": cannot read the file"};
   std::ostringstream text;
   text << in.rdbuf();  // an empty file gives "", an empty configuration
-  return parseMapperOptions(text.str(), path, o);
+  return parseMapperOptions(text.str(), path, o, keys_read);
 }
 
-Status parseMapperOptions(const std::string& yaml, const std::filesystem::path& path, MapperOptions& o) {
-  // Any YAML exception the reading below does not catch itself (a key that is not a scalar, a value of the
-  // wrong kind) is still an error in this file, never an exception out of the program's start-up.
+Status parseMapperOptions(const std::string& yaml, const std::filesystem::path& path, MapperOptions& o,
+                          std::vector<std::string>* keys_read) {
+  // Any YAML exception the reading does not catch itself is still an error in this file, never an exception
+  // out of the program's start-up.
   try {
-    return parseMapperYaml(YAML::Load(yaml), path, o);
+    const YAML::Node root = YAML::Load(yaml);
+    if (!root || root.IsNull()) return okStatus();
+    return Reader{path, o, keys_read}.section(root, "");
   } catch (const YAML::Exception& e) {
     return Error{path.string() + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg};
   }
 }
 
-namespace {
-
-Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path, MapperOptions& o) {
-  if (!root || root.IsNull()) return okStatus();
-  OGF_TRY(checkKeys(path, root, "", {"lcm_url", "channels", "time_base", "state_dir", "snapshot_interval_s",
-                                     "page_out_distance_m",
-                                     "keyframe_interval_s", "status_interval_s", "map", "filter", "fusion",
-                                     "pose_correction"}));
-  OGF_TRY(read(path, root, "", "lcm_url", o.lcm_url));
-  std::string state_dir = o.state_dir.string();
-  OGF_TRY(read(path, root, "", "state_dir", state_dir));
-  o.state_dir = state_dir;
-  OGF_TRY(read(path, root, "", "snapshot_interval_s", o.snapshot_interval_s));
-  OGF_TRY(read(path, root, "", "page_out_distance_m", o.page_out_distance_m));
-  OGF_TRY(read(path, root, "", "keyframe_interval_s", o.keyframe_interval_s));
-  OGF_TRY(read(path, root, "", "status_interval_s", o.status_interval_s));
-  if (const auto tb = root["time_base"]) {
-    const auto v = tb.as<std::string>();
-    if (v == "device") o.time_base = ScanTimeBase::kDevice;
-    else if (v == "host") o.time_base = ScanTimeBase::kHost;
-    else if (v == "auto") o.time_base = ScanTimeBase::kAuto;
-    else return Error{where(path, tb, "time_base") + ": 'auto', 'device' or 'host', got '" + v + "'"};
-  }
-  if (const auto ch = root["channels"]) {
-    OGF_TRY(checkKeys(path, ch, "channels",
-                      {"scan", "pose", "delta", "request", "status", "corrected_pose", "query", "command"}));
-    OGF_TRY(read(path, ch, "channels", "scan", o.scan_channel));
-    OGF_TRY(read(path, ch, "channels", "pose", o.pose_channel));
-    OGF_TRY(read(path, ch, "channels", "delta", o.delta_channel));
-    OGF_TRY(read(path, ch, "channels", "request", o.request_channel));
-    OGF_TRY(read(path, ch, "channels", "status", o.status_channel));
-    OGF_TRY(read(path, ch, "channels", "corrected_pose", o.corrected_pose_channel));
-    OGF_TRY(read(path, ch, "channels", "query", o.query_channel));
-    OGF_TRY(read(path, ch, "channels", "command", o.command_channel));
-  }
-  if (const auto pc = root["pose_correction"]) {
-    OGF_TRY(checkKeys(path, pc, "pose_correction", {"mode", "particles", "band_z_min", "band_z_max", "seed"}));
-    if (const auto mode = pc["mode"]) {
-      const auto parsed = slam::parseCorrectionMode(mode.as<std::string>());
-      if (!parsed) return Error{where(path, mode, "pose_correction.mode") + ": " + parsed.error().message};
-      o.pose_correction.corrector.mode = *parsed;
-    }
-    auto& slam_config = o.pose_correction.corrector.slam;
-    OGF_TRY(read(path, pc, "pose_correction", "particles", slam_config.particles));
-    OGF_TRY(read(path, pc, "pose_correction", "seed", slam_config.seed));
-    OGF_TRY(read(path, pc, "pose_correction", "band_z_min", o.pose_correction.projection.z_min_m));
-    OGF_TRY(read(path, pc, "pose_correction", "band_z_max", o.pose_correction.projection.z_max_m));
-  }
-  auto& m = o.map.fusion.measurement;
-  if (const auto map = root["map"]) {
-    OGF_TRY(checkKeys(path, map, "map", {"resolution", "min_range", "max_range", "free_space_for_no_return", "extrinsic"}));
-    double res = m.resolution_m;
-    OGF_TRY(read(path, map, "map", "resolution", res));
-    OGF_TRY(requireRange(path, map, "map", "resolution", res, false));
-    o.map.setResolution(res);
-    OGF_TRY(read(path, map, "map", "min_range", m.min_range_m));
-    OGF_TRY(requireRange(path, map, "map", "min_range", m.min_range_m, true));
-    OGF_TRY(read(path, map, "map", "max_range", m.max_range_m));
-    OGF_TRY(requireRange(path, map, "map", "max_range", m.max_range_m, false));
-    OGF_TRY(read(path, map, "map", "free_space_for_no_return", m.free_space_for_no_return));
-    if (const auto ex = map["extrinsic"]) {
-      OGF_TRY(checkKeys(path, ex, "map.extrinsic", {"translation", "rpy", "quaternion"}));
-      OGF_TRY(readVector3(path, ex, "map.extrinsic", "translation", o.map.fusion.extrinsic.translation_m));
-      OGF_TRY(readVector3(path, ex, "map.extrinsic", "rpy", o.map.fusion.extrinsic.rpy_rad));
-      if (const auto q = ex["quaternion"]) {
-        if (!q.IsSequence() || q.size() != 4) return Error{where(path, q, "map.extrinsic.quaternion") + ": expected [w, x, y, z]"};
-        o.map.fusion.extrinsic.quaternion = Eigen::Quaterniond(q[0].as<double>(), q[1].as<double>(), q[2].as<double>(), q[3].as<double>());
-      }
-    }
-  }
-  if (const auto f = root["filter"]) {
-    auto& fc = o.map.filter;
-    OGF_TRY(checkKeys(path, f, "filter", {"sigma", "amplitude", "stencil_radius", "taper_support", "occupied_threshold",
-                                          "free_threshold", "skip_tolerance", "clamp_z", "free_clamp_z",
-                                          "occupied_priority", "free_release_scans", "covariance", "threads"}));
-    OGF_TRY(readOptional(path, f, "filter", "sigma", fc.kernelSigma));
-    OGF_TRY(readOptional(path, f, "filter", "amplitude", fc.kernelAmplitude));
-    OGF_TRY(readOptional(path, f, "filter", "stencil_radius", fc.stencilRadius));
-    OGF_TRY(readOptional(path, f, "filter", "taper_support", fc.taperSupport));
-    OGF_TRY(read(path, f, "filter", "occupied_threshold", fc.occupiedThreshold));
-    OGF_TRY(read(path, f, "filter", "free_threshold", fc.freeThreshold));
-    OGF_TRY(read(path, f, "filter", "skip_tolerance", fc.skipTolerance));
-    OGF_TRY(read(path, f, "filter", "clamp_z", fc.clampZ));
-    OGF_TRY(read(path, f, "filter", "free_clamp_z", fc.freeClampZ));
-    if (const auto op = f["occupied_priority"]) {
-      const std::string v = op.as<std::string>("");
-      const auto p = filter::parseOccupiedPriority(v);
-      if (!p) return Error{where(path, op, "filter.occupied_priority") + ": 'scan' or 'map', got '" + v + "'"};
-      fc.occupiedPriority = *p;
-    }
-    OGF_TRY(read(path, f, "filter", "free_release_scans", fc.freeReleaseCount));
-    if (const auto cv = f["covariance"]) {
-      const std::string v = cv.as<std::string>("");
-      const auto c = filter::parseCovarianceStorage(v);
-      if (!c) return Error{where(path, cv, "filter.covariance") + ": 'compact' or 'banded', got '" + v + "'"};
-      fc.covariance = *c;
-    }
-    OGF_TRY(read(path, f, "filter", "threads", fc.threads));
-  }
-  if (const auto fu = root["fusion"]) {
-    auto& fc = o.map.fusion;
-    OGF_TRY(checkKeys(path, fu, "fusion", {"max_pose_wait_s", "pose_buffer_capacity", "max_pending_scans",
-                                           "max_pending_points", "max_pose_jump", "quaternion_tolerance",
-                                           "max_time_ahead_s", "max_time_behind_s", "clock_jump_messages"}));
-    OGF_TRY(read(path, fu, "fusion", "max_pose_wait_s", fc.pending.max_pose_wait_s));
-    OGF_TRY(read(path, fu, "fusion", "pose_buffer_capacity", fc.pose_buffer.capacity));
-    OGF_TRY(read(path, fu, "fusion", "max_pending_scans", fc.pending.max_pending_scans));
-    OGF_TRY(read(path, fu, "fusion", "max_pending_points", fc.pending.max_pending_points));
-    if (const auto jump = fu["max_pose_jump"]) {
-      OGF_TRY(checkKeys(path, jump, "fusion.max_pose_jump", {"translation_m", "rotation_rad"}));
-      OGF_TRY(read(path, jump, "fusion.max_pose_jump", "translation_m", fc.pose_buffer.jump_translation_m));
-      OGF_TRY(read(path, jump, "fusion.max_pose_jump", "rotation_rad", fc.pose_buffer.jump_rotation_rad));
-    }
-    OGF_TRY(read(path, fu, "fusion", "max_time_ahead_s", fc.time_sanity.max_ahead_s));
-    OGF_TRY(read(path, fu, "fusion", "max_time_behind_s", fc.time_sanity.max_behind_s));
-    OGF_TRY(read(path, fu, "fusion", "clock_jump_messages", fc.time_sanity.follow_after));
-    OGF_TRY(read(path, fu, "fusion", "quaternion_tolerance", fc.pose_buffer.quaternion_tolerance));
-  }
-  return okStatus();
+unsigned configKeyUsers(std::string_view path) {
+  const auto* k = findKey(path);
+  return k ? k->used_by : 0U;
 }
 
-}  // namespace
-
-std::string exampleMapperConfig() {
-  const MapperOptions d;
-  const auto& m = d.map.fusion.measurement;
+std::string mapperConfigYaml(const MapperOptions& options) {
+  const MapperOptions defaults;
   std::ostringstream s;
-  s << "# ogf-mapper configuration (YAML). Every key is optional; shown with its default.\n"
-    << "lcm_url: \"\"                # empty: $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0\n"
-    << "channels: {scan: " << d.scan_channel << ", pose: " << d.pose_channel << ", delta: " << d.delta_channel
-    << ", request: " << d.request_channel << ", status: " << d.status_channel
-    << ", corrected_pose: " << d.corrected_pose_channel << ",\n"
-    << "           query: " << d.query_channel << ", command: " << d.command_channel
-    << "}   # map services answer on <channel>_REPLY\n"
-    << "time_base: auto            # the scan clock odometry utime shares: device, host, or auto (device when\n"
-    << "                           # the driver reports PPS locked, host otherwise)\n"
-    << "state_dir: \"\"              # snapshots + journal; empty keeps the map in memory only\n"
-    << "snapshot_interval_s: " << d.snapshot_interval_s << "\n"
-    << "page_out_distance_m: " << d.page_out_distance_m
-    << "   # farther map regions wait in <state_dir>/pages; 0 keeps the whole map in memory\n"
-    << "keyframe_interval_s: " << d.keyframe_interval_s << "\n"
-    << "status_interval_s: " << d.status_interval_s << "\n"
-    << "map:\n"
-    << "  resolution: " << m.resolution_m << "          # metres per cell\n"
-    << "  min_range: " << m.min_range_m << "\n"
-    << "  max_range: " << m.max_range_m << "\n"
-    << "  free_space_for_no_return: false\n"
-    << "  extrinsic: {translation: [0, 0, 0], rpy: [0, 0, 0]}   # sensor -> body; or quaternion: [w, x, y, z]\n"
-    << "filter:                     # Sun et al. Sec. VI defaults\n"
-    << "  # sigma: resolution/2, amplitude: 1/(sigma*sqrt(2*pi)), stencil_radius and taper_support derived\n"
-    << "  occupied_threshold: 0.65\n"
-    << "  free_threshold: 0.35\n"
-    << "  skip_tolerance: 1e-4\n"
-    << "  clamp_z: 3                # skip a measurement agreeing with its cell beyond this probit z; 0: never\n"
-    << "  free_clamp_z: 1.5         # the same for free measurements (most of a scan); 0: clamp_z\n"
-    << "  occupied_priority: " << filter::toString(d.map.filter.occupiedPriority)
-    << "      # map: a cell once measured occupied ignores free measurements (scan: exact filter)\n"
-    << "  free_release_scans: " << d.map.filter.freeReleaseCount
-    << "    # ... until this many scans in a row measure it free; 0: never\n"
-    << "  covariance: " << filter::toString(d.map.filter.covariance)
-    << "       # compact: mean and variance per cell; banded: also the covariances (exact, 6x the memory)\n"
-    << "  threads: 1\n"
-    << "fusion:\n"
-    << "  max_pose_wait_s: " << d.map.fusion.pending.max_pose_wait_s << "\n"
-    << "  pose_buffer_capacity: " << d.map.fusion.pose_buffer.capacity << "\n"
-    << "  max_pending_scans: " << d.map.fusion.pending.max_pending_scans << "\n"
-    << "  max_pending_points: " << d.map.fusion.pending.max_pending_points << "\n"
-    << "  max_pose_jump: {translation_m: " << d.map.fusion.pose_buffer.jump_translation_m
-    << ", rotation_rad: " << d.map.fusion.pose_buffer.jump_rotation_rad
-    << "}   # a larger odometry step splits the trajectory\n"
-    << "  max_time_ahead_s: " << d.map.fusion.time_sanity.max_ahead_s
-    << "      # a pose or scan this far ahead of the host clock or its stream is refused\n"
-    << "  max_time_behind_s: " << d.map.fusion.time_sanity.max_behind_s << "     # ... or this far behind its stream\n"
-    << "  clock_jump_messages: " << d.map.fusion.time_sanity.follow_after
-    << "    # refused messages in a row that agree: the clock really jumped, follow it\n"
-    << "pose_correction:            # between odometry and the map; corrected poses on channels.corrected_pose\n"
-    << "  mode: none                # none, scan-match (improved odometry) or rbpf (grid-based FastSLAM)\n"
-    << "  particles: " << d.pose_correction.corrector.slam.particles << "             # rbpf only\n"
-    << "  band_z_min: " << d.pose_correction.projection.z_min_m
-    << "           # body-frame height band cut into the planar scan, metres\n"
-    << "  band_z_max: " << d.pose_correction.projection.z_max_m << "\n"
-    << "  seed: " << d.pose_correction.corrector.slam.seed << "\n";
+  s << "# The mapping programs' configuration (YAML): ogf-mapper --config, ogf-map --config, ogf-eval --config.\n"
+    << "# Every key is optional; shown with its value. Comments: unit; the programs that use the key\n"
+    << "# (the others accept it and ignore it); its meaning.\n";
+  std::vector<std::string> open;  // the sections the previous key was in
+  for (const auto& k : schema::keys()) {
+    const auto parts = split(k.path);
+    const std::vector<std::string> sections(parts.begin(), parts.end() - 1);
+    std::size_t same = 0;
+    while (same < open.size() && same < sections.size() && open[same] == sections[same]) ++same;
+    for (std::size_t d = same; d < sections.size(); ++d)
+      s << std::string(2 * d, ' ') << sections[d] << ":\n";
+    open = sections;
+    std::string line = std::string(2 * sections.size(), ' ') + parts.back() + ": " + k.show(options);
+    std::string comment = k.unit.empty() ? "" : k.unit + "; ";
+    if (!k.default_note.empty() && k.show(options) == k.show(defaults)) comment += plainText(k.default_note) + "; ";
+    comment += (k.used_by == (kUsedByMapper | kUsedByMap | kUsedByEval) ? std::string() : programsOf(k.used_by) + "; ") +
+               plainText(k.meaning);
+    line.resize(std::max<std::size_t>(line.size() + 1, 40), ' ');
+    s << line << "# " << comment << "\n";
+  }
+  return s.str();
+}
+
+std::string mapperConfigMarkdown() {
+  const MapperOptions defaults;
+  std::ostringstream s;
+  s << "| key | type | default | used by | meaning |\n|---|---|---|---|---|\n";
+  for (const auto& k : schema::keys()) {
+    std::string value = k.default_note.empty() ? "`" + k.show(defaults) + "`" + (k.unit.empty() ? "" : " " + k.unit)
+                                               : k.default_note;
+    s << "| `" << k.path << "` | " << k.type << " | " << value << " | " << programsOf(k.used_by) << " | " << k.meaning
+      << " |\n";
+  }
   return s.str();
 }
 

@@ -43,25 +43,26 @@ std::string seconds(std::int64_t us) {
 
 }  // namespace
 
-std::string ClockAgreement::describe() const {
+std::string ClockAgreement::describe(std::string_view time_flag) const {
   const ScanClock used = sample_.clock;
   const ScanClock other = used == ScanClock::kDevice ? ScanClock::kHost : ScanClock::kDevice;
   if (state_ == ClockState::kUnknown) return "no odometry to compare the scans with";
   const std::string times = std::string("scan at ") + isoUtc(sample_.scan_utime) + " on the " + clockName(used) +
                             " clock (" + isoUtc(sample_.other_scan_utime) + " on the " + clockName(other) +
-                            " clock), newest pose at " + isoUtc(*sample_.newest_pose_utime) + ", offset " +
+                            " clock), odometry at " + isoUtc(*sample_.newest_pose_utime) + ", offset " +
                             seconds(last_.offset_us);
   if (state_ == ClockState::kAgree)
     return "scans and odometry agree on the " + std::string(clockName(used)) + " clock: " + times;
   std::string fix;
   if (std::llabs(last_.other_offset_us) <= tolerance_us_) {
     fix = std::string("the odometry is on the ") + clockName(other) + " clock (offset " + seconds(last_.other_offset_us) +
-          "): set time_base: " + clockName(other) + " (--time-base " + clockName(other) + ")";
+          "): set time_base: " + clockName(other) + " (" + std::string(time_flag) + " " + clockName(other) + ")";
   } else {
     fix = "the odometry matches neither clock (" + std::string(clockName(other)) + " offset " +
           seconds(last_.other_offset_us) +
           "): stamp it with the driver host's clock (CLOCK_REALTIME, or one synchronised to it) and set time_base: "
-          "host, or with UTC when the sensor's PPS is locked and time_base: device";
+          "host (" + std::string(time_flag) + " host), or with UTC when the sensor's PPS is locked and time_base: device (" +
+          std::string(time_flag) + " device)";
   }
   return "scans and odometry are on different clocks, no scan can be placed: " + times + "; " + fix;
 }

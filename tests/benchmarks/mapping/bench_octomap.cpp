@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "ogf/common/command_line.hpp"
+#include "ogf/map_io/map_config_file.hpp"
 #include "ogf/map_io/odometry_file.hpp"
 #include "ogf/map_io/pcap_scans.hpp"
 
@@ -80,7 +81,8 @@ std::vector<RayScan> syntheticStreetScans(int count, double min_range) {
   return scans;
 }
 
-std::vector<RayScan> captureScans(const std::string& pcap, const std::string& odometry, double min_range, int limit) {
+std::vector<RayScan> captureScans(const std::string& pcap, const std::string& odometry, ogf::map_io::TimeBase time_base,
+                                  double min_range, int limit) {
   std::optional<ogf::fusion::PoseBuffer> poses;
   if (!odometry.empty()) {
     auto odo = ogf::map_io::readOdometry(odometry);
@@ -100,7 +102,7 @@ std::vector<RayScan> captureScans(const std::string& pcap, const std::string& od
     if (static_cast<int>(scans.size()) >= limit) return;
     Eigen::Isometry3d sensor = Eigen::Isometry3d::Identity();
     if (poses) {
-      const auto at = poses->interpolate(s.device_utime_start);
+      const auto at = poses->interpolate(s.startOn(s.clock(time_base)));
       if (!at.ok()) return;
       sensor = at.pose.odomFromBody();
     }
@@ -152,17 +154,10 @@ struct OgfResult {
   double published_per_scan = 0.0;  // cells the delta messages carry per scan
 };
 
-OgfResult runOgf(const std::vector<RayScan>& scans, double resolution, double max_range, double min_range,
-                 double clamp_z, double free_clamp_z, ogf::filter::CovarianceStorage covariance, bool deltas,
-                 int threads) {
-  ogf::pipeline::MapperConfig config;
+// `config`'s OGF at `resolution`.
+OgfResult runOgf(const std::vector<RayScan>& scans, ogf::pipeline::MapperConfig config, double resolution, bool deltas) {
   config.setResolution(resolution);
-  config.fusion.measurement.max_range_m = max_range;
-  config.fusion.measurement.min_range_m = min_range;
-  config.filter.threads = threads;
-  config.filter.clampZ = clamp_z;
-  config.filter.freeClampZ = free_clamp_z;
-  config.filter.covariance = covariance;
+  const int threads = config.filter.threads;
   auto mapper = ogf::pipeline::ScanMapper::create(config);
   if (!mapper) {
     std::fprintf(stderr, "ogf-bench-octomap: %s\n", mapper.error().message.c_str());
@@ -269,33 +264,62 @@ int main(int argc, char** argv) {
   bool deltas = false;
   bool no_octomap = false;
   int threads = 1;
+  std::string config_path;
+  app.add_option("--config", config_path,
+                 "ogf-mapper's configuration file: the OGF's map and filter settings (its map.resolution replaced "
+                 "by each of --resolutions); the flags below override it")
+      ->check(CLI::ExistingFile);
   app.add_option("--scans", count, "Scans to map (synthetic street scans 1 m apart, or the first of --pcap)")
       ->capture_default_str()
       ->check(ogf::cli::positive());
   app.add_option("--pcap", pcap, "Use the scans of this capture instead (e.g. an ogf-sim capture.pcap)");
   app.add_option("--odometry", odometry, "Odometry for --pcap (CSV or LCM log); each scan at its start pose");
   app.add_option("--resolutions", resolutions, "Comma-separated cell sizes, metres")->capture_default_str();
-  app.add_option("--max-range", max_range, "Rays cut here (free only beyond), metres")->capture_default_str();
-  app.add_option("--min-range", min_range, "Returns closer are dropped before either mapper sees them")
+  auto* max_opt = app.add_option("--max-range", max_range, "Rays cut here (free only beyond), metres")->capture_default_str();
+  auto* min_opt = app.add_option("--min-range", min_range, "Returns closer are dropped before either mapper sees them")
       ->capture_default_str();
-  app.add_option("--clamp-z", clamp_z, "The OGF's clampZ (filter_config.hpp); 0 applies every update")
+  auto* clamp_opt = app.add_option("--clamp-z", clamp_z, "The OGF's clampZ (filter_config.hpp); 0 applies every update")
       ->capture_default_str();
-  app.add_option("--free-clamp-z", free_clamp_z, "The OGF's freeClampZ for free measurements; 0: --clamp-z")
+  auto* free_clamp_opt = app.add_option("--free-clamp-z", free_clamp_z, "The OGF's freeClampZ for free measurements; 0: --clamp-z")
       ->capture_default_str();
-  app.add_option("--covariance", covariance, "The OGF's covariance storage: compact or banded")
+  auto* covariance_opt = app.add_option("--covariance", covariance, "The OGF's covariance storage: compact or banded")
       ->capture_default_str()
       ->check(CLI::IsMember({"compact", "banded"}));
   app.add_flag("--deltas", deltas,
                "Also collect the changed cells per scan and publish them into a delta stream, as ogf-mapper does for "
                "OGF_MAP_DELTA; prints the published map's size and the delta stream's time (apart from the OGF's)");
-  app.add_option("--threads", threads,
+  auto* threads_opt = app.add_option("--threads", threads,
                  "The OGF's filter threads (filter.threads); above 1 the OGF's times are wall time, not CPU time")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
   app.add_flag("--no-octomap", no_octomap, "Only the OGF's rows: quicker, for comparing two builds of the OGF");
   OGF_PARSE_COMMAND_LINE(app, argc, argv);
 
-  const auto scans = pcap.empty() ? syntheticStreetScans(count, min_range) : captureScans(pcap, odometry, min_range, count);
+  // The OGF's settings: the defaults, then the file's, then the flags given.
+  ogf::mapper_daemon::MapperOptions file;
+  if (!config_path.empty()) {
+    auto read = ogf::map_io::readOfflineConfig(config_path, ogf::mapper_daemon::kUsedByMap);
+    if (!read) {
+      std::fprintf(stderr, "ogf-bench-octomap: --config: %s\n", read.error().message.c_str());
+      return 2;
+    }
+    if (const auto note = read->unusedNote("ogf-bench-octomap"); !note.empty())
+      std::fprintf(stderr, "--config: %s\n", note.c_str());
+    file = read->options;
+  }
+  ogf::pipeline::MapperConfig config = file.map;
+  const bool no_file = config_path.empty();
+  if (no_file || max_opt->count() > 0) config.fusion.measurement.max_range_m = max_range;
+  if (no_file || min_opt->count() > 0) config.fusion.measurement.min_range_m = min_range;
+  if (no_file || clamp_opt->count() > 0) config.filter.clampZ = clamp_z;
+  if (no_file || free_clamp_opt->count() > 0) config.filter.freeClampZ = free_clamp_z;
+  if (no_file || covariance_opt->count() > 0) config.filter.covariance = *ogf::filter::parseCovarianceStorage(covariance);
+  if (no_file || threads_opt->count() > 0) config.filter.threads = threads;
+  max_range = config.fusion.measurement.max_range_m;
+  min_range = config.fusion.measurement.min_range_m;
+  threads = config.filter.threads;
+
+  const auto scans = pcap.empty() ? syntheticStreetScans(count, min_range) : captureScans(pcap, odometry, file.time_base, min_range, count);
   std::size_t rays = 0;
   for (const auto& s : scans) rays += s.endpoints.size();
   if (scans.empty()) {
@@ -308,8 +332,7 @@ int main(int argc, char** argv) {
   std::printf("%-6s %-8s %9s %9s %9s %8s %10s %11s %s\n", "res m", "mapper", "mean ms", "p50 ms", "p99 ms",
               "x 10 Hz", "memory MB", "cells", "notes");
   for (const double res : parseList(resolutions)) {
-    const OgfResult ogf = runOgf(scans, res, max_range, min_range, clamp_z, free_clamp_z,
-                                 *ogf::filter::parseCovarianceStorage(covariance), deltas, threads);
+    const OgfResult ogf = runOgf(scans, config, res, deltas);
     const auto row = [&](const char* name, const Timing& t, std::size_t memory, std::size_t cells, const std::string& notes) {
       std::printf("%-6.2f %-8s %9.1f %9.1f %9.1f %8.2f %10.1f %11zu %s\n", res, name, t.mean(), t.percentile(0.5),
                   t.percentile(0.99), kScanPeriodMs / t.mean(), static_cast<double>(memory) / 1e6, cells,

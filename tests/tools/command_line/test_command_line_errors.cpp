@@ -103,15 +103,15 @@ TEST_F(CommandLineErrors, ConfigurationValuesNameFileLineAndKeyAsWritten) {
   EXPECT_NE(o.output.find(daemon_yaml.string() + ":3: map.resolution: must be greater than 0, got -0.1"),
             std::string::npos)
       << o.output;
-  // ogf-map reads the daemon's file the same way, and its own map file.
+  // ogf-map reads the daemon's file the same way; a top-level key is refused naming the key to use.
   o = run("ogf-map", {"--config", daemon_yaml.string(), "--pcd", "x.pcd", "--out", (dir_ / "m").string()});
   EXPECT_EQ(o.rc, 2) << o.output;
   EXPECT_NE(o.output.find(daemon_yaml.string() + ":3: map.resolution"), std::string::npos) << o.output;
   const auto map_yaml = dir_ / "map.yaml";
-  std::ofstream(map_yaml) << "max_range: 30\nresolution: -1\n";
+  std::ofstream(map_yaml) << "map:\n  max_range: 30\nresolution: -1\n";
   o = run("ogf-map", {"--config", map_yaml.string(), "--pcd", "x.pcd", "--out", (dir_ / "m").string()});
   EXPECT_EQ(o.rc, 2) << o.output;
-  EXPECT_NE(o.output.find(map_yaml.string() + ":2: resolution: must be greater than 0, got -1"), std::string::npos)
+  EXPECT_NE(o.output.find(map_yaml.string() + ":3: resolution: not a key here: use map.resolution"), std::string::npos)
       << o.output;
 }
 

@@ -55,7 +55,7 @@ TEST(EvalMovingSolid, ThePersonsTrailClearsUnderTheDefaultPolicyAndStaysWithoutR
                               dir.path());
   ASSERT_EQ(sim.exit_code, 0) << sim.output;
   const LeftBehind scan = evaluate(dir, "scan", "filter:\n  occupied_priority: scan\n");
-  const LeftBehind byDefault = evaluate(dir, "default", "resolution: 0.2\n");
+  const LeftBehind byDefault = evaluate(dir, "default", "map:\n  resolution: 0.2\n");
   const LeftBehind never = evaluate(dir, "never", "filter:\n  occupied_priority: map\n  free_release_scans: 0\n");
   SCOPED_TRACE(testing::Message() << "swept cells left occupied: scan " << scan.ogf << ", default "
                                   << byDefault.ogf << ", never released " << never.ogf << ", OctoMap "

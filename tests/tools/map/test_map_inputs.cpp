@@ -1,12 +1,16 @@
 // ogf-map's input parsers: odometry CSV (bad lines skipped and named by line), POSE messages of either
-// type told apart by fingerprint, PCD (ascii and binary, VIEWPOINT), and the --config YAML (values
-// applied, unknown keys and bad values named with file, line and key).
+// type told apart by fingerprint, PCD (ascii and binary, VIEWPOINT), and the --config file (ogf-mapper's,
+// values applied, keys the program does not use listed, errors named with file, line and key).
 #include <gtest/gtest.h>
 
 #include <bot_core/pose_t.hpp>
 #include <ogf/odometry_t.hpp>
 
+#include <unistd.h>
+
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -127,48 +131,43 @@ TEST(Pcd, TruncatedBinaryDataAndCompressedDataAreRefusedWithTheReason) {
   EXPECT_NE(compressed.error().message.find("binary_compressed"), std::string::npos);
 }
 
-TEST(MapConfigYaml, ValuesAreAppliedToFusionAndFilter) {
-  pipeline::MapperConfig c;
-  const auto st = map_io::applyMapConfigYaml(
-      "resolution: 0.1\nmax_range: 12\nextrinsic:\n  translation: [0, 0, 1.5]\nfilter:\n  threads: 2\n"
-      "  skip_tolerance: 0.001\n  clamp_z: 2.5\n  free_clamp_z: 1.25\n",
-      "m.yaml", c);
-  ASSERT_TRUE(st.ok()) << st.error().message;
+// The offline programs read ogf-mapper's file: values land in the mapping configuration, the keys a
+// program does not use are listed (not refused), and errors name the file, the line and the key.
+TEST(OfflineConfigFile, ValuesApplyAndKeysTheProgramDoesNotUseAreListed) {
+  const auto path = std::filesystem::temp_directory_path() / ("ogf-offline-config-" + std::to_string(::getpid()) + ".yaml");
+  std::ofstream(path) << "lcm_url: \"\"\nchannels: {scan: S}\ntime_base: host\nmap:\n  resolution: 0.1\n"
+                         "  max_range: 12\n  extrinsic:\n    translation: [0, 0, 1.5]\n"
+                         "filter:\n  threads: 2\n  clamp_z: 2.5\npose_correction: {mode: scan-match}\n";
+  const auto read = map_io::readOfflineConfig(path, mapper_daemon::kUsedByEval);
+  ASSERT_TRUE(read.ok()) << read.error().message;
+  const pipeline::MapperConfig& c = read->options.map;
   EXPECT_DOUBLE_EQ(c.filter.resolution, 0.1);
   EXPECT_DOUBLE_EQ(c.fusion.measurement.resolution_m, 0.1);
   EXPECT_DOUBLE_EQ(c.fusion.measurement.max_range_m, 12.0);
   EXPECT_DOUBLE_EQ(c.fusion.extrinsic.translation_m.z(), 1.5);
   EXPECT_EQ(c.filter.threads, 2);
-  EXPECT_DOUBLE_EQ(c.filter.skipTolerance, 0.001);
   EXPECT_DOUBLE_EQ(c.filter.clampZ, 2.5);
-  EXPECT_DOUBLE_EQ(c.filter.freeClampZ, 1.25);
-  EXPECT_TRUE(c.validate().ok());
-}
+  EXPECT_TRUE(read->sets("time_base"));
+  EXPECT_FALSE(read->sets("pose_source"));
+  EXPECT_EQ(read->unused_keys, (std::vector<std::string>{"lcm_url", "channels.scan", "pose_correction.mode"}));
+  EXPECT_NE(read->unusedNote("ogf-eval").find("ogf-eval does not use lcm_url, channels.scan, pose_correction.mode"),
+            std::string::npos)
+      << read->unusedNote("ogf-eval");
+  const auto for_map = map_io::readOfflineConfig(path, mapper_daemon::kUsedByMap);
+  ASSERT_TRUE(for_map.ok());
+  EXPECT_EQ(for_map->unused_keys, (std::vector<std::string>{"lcm_url", "channels.scan"}));
 
-TEST(MapConfigYaml, UnknownKeysAndBadValuesAreNamedWithFileLineAndKey) {
-  pipeline::MapperConfig c;
-  const auto unknown = map_io::applyMapConfigYaml("resolution: 0.2\nfilter:\n  treads: 2\n", "m.yaml", c);
+  std::ofstream(path) << "map:\n  resolution: 0.2\nfilter:\n  treads: 2\n";
+  const auto unknown = map_io::readOfflineConfig(path, mapper_daemon::kUsedByMap);
   ASSERT_FALSE(unknown.ok());
-  EXPECT_NE(unknown.error().message.find("m.yaml:3: filter.treads"), std::string::npos) << unknown.error().message;
-  const auto bad = map_io::applyMapConfigYaml("max_range: far\n", "m.yaml", c);
-  ASSERT_FALSE(bad.ok());
-  EXPECT_NE(bad.error().message.find("m.yaml:1: max_range"), std::string::npos) << bad.error().message;
+  EXPECT_NE(unknown.error().message.find(path.string() + ":4: filter.treads"), std::string::npos)
+      << unknown.error().message;
+  std::ofstream(path) << "resolution: 0.2\n";
+  const auto flat = map_io::readOfflineConfig(path, mapper_daemon::kUsedByMap);
+  ASSERT_FALSE(flat.ok());
+  EXPECT_NE(flat.error().message.find("use map.resolution"), std::string::npos) << flat.error().message;
+  std::filesystem::remove(path);
 }
 
 }  // namespace
 
-namespace {
-
-TEST(MapConfigFile, TheDaemonsFormatIsRecognisedAndTheFlatOneIsNot) {
-  using ogf::map_io::isMapperDaemonConfig;
-  EXPECT_TRUE(isMapperDaemonConfig("map:\n  resolution: 0.2\nfilter:\n  threads: 2\n"));
-  EXPECT_TRUE(isMapperDaemonConfig("lcm_url: \"\"\nchannels: {scan: VELODYNE_SCAN}\n"));
-  EXPECT_TRUE(isMapperDaemonConfig("fusion:\n  max_pending_scans: 10\n"));
-  EXPECT_FALSE(isMapperDaemonConfig("resolution: 0.1\nextrinsic: {translation: [0, 0, 1]}\nfilter:\n  threads: 2\n"));
-  EXPECT_FALSE(isMapperDaemonConfig("filter:\n  clamp_z: 2\n"));  // ambiguous: ogf-map's own
-  EXPECT_FALSE(isMapperDaemonConfig(""));
-  EXPECT_FALSE(isMapperDaemonConfig("[unclosed"));
-  EXPECT_FALSE(isMapperDaemonConfig("- a\n- b\n"));
-}
-
-}  // namespace

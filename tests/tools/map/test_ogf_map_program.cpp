@@ -44,6 +44,9 @@ using ogf::testing::runProgram;
 
 const std::string kMap = OGF_MAP_BINARY;
 const std::string kSim = OGF_SIM_BINARY;
+const std::string kMapper = OGF_MAPPER_BINARY;
+const std::string kEval = OGF_EVAL_BINARY;
+constexpr const char* kRealCalibration = "data/real/calib/VLP-16.xml";
 constexpr const char* kRealCapture = "data/real/vlp-16-test-90deg-1-50-frames.pcap";
 
 struct Row {
@@ -384,6 +387,9 @@ TEST(OgfMapProgram, TheMapperDaemonsConfigurationFileIsAccepted) {
                                (dir / "wall.pcd").string(), "--out", (dir / "m").string()},
                               dir.path());
   ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("ogf-map does not use lcm_url, state_dir, fusion.max_pending_scans (ogf-mapper's): ignored"),
+            std::string::npos)
+      << run.output;
   const auto map = ogf::filter::loadMapFile(dir / "m");
   ASSERT_TRUE(map.ok()) << map.error().message;
   EXPECT_EQ(map->config().resolution, 0.5);
@@ -478,7 +484,7 @@ TEST(OgfMapProgram, ScanMatchingCorrectsDriftingOdometryAndWritesTheCorrectedTra
                 .exit_code,
             0);
   // The simulated sensor sits 1 m above the body (sim.yaml's sensor_to_body).
-  writeFile(dir / "map.yaml", "extrinsic: {translation: [0, 0, 1], quaternion: [1, 0, 0, 0]}\n");
+  writeFile(dir / "map.yaml", "map:\n  extrinsic: {translation: [0, 0, 1], quaternion: [1, 0, 0, 0]}\n");
   const auto corrected = dir / "corrected.csv";
   const auto run = runProgram({kMap, "--config", (dir / "map.yaml").string(), "--pcap",
                                (dir / "sim" / "capture.pcap").string(), "--odometry",
@@ -509,4 +515,127 @@ TEST(OgfMapProgram, PoseCorrectionFlagsAreCheckedBeforeAnyWork) {
   const auto tripod = runProgram({kMap, "--pcap", "x.pcap", "--static", "--out", "m", "--pose-correction", "rbpf"},
                                  dir.path());
   EXPECT_EQ(tripod.exit_code, 2) << tripod.output;
+}
+
+namespace {
+
+// The capture's scans and the span of their host (receive) times.
+struct HostSpan {
+  long long scans = 0;
+  std::int64_t first = 0, last = 0;
+};
+HostSpan hostSpanOf(const std::filesystem::path& pcap) {
+  HostSpan span;
+  map_io::PcapScanConfig pc;
+  const auto read = map_io::readPcapScans(pcap, pc, [&](const map_io::ScanRecord& scan) {
+    if (span.scans++ == 0) span.first = scan.host_utime_start;
+    span.last = std::max(span.last, scan.host_utime_start);
+  });
+  EXPECT_TRUE(read.ok());
+  return span;
+}
+
+// A robot standing still, its odometry stamped on the host clock at 100 Hz a second either side of the
+// capture, as a driver computer's odometry would be for a sensor without GPS.
+void writeHostOdometry(const HostSpan& span, const std::filesystem::path& path) {
+  std::ostringstream csv;
+  csv << "utime,x,y,z,qw,qx,qy,qz\n";
+  for (std::int64_t t = span.first - 1'000'000; t <= span.last + 1'000'000; t += 10'000) csv << t << ",0,0,0,1,0,0,0\n";
+  writeFile(path, csv.str());
+}
+
+// The YAML block the README gives as my-mapper.yaml.
+std::string readmeMapperYaml() {
+  std::ifstream in(OGF_README_PATH);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string readme = text.str();
+  const auto named = readme.find("with `my-mapper.yaml`");
+  if (named == std::string::npos) return {};
+  const auto block = readme.find("```yaml\n", named);
+  if (block == std::string::npos) return {};
+  const auto from = block + 8;
+  return readme.substr(from, readme.find("```", from) - from);
+}
+
+}  // namespace
+
+// The README's robot configuration (time_base: auto and an extrinsic) maps a capture without GPS whose
+// odometry is on the host clock: auto times each scan on the host clock, as ogf-mapper does.
+TEST(OgfMapProgram, TheReadmesMapperYamlMapsEveryScanOfTheRealCaptureWithHostClockOdometry) {
+  OGF_REQUIRE_SHARED_FILE(pcap, kRealCapture);
+  OGF_REQUIRE_SHARED_FILE(calib, kRealCalibration);
+  ogf::testing::ScratchDir dir;
+  const std::string yaml = readmeMapperYaml();
+  ASSERT_NE(yaml.find("time_base: auto"), std::string::npos) << yaml;
+  writeFile(dir / "my-mapper.yaml", yaml);
+  const HostSpan span = hostSpanOf(pcap);
+  ASSERT_GT(span.scans, 40);
+  writeHostOdometry(span, dir / "host.csv");
+  const auto run = runProgram({kMap, "--pcap", pcap.string(), "--calib", calib.string(), "--odometry",
+                               (dir / "host.csv").string(), "--config", (dir / "my-mapper.yaml").string(), "--out",
+                               (dir / "m").string()},
+                              dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(summaryOf(run.stdout_text).scans, span.scans) << run.output;
+  EXPECT_EQ(run.output.find("not covered"), std::string::npos) << run.output;
+}
+
+// Scans timed on the device clock against host-clock odometry: none is covered, and the log says once that
+// the two are on different clocks, with both times, the offset and the flag and key that fix it.
+TEST(OgfMapProgram, OdometryOnAnotherClockIsNamedWithBothTimesTheOffsetAndTheFix) {
+  OGF_REQUIRE_SHARED_FILE(pcap, kRealCapture);
+  ogf::testing::ScratchDir dir;
+  const HostSpan span = hostSpanOf(pcap);
+  writeHostOdometry(span, dir / "host.csv");
+  const auto run = runProgram({kMap, "--pcap", pcap.string(), "--odometry", (dir / "host.csv").string(), "--time",
+                               "device", "--out", (dir / "m").string()},
+                              dir.path());
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("nothing could be mapped"), std::string::npos) << run.output;
+  const auto at = run.output.find("different clocks");
+  ASSERT_NE(at, std::string::npos) << run.output;
+  EXPECT_EQ(run.output.find("different clocks", at + 1), run.output.find("different clocks: see the clocks line"))
+      << run.output;
+  const std::string line = run.output.substr(at, run.output.find('\n', at) - at);
+  EXPECT_NE(line.find("on the device clock"), std::string::npos) << line;
+  EXPECT_NE(line.find("on the host clock"), std::string::npos) << line;
+  EXPECT_NE(line.find("offset "), std::string::npos) << line;
+  EXPECT_NE(line.find("time_base: host (--time host)"), std::string::npos) << line;
+  static const std::regex iso(R"(\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d\.\d{3}Z)");
+  EXPECT_EQ(std::distance(std::sregex_iterator(line.begin(), line.end(), iso), std::sregex_iterator()), 3) << line;
+}
+
+// One file for every program: ogf-mapper reads it (and prints it back), ogf-map and ogf-eval map with it,
+// ignoring the daemon's keys; its pose_source: static is their --static.
+TEST(OgfMapProgram, OneConfigurationFileIsAcceptedByOgfMapperOgfMapAndOgfEval) {
+  OGF_REQUIRE_SHARED_FILE(pcap, kRealCapture);
+  ogf::testing::ScratchDir dir;
+  writeFile(dir / "robot.yaml",
+            "lcm_url: \"\"\nchannels: {scan: VELODYNE_SCAN, pose: POSE}\nstate_dir: \"\"\ntime_base: auto\n"
+            "pose_source: static\nsnapshot_interval_s: 20\nmap:\n  resolution: 0.2\n  max_range: 30\n"
+            "filter:\n  sigma: auto\n  threads: 1\nfusion:\n  max_pending_scans: 10\n");
+  const auto mapper = runProgram({kMapper, "--config", (dir / "robot.yaml").string(), "--print-config"}, dir.path());
+  ASSERT_EQ(mapper.exit_code, 0) << mapper.output;
+  EXPECT_NE(mapper.stdout_text.find("\npose_source: static"), std::string::npos) << mapper.stdout_text;
+
+  const auto from_file = runProgram({kMap, "--config", (dir / "robot.yaml").string(), "--pcap", pcap.string(), "--out",
+                                     (dir / "a").string()},
+                                    dir.path());
+  ASSERT_EQ(from_file.exit_code, 0) << from_file.output;
+  EXPECT_NE(from_file.output.find("ogf-map does not use lcm_url, channels.scan, channels.pose, state_dir"),
+            std::string::npos)
+      << from_file.output;
+  const auto flags = runProgram({kMap, "--static", "--pcap", pcap.string(), "--resolution", "0.2", "--out",
+                                 (dir / "b").string()},
+                                dir.path());
+  ASSERT_EQ(flags.exit_code, 0) << flags.output;
+  EXPECT_EQ(summaryOf(from_file.stdout_text).checksum, summaryOf(flags.stdout_text).checksum);
+  EXPECT_FALSE(summaryOf(flags.stdout_text).checksum.empty()) << flags.stdout_text;
+
+  const auto eval = runProgram({kEval, "--config", (dir / "robot.yaml").string(), "--pcap", pcap.string(),
+                                "--no-octomap"},
+                               dir.path());
+  EXPECT_EQ(eval.exit_code, 0) << eval.output;
+  EXPECT_NE(eval.output.find("ogf-eval does not use"), std::string::npos) << eval.output;
 }

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 
+#include "ogf/map_io/odometry_clock.hpp"
 #include "ogf/map_io/odometry_file.hpp"
 #include "ogf/map_io/pcap_scans.hpp"
 
@@ -35,7 +36,7 @@ Result<fusion::ExtrinsicConfig> readSimExtrinsic(const std::filesystem::path& si
 }
 
 Result<SimMeasurementCounts> replaySimRays(const std::filesystem::path& sim_dir, const pipeline::MapperConfig& config,
-                                           const RayVisitor& visit) {
+                                           const RayVisitor& visit, map_io::TimeBase time_base) {
   auto odometry = map_io::readOdometry(sim_dir / "odometry.csv");
   if (!odometry) return Error{odometry.error().message};
   fusion::PoseBufferConfig pb = config.fusion.pose_buffer;
@@ -50,8 +51,13 @@ Result<SimMeasurementCounts> replaySimRays(const std::filesystem::path& sim_dir,
   pc.min_range_m = config.fusion.measurement.min_range_m;
   auto read = map_io::readPcapScans(sim_dir / "capture.pcap", pc, [&](const map_io::ScanRecord& scan) {
     const std::int64_t index = counts.scans++;
-    if (deskew.place(scan.points(map_io::TimeBase::kDevice), poses, origins, endpoints) != fusion::PoseCoverage::kCovered)
+    if (deskew.place(scan.points(time_base), poses, origins, endpoints) != fusion::PoseCoverage::kCovered) {
+      if (counts.clock_mismatch.empty()) {
+        if (const auto mismatch = map_io::clockMismatch(scan, time_base, poses))
+          counts.clock_mismatch = mismatch->describe("--time");
+      }
       return;
+    }
     ++counts.scans_measured;
     visit(index, origins, endpoints);
   });
@@ -61,7 +67,8 @@ Result<SimMeasurementCounts> replaySimRays(const std::filesystem::path& sim_dir,
 
 Result<SimMeasurementCounts> replaySimMeasurements(const std::filesystem::path& sim_dir,
                                                    const pipeline::MapperConfig& config,
-                                                   const std::function<void(std::span<const Measurement>)>& visit) {
+                                                   const std::function<void(std::span<const Measurement>)>& visit,
+                                                   map_io::TimeBase time_base) {
   fusion::MeasurementSet set(config.fusion.measurement);
   std::int64_t measurements = 0;
   auto counts = replaySimRays(sim_dir, config, [&](std::int64_t, std::span<const Eigen::Vector3d> origins,
@@ -69,7 +76,7 @@ Result<SimMeasurementCounts> replaySimMeasurements(const std::filesystem::path& 
     const auto ms = set.build(origins, endpoints);
     measurements += static_cast<std::int64_t>(ms.size());
     visit(ms);
-  });
+  }, time_base);
   if (!counts) return counts.error();
   counts->measurements = measurements;
   return counts;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "ogf/map_io/odometry_clock.hpp"
+
 namespace ogf::map_io {
 
 Result<OfflineMapping> OfflineMapping::create(const pipeline::MapperConfig& config) {
@@ -78,6 +80,7 @@ ScanOutcome OfflineMapping::addScan(const ScanRecord& scan, TimeBase base) {
                                                     : mapper_.measure(points, *poses_);
   if (coverage != fusion::PoseCoverage::kCovered) {
     ++counts_.scans_uncovered;
+    if (!clock_mismatch_) clock_mismatch_ = map_io::clockMismatch(scan, base, *poses_);
     return ScanOutcome::kUncovered;
   }
   if (correction_) {

@@ -5,13 +5,14 @@
 namespace ogf::map_io {
 
 fusion::ScanPoints ScanRecord::points(TimeBase base) const {
-  return {base == TimeBase::kHost ? host_utime_start : device_utime_start, x, y, z, time_offset_ns};
+  return {startOn(clock(base)), x, y, z, time_offset_ns};
 }
 
 void assignScan(const velodyne::Scan& scan, ScanRecord& out) {
   out.seq = scan.seq;
   out.device_utime_start = scan.device_utime_start;
   out.host_utime_start = scan.host_utime_start;
+  out.time_source = static_cast<std::int8_t>(scan.time_source);
   const std::size_t n = scan.points.size();
   out.x.resize(n);
   out.y.resize(n);
@@ -30,6 +31,7 @@ void assignScan(const ogf::lidar_scan_t& message, ScanRecord& out) {
   out.seq = message.seq;
   out.device_utime_start = message.device_utime_start;
   out.host_utime_start = message.host_utime_start;
+  out.time_source = message.time_source;
   // The arrays are sized by num_points in the message; a hand-made message could disagree, so take the
   // shortest.
   const std::size_t n = std::min({static_cast<std::size_t>(std::max(message.num_points, 0)), message.x.size(),

@@ -28,7 +28,9 @@ Result<fusion::Pose> decodePose(const void* data, std::size_t size);
 // offsets, finite coordinates, times in [0, 2^62) µs, end not before start. The error names the field.
 Status validateScan(const ogf::lidar_scan_t& scan);
 
-// The clock `base` times this scan on (kAuto resolved by the scan's time_source).
+// The clock `base` times a scan on: kAuto is the device clock for a scan whose time_source (a
+// lidar_scan_t::TIME_SOURCE_* value) is PPS_NMEA, its device time then being UTC, else the host clock.
+fusion::ScanClock scanClockOf(std::int8_t time_source, ScanTimeBase base);
 fusion::ScanClock scanClockOf(const ogf::lidar_scan_t& scan, ScanTimeBase base);
 
 // The scan's start time on `clock`.

@@ -1,11 +1,16 @@
 // Everything ogf-mapper is configured with: the bus and channels, the map (through MapperConfig), the
-// state directory and the timers. Read from a YAML file (unknown keys are refused, so a typo never
-// silently falls back to a default), then overridden by flags, then validated as a whole.
+// state directory and the timers. The offline programs that map (ogf-map, ogf-eval) read the same file
+// with the same reader: one schema (config_schema.cpp) declares every key once, with its type, default,
+// unit, meaning, check and place in MapperOptions, and drives the YAML reader, --print-config and the
+// README's table of keys. Read from a YAML file (unknown keys are refused, so a typo never silently falls
+// back to a default), then overridden by flags, then validated as a whole.
 #pragma once
 
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "ogf/adapters/message_adapters.hpp"
 #include "ogf/common/result.hpp"
@@ -15,6 +20,10 @@
 namespace ogf::mapper_daemon {
 
 using adapters::ScanTimeBase;
+
+// Where the body's pose comes from: the odometry on the pose channel, or one fixed pose from the
+// configuration (a sensor on a mast or a bench: infrastructure lidars, tests).
+enum class PoseSource { kOdometry, kStatic };
 
 struct MapperOptions {
   std::string lcm_url;  // "" = $LCM_DEFAULT_URL, else LCM's default
@@ -31,11 +40,17 @@ struct MapperOptions {
   // host hour) or the driver host's receive time.
   ScanTimeBase time_base = ScanTimeBase::kAuto;
 
+  PoseSource pose_source = PoseSource::kOdometry;
+  // With PoseSource::kStatic: the body's fixed pose in the map frame (the sensor then sits at
+  // static_pose · map.extrinsic).
+  fusion::ExtrinsicConfig static_pose;
+
   pipeline::MapperConfig map;
   // The optional stage between odometry and the OGF: none, scan-match or rbpf.
   correction::ScanPoseCorrectionConfig pose_correction;
 
-  // Where snapshots and the journal live; empty = map in memory only.
+  // Where snapshots and the journal live; empty = $STATE_DIRECTORY when set (systemd), else the map in
+  // memory only (main.cpp resolves it).
   std::filesystem::path state_dir;
   // A restart replays the journal since the last snapshot (about 50 ms a scan at 0.2 m): 20 s of scans at
   // 10 Hz restart in about 10 s (docs/performance.md, "Restart after a crash").
@@ -53,14 +68,34 @@ struct MapperOptions {
   Status validate() const;
 };
 
-// Reads a YAML file into `options` (fields not in the file keep their values). Errors name the file,
-// the line and the key.
-Status loadMapperOptions(const std::filesystem::path& path, MapperOptions& options);
+// The programs a configuration key matters to (a bit each); the others accept the key and ignore it.
+enum ConfigUser : unsigned {
+  kUsedByMapper = 1U,  // ogf-mapper
+  kUsedByMap = 2U,     // ogf-map
+  kUsedByEval = 4U,    // ogf-eval
+};
+
+// Reads a YAML file into `options` (keys not in the file keep their values). Errors name the file, the
+// line and the key; a key spelt another way (a top-level `resolution`, `filter.kernel_sigma`) is refused
+// naming the key to use. `keys_read`, when given, receives the path of every key the file set
+// ("map.resolution", "channels.scan").
+Status loadMapperOptions(const std::filesystem::path& path, MapperOptions& options,
+                         std::vector<std::string>* keys_read = nullptr);
 
 // The same from YAML text; `path` only names the source in errors.
-Status parseMapperOptions(const std::string& yaml, const std::filesystem::path& path, MapperOptions& options);
+Status parseMapperOptions(const std::string& yaml, const std::filesystem::path& path, MapperOptions& options,
+                          std::vector<std::string>* keys_read = nullptr);
 
-// The keys a file may hold, as a YAML example with the defaults (printed by --print-config).
-std::string exampleMapperConfig();
+// The programs (ConfigUser bits) that use the key at `path`, a path loadMapperOptions reported; 0 for a
+// path that is no key.
+unsigned configKeyUsers(std::string_view path);
+
+// Every key as YAML with the values in `options` (the defaults for MapperOptions{}), one comment a key
+// with its unit and meaning; reading it back gives `options` again. Printed by --print-config.
+std::string mapperConfigYaml(const MapperOptions& options = MapperOptions{});
+
+// The table of keys in Markdown (key, type, default, programs, meaning): the README's configuration table,
+// printed by --print-config=markdown.
+std::string mapperConfigMarkdown();
 
 }  // namespace ogf::mapper_daemon

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 
 namespace ogf::fusion {
 
@@ -20,7 +21,8 @@ enum class ScanClock { kDevice, kHost };
 const char* clockName(ScanClock c);
 
 // One scan seen against the odometry: the scan's time on the clock in use and on the other one, and the
-// newest pose received (absent when no pose arrived recently enough to judge).
+// odometry's time to compare with: live, the newest pose received (absent when none arrived recently enough
+// to judge); offline, the pose of a whole odometry file nearest to the scan.
 struct ClockSample {
   ScanClock clock = ScanClock::kDevice;
   std::int64_t scan_utime = 0;        // on `clock`
@@ -48,8 +50,9 @@ class ClockAgreement {
   std::int64_t toleranceUs() const { return tolerance_us_; }
 
   // One line for the log: both clocks' times, the offset, and the fix (the other clock when it agrees,
-  // else which clock to stamp the odometry with).
-  std::string describe() const;
+  // else which clock to stamp the odometry with), named as the key time_base and the program's flag
+  // `time_flag` that sets it.
+  std::string describe(std::string_view time_flag = "--time-base") const;
 
  private:
   std::int64_t tolerance_us_;

@@ -7,6 +7,7 @@
 
 #include <ogf/common/result.hpp>
 #include <ogf/correction/scan_pose_correction.hpp>
+#include <ogf/fusion/clock_agreement.hpp>
 #include <ogf/fusion/pose_buffer.hpp>
 #include <ogf/persistence/map_pager.hpp>
 #include <ogf/pipeline/scan_mapper.hpp>
@@ -53,6 +54,11 @@ class OfflineMapping {
 
   // A moving sensor: every point placed with the body pose at its own time.
   ScanOutcome addScan(const ScanRecord& scan, TimeBase base);
+  // The first scan the odometry left out that lies on another clock than the odometry (more than
+  // ClockAgreement's tolerance from its nearest pose): its times, the offset and the fix (describe()).
+  // nullopt while every scan left out lies near the odometry. Meaningful when no scan was covered: a
+  // shorter odometry also leaves scans far from it.
+  const std::optional<fusion::ClockAgreement>& clockMismatch() const { return clock_mismatch_; }
   // A sensor that does not move: the body at `odom_from_body`, the sensor at body · extrinsic.
   ScanOutcome addStaticScan(const ScanRecord& scan, const Eigen::Isometry3d& odom_from_body);
   // Rays from one origin to points given in the map frame (a PCD cloud with its viewpoint).
@@ -84,6 +90,7 @@ class OfflineMapping {
   std::optional<persistence::MapPager> pager_;
   double page_out_distance_m_ = 0.0;
   Status paging_ = okStatus();  // the first paging failure; mapping stops paging then
+  std::optional<fusion::ClockAgreement> clock_mismatch_;
   OfflineCounts counts_;
 };
 

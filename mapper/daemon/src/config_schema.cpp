@@ -1,0 +1,470 @@
+// Every configuration key of the mapping programs, declared once: path, type, default (the value a
+// default-constructed MapperOptions holds), unit, meaning, the programs that use it, its check and where it
+// lands in MapperOptions. mapper_options.cpp makes the YAML reader, --print-config and the README's table
+// from this list.
+#include "config_schema.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <sstream>
+
+namespace ogf::mapper_daemon::schema {
+
+std::string yamlNumber(double value) {
+  std::array<char, 64> buf{};
+  const auto [end, ec] = std::to_chars(buf.data(), buf.data() + buf.size(), value);
+  if (ec != std::errc{}) return "0";
+  return std::string(buf.data(), end);
+}
+
+std::string yamlText(const std::string& text) {
+  const bool plain = !text.empty() && text.front() != '-' && text != "null" && text != "Null" && text != "NULL" &&
+                     std::all_of(text.begin(), text.end(), [](char c) {
+                       return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '.' || c == '/' ||
+                              c == '-' || c == '+' || c == '=';
+                     });
+  if (plain) return text;
+  std::string quoted = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') {
+      quoted += '\\';
+      quoted += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      constexpr char kHex[] = "0123456789abcdef";
+      quoted += "\\x";
+      quoted += kHex[(c >> 4) & 0xf];
+      quoted += kHex[c & 0xf];
+    } else {
+      quoted += c;
+    }
+  }
+  return quoted + "\"";
+}
+
+namespace {
+
+constexpr unsigned kMapper = kUsedByMapper;
+constexpr unsigned kOffline = kUsedByMapper | kUsedByMap;  // the programs that map from odometry or a pose
+constexpr unsigned kAll = kUsedByMapper | kUsedByMap | kUsedByEval;
+
+// Why a number is refused ("must be greater than 0"), or nothing.
+using NumberCheck = std::optional<std::string> (*)(double);
+
+std::optional<std::string> anyNumber(double) { return std::nullopt; }
+std::optional<std::string> positive(double v) {
+  return v > 0 ? std::nullopt : std::optional<std::string>("must be greater than 0");
+}
+std::optional<std::string> nonNegative(double v) {
+  return v >= 0 ? std::nullopt : std::optional<std::string>("must be 0 or more");
+}
+std::optional<std::string> probability(double v) {
+  return v > 0 && v < 1 ? std::nullopt : std::optional<std::string>("must be between 0 and 1 (exclusive)");
+}
+
+Result<double> readNumber(const YAML::Node& n, const Locate& where) {
+  if (!n.IsScalar()) return Error{where(n, "") + ": expected a number"};
+  double v = 0;
+  try {
+    v = n.as<double>();
+  } catch (const YAML::Exception&) {
+    return Error{where(n, "") + ": cannot read '" + n.Scalar() + "' as a number"};
+  }
+  if (!std::isfinite(v)) return Error{where(n, "") + ": must be a finite number, got " + n.Scalar()};
+  return v;
+}
+
+Result<long long> readInteger(const YAML::Node& n, const Locate& where, long long lo, long long hi) {
+  if (!n.IsScalar()) return Error{where(n, "") + ": expected an integer"};
+  long long v = 0;
+  try {
+    v = n.as<long long>();
+  } catch (const YAML::Exception&) {
+    return Error{where(n, "") + ": cannot read '" + n.Scalar() + "' as an integer"};
+  }
+  if (v < lo || v > hi)
+    return Error{where(n, "") + ": must be from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got " +
+                 n.Scalar()};
+  return v;
+}
+
+Result<std::string> readText(const YAML::Node& n, const Locate& where) {
+  if (!n.IsScalar()) return Error{where(n, "") + ": expected text"};
+  return n.Scalar();
+}
+
+// A number in MapperOptions; `at` is a generic lambda returning the field of a (const) MapperOptions.
+template <class Access>
+ConfigKey numberKey(std::string path, std::string unit, std::string meaning, unsigned users, NumberCheck check,
+                    Access at) {
+  return {std::move(path), "number", std::move(unit), std::move(meaning), users,
+          [at, check](const YAML::Node& n, MapperOptions& o, const Locate& where) -> Status {
+            auto v = readNumber(n, where);
+            if (!v) return v.error();
+            if (auto why = check(*v)) return Error{where(n, "") + ": " + *why + ", got " + n.Scalar()};
+            at(o) = *v;
+            return okStatus();
+          },
+          [at](const MapperOptions& o) { return yamlNumber(at(o)); }, ""};
+}
+
+// A number whose default is derived from other keys (std::optional, empty = derived): `auto` says so.
+template <class Access>
+ConfigKey derivedNumberKey(std::string path, std::string unit, std::string meaning, unsigned users, std::string note,
+                           Access at) {
+  return {std::move(path), "number or `auto`", std::move(unit), std::move(meaning), users,
+          [at](const YAML::Node& n, MapperOptions& o, const Locate& where) -> Status {
+            if (n.IsScalar() && n.Scalar() == "auto") {
+              at(o).reset();
+              return okStatus();
+            }
+            auto v = readNumber(n, where);
+            if (!v) return v.error();
+            if (auto why = positive(*v)) return Error{where(n, "") + ": " + *why + " (or auto), got " + n.Scalar()};
+            at(o) = *v;
+            return okStatus();
+          },
+          [at](const MapperOptions& o) { return at(o) ? yamlNumber(*at(o)) : std::string("auto"); },
+          "`auto`: " + std::move(note)};
+}
+
+template <class Access>
+ConfigKey integerKey(std::string path, std::string unit, std::string meaning, unsigned users, long long lo,
+                     long long hi, Access at) {
+  return {std::move(path), "integer", std::move(unit), std::move(meaning), users,
+          [at, lo, hi](const YAML::Node& n, MapperOptions& o, const Locate& where) -> Status {
+            auto v = readInteger(n, where, lo, hi);
+            if (!v) return v.error();
+            at(o) = static_cast<std::remove_reference_t<decltype(at(o))>>(*v);
+            return okStatus();
+          },
+          [at](const MapperOptions& o) { return std::to_string(at(o)); }, ""};
+}
+
+template <class Access>
+ConfigKey boolKey(std::string path, std::string meaning, unsigned users, Access at) {
+  return {std::move(path), "`true` or `false`", "", std::move(meaning), users,
+          [at](const YAML::Node& n, MapperOptions& o, const Locate& where) -> Status {
+            if (!n.IsScalar()) return Error{where(n, "") + ": expected true or false"};
+            try {
+              at(o) = n.as<bool>();
+            } catch (const YAML::Exception&) {
+              return Error{where(n, "") + ": expected true or false, got '" + n.Scalar() + "'"};
+            }
+            return okStatus();
+          },
+          [at](const MapperOptions& o) { return std::string(at(o) ? "true" : "false"); }, ""};
+}
+
+// A text; `max_length` 0 = any length, else 1 to max_length characters.
+template <class Access>
+ConfigKey textKey(std::string path, std::string meaning, unsigned users, std::size_t max_length, Access at,
+                  std::string note = "") {
+  return {std::move(path), "text", "", std::move(meaning), users,
+          [at, max_length](const YAML::Node& n, MapperOptions& o, const Locate& where) -> Status {
+            auto v = readText(n, where);
+            if (!v) return v.error();
+            if (max_length > 0 && (v->empty() || v->size() > max_length))
+              return Error{where(n, "") + ": must be 1 to " + std::to_string(max_length) + " characters, got '" + *v +
+                           "'"};
+            at(o) = *v;
+            return okStatus();
+          },
+          [at](const MapperOptions& o) { return yamlText(at(o)); },
+          std::move(note)};
+}
+
+// One of a few names, each standing for a value of an enum.
+template <class Enum, class Access>
+ConfigKey choiceKey(std::string path, std::string meaning, unsigned users,
+                    std::vector<std::pair<std::string, Enum>> names, Access at) {
+  std::string type;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    type += (i == 0 ? "" : (i + 1 == names.size() ? " or " : ", ")) + ("`" + names[i].first + "`");
+  std::string listed;
+  for (std::size_t i = 0; i < names.size(); ++i) listed += (i == 0 ? "'" : ", '") + names[i].first + "'";
+  return {std::move(path), type, "", std::move(meaning), users,
+          [at, names, listed](const YAML::Node& n, MapperOptions& o, const Locate& where) -> Status {
+            if (!n.IsScalar()) return Error{where(n, "") + ": expected one of " + listed};
+            for (const auto& [name, value] : names) {
+              if (n.Scalar() == name) {
+                at(o) = value;
+                return okStatus();
+              }
+            }
+            return Error{where(n, "") + ": expected one of " + listed + ", got '" + n.Scalar() + "'"};
+          },
+          [at, names](const MapperOptions& o) {
+            for (const auto& [name, value] : names)
+              if (at(o) == value) return name;
+            return std::string("?");
+          },
+          ""};
+}
+
+Status readVector(const YAML::Node& n, const Locate& where, std::string_view subkey, std::size_t size, double* out) {
+  const char* form = size == 3 ? "expected [x, y, z]" : "expected [w, x, y, z]";
+  if (!n.IsSequence() || n.size() != size) return Error{where(n, subkey) + ": " + form};
+  for (std::size_t i = 0; i < size; ++i) {
+    if (!n[i].IsScalar()) return Error{where(n[i], subkey) + ": " + form};
+    try {
+      out[i] = n[i].as<double>();
+    } catch (const YAML::Exception&) {
+      return Error{where(n[i], subkey) + ": cannot read '" + n[i].Scalar() + "' as a number"};
+    }
+    if (!std::isfinite(out[i])) return Error{where(n[i], subkey) + ": must be finite, got " + n[i].Scalar()};
+  }
+  return okStatus();
+}
+
+std::string yamlVector(std::initializer_list<double> values) {
+  std::string s = "[";
+  for (const double v : values) s += (s.size() > 1 ? ", " : "") + yamlNumber(v);
+  return s + "]";
+}
+
+// A rigid transform: {translation: [x, y, z], rpy: [roll, pitch, yaw]} or {translation, quaternion: [w, x,
+// y, z]} (the quaternion replaces rpy). Sub-keys not given keep their values.
+template <class Access>
+ConfigKey poseKey(std::string path, std::string meaning, unsigned users, Access at) {
+  return {std::move(path), "{translation, rpy or quaternion}", "m, rad", std::move(meaning), users,
+          [at](const YAML::Node& n, MapperOptions& o, const Locate& where) -> Status {
+            if (!n.IsMap()) return Error{where(n, "") + ": expected {translation: [x, y, z], rpy: [r, p, y]}"};
+            fusion::ExtrinsicConfig& pose = at(o);
+            for (const auto& kv : n) {
+              const std::string sub = kv.first.IsScalar() ? kv.first.Scalar() : std::string("?");
+              if (sub == "translation") {
+                if (auto st = readVector(kv.second, where, sub, 3, pose.translation_m.data()); !st) return st;
+              } else if (sub == "rpy") {
+                if (auto st = readVector(kv.second, where, sub, 3, pose.rpy_rad.data()); !st) return st;
+              } else if (sub == "quaternion") {
+                double q[4];
+                if (auto st = readVector(kv.second, where, sub, 4, q); !st) return st;
+                pose.quaternion = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+              } else {
+                return Error{where(kv.first, sub) + ": unknown key (translation, rpy, quaternion)"};
+              }
+            }
+            return okStatus();
+          },
+          [at](const MapperOptions& o) {
+            const fusion::ExtrinsicConfig& pose = at(o);
+            const Eigen::Vector3d& t = pose.translation_m;
+            std::string s = "{translation: " + yamlVector({t.x(), t.y(), t.z()});
+            if (pose.quaternion) {
+              const Eigen::Quaterniond& q = *pose.quaternion;
+              s += ", quaternion: " + yamlVector({q.w(), q.x(), q.y(), q.z()});
+            } else {
+              s += ", rpy: " + yamlVector({pose.rpy_rad.x(), pose.rpy_rad.y(), pose.rpy_rad.z()});
+            }
+            return s + "}";
+          },
+          ""};
+}
+
+// A channel name: LCM allows 63 characters; a service's reply adds "_REPLY", leaving it 57.
+constexpr std::size_t kChannelLength = 63;
+constexpr std::size_t kServiceChannelLength = kChannelLength - 6;
+
+std::vector<ConfigKey> declare() {
+  std::vector<ConfigKey> k;
+  k.push_back(textKey("lcm_url", "the LCM bus; empty: `$LCM_DEFAULT_URL`, else `udpm://239.255.76.67:7667?ttl=0`",
+                      kMapper, 0, [](auto& o) -> auto& { return o.lcm_url; }));
+  k.push_back(textKey("channels.scan", "scans in (`ogf.lidar_scan_t`)", kMapper, kChannelLength,
+                      [](auto& o) -> auto& { return o.scan_channel; }));
+  k.push_back(textKey("channels.pose", "odometry in (`ogf.odometry_t` or `bot_core.pose_t`)", kMapper, kChannelLength,
+                      [](auto& o) -> auto& { return o.pose_channel; }));
+  k.push_back(textKey("channels.delta", "map changes out (`ogf.map_delta_t`)", kMapper, kChannelLength,
+                      [](auto& o) -> auto& { return o.delta_channel; }));
+  k.push_back(textKey("channels.request", "keyframe requests in", kMapper, kChannelLength,
+                      [](auto& o) -> auto& { return o.request_channel; }));
+  k.push_back(textKey("channels.status", "the mapper's status out, every `status_interval_s`", kMapper, kChannelLength,
+                      [](auto& o) -> auto& { return o.status_channel; }));
+  k.push_back(textKey("channels.corrected_pose", "corrected poses out (with `pose_correction.mode` other than `none`)",
+                      kMapper, kChannelLength, [](auto& o) -> auto& { return o.corrected_pose_channel; }));
+  k.push_back(textKey("channels.query", "map queries in; answers on `<channel>_REPLY`", kMapper, kServiceChannelLength,
+                      [](auto& o) -> auto& { return o.query_channel; }));
+  k.push_back(textKey("channels.command", "map commands in; answers on `<channel>_REPLY`", kMapper,
+                      kServiceChannelLength, [](auto& o) -> auto& { return o.command_channel; }));
+  k.push_back(choiceKey<ScanTimeBase>(
+      "time_base",
+      "the clock of the odometry's `utime`: `device` (the scan's device time), `host` (its receive time) or "
+      "`auto`: device for scans whose device time is GPS/PPS-locked UTC, host for the others (`--time-base`, "
+      "`ogf-map --time`)",
+      kAll, {{"auto", ScanTimeBase::kAuto}, {"device", ScanTimeBase::kDevice}, {"host", ScanTimeBase::kHost}},
+      [](auto& o) -> auto& { return o.time_base; }));
+  k.push_back(choiceKey<PoseSource>(
+      "pose_source",
+      "where the body's pose comes from: `odometry` (the messages on `channels.pose`, or the odometry file "
+      "offline) or `static`, a sensor that does not move, at `static_pose` (`--static`)",
+      kAll, {{"odometry", PoseSource::kOdometry}, {"static", PoseSource::kStatic}},
+      [](auto& o) -> auto& { return o.pose_source; }));
+  k.push_back(poseKey("static_pose",
+                      "with `pose_source: static`, the body's pose in the map frame: `translation` (m) and `rpy` "
+                      "(rad) or `quaternion` [w, x, y, z]",
+                      kOffline, [](auto& o) -> auto& { return o.static_pose; }));
+  k.back().default_note = "identity";
+  k.push_back({"state_dir", "text", "",
+               "snapshots and the journal; when empty, `$STATE_DIRECTORY` (systemd's `StateDirectory=`) if set, "
+               "else the map lives in memory only (`--state-dir`, `--in-memory`)",
+               kMapper,
+               [](const YAML::Node& n, MapperOptions& o, const Locate& where) -> Status {
+                 auto v = readText(n, where);
+                 if (!v) return v.error();
+                 o.state_dir = *v;
+                 return okStatus();
+               },
+               [](const MapperOptions& o) { return yamlText(o.state_dir.string()); },
+               "`\"\"` (`$STATE_DIRECTORY`)"});
+  k.push_back(numberKey("snapshot_interval_s", "s",
+                        "how often the map is saved; a restart after a crash replays the scans since the last "
+                        "snapshot, about 10 s at 20 s "
+                        "([docs/performance.md](docs/performance.md#restart-after-a-crash))",
+                        kMapper, positive, [](auto& o) -> auto& { return o.snapshot_interval_s; }));
+  k.push_back(numberKey("page_out_distance_m", "m",
+                        "map regions farther from the sensor wait in `<state_dir>/pages` and come back when a scan "
+                        "reaches them; the same map, bit for bit; 0: all in memory "
+                        "([docs/mapping.md](docs/mapping.md#the-daemon-ogf-mapper))",
+                        kMapper, nonNegative, [](auto& o) -> auto& { return o.page_out_distance_m; }));
+  k.push_back(numberKey("keyframe_interval_s", "s", "how often the whole map is sent unasked", kMapper, positive,
+                        [](auto& o) -> auto& { return o.keyframe_interval_s; }));
+  k.push_back(numberKey("status_interval_s", "s", "how often the status is published", kMapper, positive,
+                        [](auto& o) -> auto& { return o.status_interval_s; }));
+  {
+    ConfigKey resolution = numberKey("map.resolution", "m", "cell edge", kAll, positive,
+                                     [](auto& o) -> auto& { return o.map.fusion.measurement.resolution_m; });
+    // Fusion and filter share the cell size.
+    resolution.read = [inner = resolution.read](const YAML::Node& n, MapperOptions& o, const Locate& where) {
+      auto st = inner(n, o, where);
+      if (st) o.map.setResolution(o.map.fusion.measurement.resolution_m);
+      return st;
+    };
+    k.push_back(std::move(resolution));
+  }
+  k.push_back(numberKey("map.min_range", "m", "returns closer are ignored", kAll, nonNegative,
+                        [](auto& o) -> auto& { return o.map.fusion.measurement.min_range_m; }));
+  k.push_back(numberKey("map.max_range", "m", "rays longer are cut here and mark free cells only", kAll, positive,
+                        [](auto& o) -> auto& { return o.map.fusion.measurement.max_range_m; }));
+  k.push_back(boolKey("map.free_space_for_no_return",
+                      "a beam without a return marks free cells up to `map.max_range` (a missing return can be a "
+                      "black or shiny surface, not empty space)",
+                      kAll, [](auto& o) -> auto& { return o.map.fusion.measurement.free_space_for_no_return; }));
+  k.push_back(poseKey("map.extrinsic",
+                      "sensor → body: `translation` (m) and `rpy` (rad, R = Rz(yaw) Ry(pitch) Rx(roll)) or "
+                      "`quaternion` [w, x, y, z]",
+                      kAll, [](auto& o) -> auto& { return o.map.fusion.extrinsic; }));
+  k.back().default_note = "identity";
+  k.push_back(derivedNumberKey("filter.sigma", "m",
+                               "how far a measurement's evidence spreads, the kernel's σ "
+                               "([docs/mapping.md](docs/mapping.md))",
+                               kAll, "resolution / 2", [](auto& o) -> auto& { return o.map.filter.kernelSigma; }));
+  k.push_back(derivedNumberKey("filter.amplitude", "", "the kernel's amplitude", kAll, "1 / (σ √(2π))",
+                               [](auto& o) -> auto& { return o.map.filter.kernelAmplitude; }));
+  k.push_back(derivedNumberKey("filter.stencil_radius", "cells", "R, the reach of the covariance stencil", kAll,
+                               "√2 up to σ = cell / 2",
+                               [](auto& o) -> auto& { return o.map.filter.stencilRadius; }));
+  k.push_back(integerKey("filter.stencil_manhattan_radius", "cells",
+                         "L: offsets of Manhattan length up to L are in the stencil too; 0: none", kAll, 0, 64,
+                         [](auto& o) -> auto& { return o.map.filter.stencilManhattanRadius; }));
+  k.push_back(derivedNumberKey("filter.taper_support", "cells", "support of the taper that keeps the prior definite",
+                               kAll, "the longest certified", [](auto& o) -> auto& { return o.map.filter.taperSupport; }));
+  k.push_back(numberKey("filter.occupied_threshold", "", "probability above which a cell is occupied (r_o, eq. 3)",
+                        kAll, probability, [](auto& o) -> auto& { return o.map.filter.occupiedThreshold; }));
+  k.push_back(numberKey("filter.free_threshold", "", "probability below which a cell is free (r_f, eq. 3)", kAll,
+                        probability, [](auto& o) -> auto& { return o.map.filter.freeThreshold; }));
+  k.push_back(numberKey("filter.skip_tolerance", "", "an update changing the cell's mean and variance less is skipped",
+                        kAll, nonNegative, [](auto& o) -> auto& { return o.map.filter.skipTolerance; }));
+  k.push_back(numberKey("filter.clamp_z", "",
+                        "skip measurements that agree with a cell beyond this probit z (speed; 0: the exact filter)",
+                        kAll, nonNegative, [](auto& o) -> auto& { return o.map.filter.clampZ; }));
+  k.push_back(numberKey("filter.free_clamp_z", "", "the same for free measurements, most of a scan's (0: `clamp_z`)",
+                        kAll, nonNegative, [](auto& o) -> auto& { return o.map.filter.freeClampZ; }));
+  k.push_back(choiceKey<filter::OccupiedPriority>(
+      "filter.occupied_priority",
+      "`map`: a cell once hit ignores free measurements until `free_release_scans` free scans in a row (`scan`: "
+      "the exact filter; [docs/mapping.md](docs/mapping.md#occupied-priority))",
+      kAll, {{"map", filter::OccupiedPriority::kMap}, {"scan", filter::OccupiedPriority::kScan}},
+      [](auto& o) -> auto& { return o.map.filter.occupiedPriority; }));
+  k.push_back(integerKey("filter.free_release_scans", "", "see `occupied_priority`; 0: never released", kAll, 0,
+                         filter::kMaxFreeRelease, [](auto& o) -> auto& { return o.map.filter.freeReleaseCount; }));
+  k.push_back(choiceKey<filter::CovarianceStorage>(
+      "filter.covariance",
+      "`compact`: 7 bytes a cell, covariances rebuilt from the prior; `banded`: covariances stored, eq. (5) "
+      "exactly inside the band, 57 bytes ([docs/mapping.md](docs/mapping.md#covariance-storage))",
+      kAll, {{"compact", filter::CovarianceStorage::kCompact}, {"banded", filter::CovarianceStorage::kBanded}},
+      [](auto& o) -> auto& { return o.map.filter.covariance; }));
+  k.push_back(integerKey("filter.threads", "",
+                         "filter update threads (the map is identical for any count); at 0.1 m, 2 take a street scan "
+                         "from about 2.05× to 2.6× real time on a 2-CPU machine "
+                         "([docs/performance.md](docs/performance.md#where-the-time-goes-in-a-scan))",
+                         kAll, 1, 256, [](auto& o) -> auto& { return o.map.filter.threads; }));
+  k.push_back(numberKey("fusion.max_pose_wait_s", "s", "how long a scan waits for odometry", kMapper, nonNegative,
+                        [](auto& o) -> auto& { return o.map.fusion.pending.max_pose_wait_s; }));
+  k.push_back(integerKey("fusion.pose_buffer_capacity", "", "odometry poses kept (offline: the whole file)", kMapper,
+                         2, 100'000'000, [](auto& o) -> auto& { return o.map.fusion.pose_buffer.capacity; }));
+  k.push_back(integerKey("fusion.max_pending_scans", "",
+                         "scans waiting for odometry; the oldest whole scans are dropped beyond it", kMapper, 1,
+                         1'000'000, [](auto& o) -> auto& { return o.map.fusion.pending.max_pending_scans; }));
+  k.push_back(integerKey("fusion.max_pending_points", "", "the same bound in points", kMapper, 1, 1'000'000'000,
+                         [](auto& o) -> auto& { return o.map.fusion.pending.max_pending_points; }));
+  k.push_back(numberKey("fusion.max_pose_jump.translation_m", "m",
+                        "a larger step between poses splits the trajectory; a scan spanning it is dropped", kAll,
+                        positive, [](auto& o) -> auto& { return o.map.fusion.pose_buffer.jump_translation_m; }));
+  k.push_back(numberKey("fusion.max_pose_jump.rotation_rad", "rad", "the same for rotation", kAll, positive,
+                        [](auto& o) -> auto& { return o.map.fusion.pose_buffer.jump_rotation_rad; }));
+  k.push_back(numberKey("fusion.quaternion_tolerance", "",
+                        "largest difference of a pose quaternion's norm from 1 accepted (then normalised); beyond it the pose is refused", kAll,
+                        positive, [](auto& o) -> auto& { return o.map.fusion.pose_buffer.quaternion_tolerance; }));
+  k.push_back(numberKey("fusion.max_time_ahead_s", "s", "a pose or scan this far ahead of its stream is refused",
+                        kMapper, positive, [](auto& o) -> auto& { return o.map.fusion.time_sanity.max_ahead_s; }));
+  k.push_back(numberKey("fusion.max_time_behind_s", "s", "... or this far behind it", kMapper, positive,
+                        [](auto& o) -> auto& { return o.map.fusion.time_sanity.max_behind_s; }));
+  k.push_back(integerKey("fusion.clock_jump_messages", "",
+                         "refused messages in a row that agree: the clock jumped, follow it", kMapper, 1, 1000,
+                         [](auto& o) -> auto& { return o.map.fusion.time_sanity.follow_after; }));
+  {
+    std::vector<std::pair<std::string, slam::CorrectionMode>> modes;
+    for (const auto m : {slam::CorrectionMode::kNone, slam::CorrectionMode::kScanMatch, slam::CorrectionMode::kRbpf})
+      modes.emplace_back(std::string(slam::toString(m)), m);
+    k.push_back(choiceKey<slam::CorrectionMode>(
+        "pose_correction.mode",
+        "`scan-match` or `rbpf` correct drifting odometry with the lidar before mapping ([docs/slam.md](docs/slam.md))",
+        kOffline, modes, [](auto& o) -> auto& { return o.pose_correction.corrector.mode; }));
+  }
+  k.push_back(integerKey("pose_correction.particles", "", "particles of `rbpf`", kOffline, 1, 10'000,
+                         [](auto& o) -> auto& { return o.pose_correction.corrector.slam.particles; }));
+  k.push_back(numberKey("pose_correction.band_z_min", "m", "bottom of the body-frame height band cut into the planar scan",
+                        kOffline, anyNumber, [](auto& o) -> auto& { return o.pose_correction.projection.z_min_m; }));
+  k.push_back(numberKey("pose_correction.band_z_max", "m", "top of that band", kOffline, anyNumber,
+                        [](auto& o) -> auto& { return o.pose_correction.projection.z_max_m; }));
+  k.push_back(integerKey("pose_correction.seed", "", "seed of `rbpf`'s random draws", kOffline, 0,
+                         std::numeric_limits<long long>::max(),
+                         [](auto& o) -> auto& { return o.pose_correction.corrector.slam.seed; }));
+  return k;
+}
+
+// Keys spelt another way, refused naming the key to use.
+constexpr RenamedKey kRenamed[] = {
+    {"resolution", "map.resolution"},
+    {"min_range", "map.min_range"},
+    {"max_range", "map.max_range"},
+    {"free_space_for_no_return", "map.free_space_for_no_return"},
+    {"extrinsic", "map.extrinsic"},
+    {"filter.kernel_sigma", "filter.sigma"},
+    {"filter.kernel_amplitude", "filter.amplitude"},
+};
+
+}  // namespace
+
+const std::vector<ConfigKey>& keys() {
+  static const std::vector<ConfigKey> all = declare();
+  return all;
+}
+
+std::span<const RenamedKey> renamedKeys() { return kRenamed; }
+
+}  // namespace ogf::mapper_daemon::schema
