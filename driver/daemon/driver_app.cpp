@@ -243,7 +243,14 @@ void DriverApp::armIdleTimer() {
   idle_timer_.async_wait([this](const boost::system::error_code& ec) {
     idle_timer_armed_ = false;
     if (ec || finished_ || !stream_.holdsScan()) return;
-    const auto quiet = std::chrono::steady_clock::now() - last_data_time_;
+    const auto now = std::chrono::steady_clock::now();
+    const auto quiet = now - last_data_time_;
+    if (data_socket_ && data_socket_->datagramWaiting()) {
+      // Not idle: this process fell behind (descheduled, stopped) and packets wait to be read.
+      last_data_time_ = now;
+      armIdleTimer();
+      return;
+    }
     if (quiet < idleAfter()) {
       armIdleTimer();  // packets came since: due again after the latest
       return;

@@ -2,6 +2,7 @@
 
 #include <arpa/inet.h>
 #include <linux/sock_diag.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <sys/time.h>
 
@@ -108,6 +109,11 @@ void UdpReceiver::drain() {
     d.utime = static_cast<std::int64_t>(stamp.tv_sec) * 1'000'000 + stamp.tv_usec;
     handler_(d);
   }
+}
+
+bool UdpReceiver::datagramWaiting() {
+  int bytes = 0;  // FIONREAD on a UDP socket: the size of the next datagram, 0 when none waits
+  return ::ioctl(socket_.native_handle(), FIONREAD, &bytes) == 0 && bytes > 0;
 }
 
 std::uint64_t UdpReceiver::kernelDrops() {

@@ -39,6 +39,9 @@ class UdpReceiver {
   // net.core.rmem_max when that is less (Linux caps it there; the raw getsockopt reports twice this).
   int grantedReceiveBuffer() const { return granted_buffer_; }
   std::uint16_t port() const { return port_; }
+  // Whether a datagram waits in the kernel's queue, not yet handed to the handler (the process was
+  // descheduled or busy): the stream is not idle then.
+  bool datagramWaiting();
   // Datagrams longer than the buffer (cut by the kernel): counted, not delivered.
   std::uint64_t oversized() const { return oversized_; }
   // Datagrams the kernel dropped on this socket since it was opened (its receive buffer was full), as of
