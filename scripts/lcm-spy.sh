@@ -13,15 +13,25 @@
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 buffer=""
+text=""
 args=()
 usage() { sed -n '2,5p' "$0" | sed 's/^# \{0,1\}//'; }
 while [ $# -gt 0 ]; do
   case "$1" in
     --buffer) buffer=$2; args+=(--buffer "$2"); shift 2 ;;
+    --text) text=1; args+=("$1"); shift ;;
     -h|--help) usage; exit 0 ;;
     *) args+=("$1"); shift ;;
   esac
 done
+
+# lcm-spy's window needs a display; without one Java would only print a HeadlessException. (The launcher
+# checks again: a display that is set but cannot be opened gets the same advice.)
+if [ -z "$text" ] && [ -z "${DISPLAY:-}" ] && [ -z "${WAYLAND_DISPLAY:-}" ]; then
+  echo "lcm-spy.sh: no display to open lcm-spy's window on (DISPLAY and WAYLAND_DISPLAY are unset)." \
+       "Over ssh or on the robot, run: $0 --text (the same table each second, no window), or log in with ssh -X." >&2
+  exit 1
+fi
 
 dir=""
 for candidate in ${OGF_JAVA_DIR:+"$OGF_JAVA_DIR"} "${OGF_BUILD_DIR:-$here/build}/share/java" "$here/share/java" \

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Prints what an LCM log holds per channel (messages, bytes, span, rate, the longest silence) and checks it
 is complete: VELODYNE_SCAN sequence numbers without gaps, as many VELODYNE_SCAN as the driver says it
-published while the log ran (VELODYNE_STATUS scans_published), and as many VELODYNE_PACKETS as scans.
+published while the log ran (VELODYNE_STATUS scans_published), and as many VELODYNE_PACKETS as scans (in a
+log of the packets without the scans: as many VELODYNE_PACKETS as the driver says it published scans).
 Exits 1 when something is missing, 0 otherwise.
 
 Usage: scripts/lcm_log_check.py LOG [--scan-channel C] [--packets-channel C] [--status-channel C]
@@ -95,6 +96,19 @@ def main():
         if packets and abs(packets - len(s)) > 1:
             print(f"{a.packets_channel}: {packets} messages for {len(s)} scans")
             missing += abs(packets - len(s))
+    elif a.packets_channel in per:
+        # A log of the raw packets without the scans: one batch per scan the driver published.
+        known = [p for p in published if p is not None]
+        batches = per[a.packets_channel]["n"]
+        if len(known) >= 2:
+            window = known[-1] - known[0]
+            if batches + 2 < window:
+                print(f"{a.packets_channel}: the driver published {window} scans between its first and last status, "
+                      f"the log holds {batches} packet batches")
+                missing += window - batches
+        else:
+            print(f"{a.packets_channel}: {batches} packet batches (record {a.status_channel} too to check none is "
+                  f"missing)")
     if missing:
         print(f"{a.log}: INCOMPLETE: {missing} messages missing")
         return 1

@@ -3,6 +3,8 @@
 #include <spdlog/spdlog.h>
 #include <sys/time.h>
 
+#include <algorithm>
+
 namespace ogf::driver {
 namespace {
 
@@ -12,6 +14,11 @@ std::int64_t nowUtime() {
   return static_cast<std::int64_t>(tv.tv_sec) * 1'000'000 + tv.tv_usec;
 }
 
+// Scan periods without a data packet after which the stream is idle and the scan in progress goes out:
+// three lets a burst of lost packets (20 ms ends a scan already) pass for packet loss, and at the slowest
+// rotation (300 rpm, 0.2 s a turn) stays under ScanAssemblerConfig::pause_us.
+constexpr double kIdleScanPeriods = 3.0;
+
 }  // namespace
 
 DriverApp::DriverApp(transport::DaemonLoop& loop, lcm::LCM& lcm, DriverConfig config,
@@ -20,7 +27,8 @@ DriverApp::DriverApp(transport::DaemonLoop& loop, lcm::LCM& lcm, DriverConfig co
       lcm_(lcm),
       config_(std::move(config)),
       stream_(std::move(stream)),
-      status_timer_(loop.io()) {
+      status_timer_(loop.io()),
+      idle_timer_(loop.io()) {
   if (!config_.sensor_address.empty()) driver_sources::parseIpv4(config_.sensor_address, sensor_ip_);
   stream_.setScanSink([this](const velodyne::Scan& scan) { onScan(scan); });
 }
@@ -42,8 +50,8 @@ std::optional<velodyne::Error> DriverApp::start() {
       // Linux grants at most net.core.rmem_max.
       if (data_socket_->grantedReceiveBuffer() < static_cast<std::int64_t>(config_.receive_buffer_bytes))
         spdlog::warn(
-            "the kernel granted a {} byte receive buffer, less than the {} asked for; raise "
-            "net.core.rmem_max (sysctl -w net.core.rmem_max={}) or bursts may be dropped",
+            "the kernel granted a {} byte receive buffer, less than the {} asked for: net.core.rmem_max caps "
+            "it; raise it (sysctl -w net.core.rmem_max={}) or bursts may be dropped",
             data_socket_->grantedReceiveBuffer(), config_.receive_buffer_bytes,
             config_.receive_buffer_bytes);
       source_description_ = "udp " + config_.bind_address + ":" + std::to_string(data_socket_->port());
@@ -82,6 +90,7 @@ std::optional<velodyne::Error> DriverApp::start() {
   }
   last_status_time_ = std::chrono::steady_clock::now();
   armStatusTimer();
+  logCalibration();
   spdlog::info("reading {}; publishing {}, {}{} on the LCM bus", source_description_, config_.scan_channel,
                config_.status_channel,
                config_.publish_packets ? ", " + config_.packets_channel : std::string());
@@ -128,6 +137,19 @@ void DriverApp::onDatagram(const driver_sources::UdpDatagram& d) {
     stream_.addDataPacket(d.payload, d.utime);
   else
     stream_.addPositionPacket(d.payload, d.utime);
+  if (data) {
+    if (!calibration_logged_) logCalibration();
+    if (config_.source != SourceKind::PcapFile) {
+      last_data_time_ = std::chrono::steady_clock::now();
+      if (!idle_timer_armed_ && stream_.holdsScan()) armIdleTimer();
+    }
+    if (stream_.scansDroppedAtPause() > dropped_at_pause_logged_) {
+      spdlog::warn("dropped {} scan(s) held open across a pause in the sensor stream (more than {:.1f} s without a "
+                   "packet): they would have gone out late", stream_.scansDroppedAtPause() - dropped_at_pause_logged_,
+                   stream_.config().assembler.pause_us / 1e6);
+      dropped_at_pause_logged_ = stream_.scansDroppedAtPause();
+    }
+  }
   const velodyne::StreamCounters& after = stream_.counters();
   if (after.bad_size > before.bad_size) {
     if (auto n = size_log_.allow())
@@ -197,6 +219,7 @@ void DriverApp::finish() {
   }
   publishStatus();
   status_timer_.cancel();
+  idle_timer_.cancel();
 }
 
 void DriverApp::armStatusTimer() {
@@ -206,6 +229,49 @@ void DriverApp::armStatusTimer() {
     publishStatus();
     armStatusTimer();
   });
+}
+
+std::chrono::steady_clock::duration DriverApp::idleAfter() const {
+  const double rpm = stream_.rpm() > 0.0f ? static_cast<double>(stream_.rpm()) : 600.0;
+  const double idle_us = std::min(kIdleScanPeriods * 60e6 / rpm, stream_.config().assembler.pause_us / 2.0);
+  return std::chrono::microseconds(static_cast<std::int64_t>(idle_us));
+}
+
+void DriverApp::armIdleTimer() {
+  idle_timer_armed_ = true;
+  idle_timer_.expires_at(last_data_time_ + idleAfter());
+  idle_timer_.async_wait([this](const boost::system::error_code& ec) {
+    idle_timer_armed_ = false;
+    if (ec || finished_ || !stream_.holdsScan()) return;
+    const auto now = std::chrono::steady_clock::now();
+    const auto quiet = now - last_data_time_;
+    if (data_socket_ && data_socket_->datagramWaiting()) {
+      // Not idle: this process fell behind (descheduled, stopped) and packets wait to be read.
+      last_data_time_ = now;
+      armIdleTimer();
+      return;
+    }
+    if (quiet < idleAfter()) {
+      armIdleTimer();  // packets came since: due again after the latest
+      return;
+    }
+    spdlog::info("no data packet for {} ms: the sensor stream is idle; publishing the scan in progress",
+                 std::chrono::duration_cast<std::chrono::milliseconds>(quiet).count());
+    stream_.flushScan();
+  });
+}
+
+void DriverApp::logCalibration() {
+  const auto model = stream_.model();
+  if (calibration_logged_ || !model) return;
+  calibration_logged_ = true;
+  const std::string name(velodyne::modelName(*model));
+  const char* how = config_.model == "auto" ? "detected" : "configured";
+  if (config_.calibration.empty())
+    spdlog::info("sensor model {} ({}); calibration: the embedded nominal {} table (no --calib or calibration "
+                 "key given)", name, how, name);
+  else
+    spdlog::info("sensor model {} ({}); calibration: {}", name, how, config_.calibration);
 }
 
 void DriverApp::publishStatus() {

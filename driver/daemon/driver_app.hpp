@@ -1,6 +1,9 @@
 // ogf-driver's work: takes datagrams from the configured source, feeds the decoding stream, publishes
 // each scan (VELODYNE_SCAN), the raw packets of each scan (VELODYNE_PACKETS) and a 1 Hz status
-// (VELODYNE_STATUS), and counts and rate-limits the logging of every rejected input.
+// (VELODYNE_STATUS), and counts and rate-limits the logging of every rejected input. On a live source
+// (UDP, live capture) it publishes the scan in progress once no data packet has come for a few scan
+// periods, so a pause in the sensor stream never holds a scan back until packets resume (ScanAssembler
+// would drop it then).
 #pragma once
 
 #include <boost/asio/steady_timer.hpp>
@@ -37,6 +40,10 @@ class DriverApp {
   void onCaptureEnd(const std::string& error);
   void publishStatus();
   void armStatusTimer();
+  // The idle check: due `idleAfter()` after the last data packet while a scan is in progress.
+  void armIdleTimer();
+  std::chrono::steady_clock::duration idleAfter() const;
+  void logCalibration();
   void countMalformed(driver_sources::FrameKind kind);
 
   transport::DaemonLoop& loop_;
@@ -50,6 +57,11 @@ class DriverApp {
   std::unique_ptr<driver_sources::LiveCapture> live_;
   std::unique_ptr<driver_sources::PcapReplay> replay_;
   boost::asio::steady_timer status_timer_;
+  boost::asio::steady_timer idle_timer_;
+  bool idle_timer_armed_ = false;
+  std::chrono::steady_clock::time_point last_data_time_;
+  std::int64_t dropped_at_pause_logged_ = 0;
+  bool calibration_logged_ = false;
 
   PacketBatch batch_;
   ogf::lidar_scan_t scan_msg_{};

@@ -1,6 +1,7 @@
 // ogf-driver as a real process on real LCM udpm over loopback: a capture replayed through it gives the
 // same scans as the library, its raw packet batches decode again to the same scans, and on the UDP source
-// wrong-size, bad-flag and foreign datagrams are counted in VELODYNE_STATUS while it keeps running.
+// wrong-size, bad-flag and foreign datagrams are counted in VELODYNE_STATUS while it keeps running; the
+// receive buffer it reports is the one the kernel granted; its log names the calibration it decodes with.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
@@ -10,7 +11,9 @@
 
 #include <fstream>
 #include <lcm/lcm-cpp.hpp>
+#include <optional>
 #include <thread>
+#include <utility>
 
 #include "capture_decoding.hpp"
 #include "support/child_process.hpp"
@@ -303,4 +306,75 @@ TEST(DriverProcess, LiveCaptureOnLoopbackDecodesTheSensorTraffic) {
   EXPECT_EQ(s.position_packets, position_sent);
   EXPECT_EQ(s.source, "pcap-live lo");
   EXPECT_GT(s.scans_published, 0);
+}
+
+namespace {
+
+std::optional<long long> rmemMax() {
+  std::ifstream in("/proc/sys/net/core/rmem_max");
+  long long v = 0;
+  if (!(in >> v)) return std::nullopt;
+  return v;
+}
+
+// Starts the driver on UDP asking for `bytes` of receive buffer, returns its first status and its log.
+std::pair<ogf::driver_status_t, std::string> statusAskingForBuffer(long long bytes, int slot) {
+  const std::string url = ogf::testing::loopbackUdpmUrl(slot);
+  Bus bus(url);
+  auto on_error = [](const std::string&, std::size_t, std::string_view) {};
+  ogf::transport::Subscriber<ogf::driver_status_t> status(
+      bus.lcm, "RCVBUF_TEST_STATUS", [&](const auto& m, const auto&, const auto&) { bus.statuses.push_back(m); },
+      on_error);
+  const int data_port = 36000 + static_cast<int>(::getpid() % 20000) + 2 * slot;
+  ChildProcess driver({OGF_DRIVER_BINARY, "--bind-address", "127.0.0.1", "--data-port", std::to_string(data_port),
+                       "--position-port", std::to_string(data_port + 1), "--lcm-url", url, "--status-channel",
+                       "RCVBUF_TEST_STATUS", "--receive-buffer", std::to_string(bytes)},
+                      tempPath("ogf-driver-rcvbuf-" + std::to_string(slot) + ".log"));
+  bus.pump([&] { return !bus.statuses.empty(); }, std::chrono::seconds(15));
+  driver.signal(SIGTERM);
+  EXPECT_EQ(driver.wait(std::chrono::seconds(10)), 0) << driver.log();
+  EXPECT_FALSE(bus.statuses.empty()) << driver.log();
+  return {bus.statuses.empty() ? ogf::driver_status_t{} : bus.statuses.front(), driver.log()};
+}
+
+}  // namespace
+
+TEST(DriverProcess, ReceiveBufferIsTheSizeAskedUpToRmemMaxAndRmemMaxWithAWarningBeyond) {
+  if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << *why;
+  const auto max = rmemMax();
+  if (!max) GTEST_SKIP() << "/proc/sys/net/core/rmem_max unreadable";
+  if (*max < 2 * 65536 || *max > (1LL << 29)) GTEST_SKIP() << "net.core.rmem_max=" << *max << " out of the tested range";
+  // Within the limit: exactly what was asked, without a warning.
+  const long long within = *max / 2;
+  const auto [granted, quiet_log] = statusAskingForBuffer(within, 43);
+  EXPECT_EQ(granted.socket_receive_buffer, within) << quiet_log;
+  EXPECT_EQ(quiet_log.find("receive buffer"), std::string::npos) << quiet_log;
+  // Beyond it: the limit, and a warning naming the granted size and the sysctl.
+  const long long beyond = *max * 2;
+  const auto [capped, warned_log] = statusAskingForBuffer(beyond, 44);
+  EXPECT_EQ(capped.socket_receive_buffer, *max) << warned_log;
+  EXPECT_NE(warned_log.find("the kernel granted a " + std::to_string(*max) + " byte receive buffer, less than the " +
+                            std::to_string(beyond) + " asked for"),
+            std::string::npos)
+      << warned_log;
+  EXPECT_NE(warned_log.find("sysctl -w net.core.rmem_max=" + std::to_string(beyond)), std::string::npos) << warned_log;
+}
+
+TEST(DriverProcess, WithoutCalibNamesTheEmbeddedTableOfTheDetectedModelOnce) {
+  OGF_REQUIRE_SHARED_FILE(capture, kCapture);
+  OGF_REQUIRE_SHARED_FILE(xml, "data/real/calib/VLP-16.xml");
+  const std::string url = "memq://";
+  ChildProcess nominal({OGF_DRIVER_BINARY, "--pcap", capture.string(), "--speed", "0", "--lcm-url", url},
+                       tempPath("ogf-driver-calib-nominal.log"));
+  ASSERT_EQ(nominal.wait(std::chrono::seconds(30)), 0) << nominal.log();
+  const std::string log = nominal.log();
+  const std::string line = "sensor model VLP-16 (detected); calibration: the embedded nominal VLP-16 table";
+  EXPECT_NE(log.find(line), std::string::npos) << log;
+  EXPECT_EQ(log.find(line), log.rfind(line)) << "said more than once\n" << log;
+  ChildProcess file({OGF_DRIVER_BINARY, "--pcap", capture.string(), "--speed", "0", "--lcm-url", url, "--calib",
+                     xml.string(), "--model", "VLP-16"},
+                    tempPath("ogf-driver-calib-file.log"));
+  ASSERT_EQ(file.wait(std::chrono::seconds(30)), 0) << file.log();
+  EXPECT_NE(file.log().find("sensor model VLP-16 (configured); calibration: " + xml.string()), std::string::npos)
+      << file.log();
 }

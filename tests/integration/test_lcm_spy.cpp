@@ -3,7 +3,8 @@
 // type lookup and decoding on the reader thread), run by the script's --text mode, sees every channel of
 // both daemons at its true count and rate: the driver's scans as many as its status says it published, the
 // packet batches, deltas and statuses as many as a C++ subscriber with a large buffer counted.
-// Java LCM's own receive buffer (the kernel default) lets through about one scan in ten.
+// Java LCM's own receive buffer (the kernel default) lets through about one scan in ten. Without a display
+// the script (or, for a display it cannot open, its launcher) points to --text instead of a Java stack trace.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -179,6 +180,43 @@ TEST(LcmSpy, SeesEveryChannelOfTheDaemonsAtItsTrueRate) {
             << count("VELODYNE_SCAN") << ", packet batches " << count("VELODYNE_PACKETS") << ", deltas "
             << count("OGF_MAP_DELTA") << ", mapper statuses " << count("OGF_MAPPER_STATUS") << "\n";
   if (!HasFailure()) fs::remove_all(dir);
+}
+
+// Without a display the script says to use --text and exits 1, before Java prints a HeadlessException.
+TEST(LcmSpyScript, WithoutADisplayItPointsToTextModeAndExitsOne) {
+  const fs::path log = fs::temp_directory_path() / ("ogf-lcm-spy-nodisplay-" + std::to_string(::getpid()) + ".log");
+  const auto r = ogf::testing::runAndCapture({"/usr/bin/env", "-u", "DISPLAY", "-u", "WAYLAND_DISPLAY",
+                                              "OGF_JAVA_DIR=" + kJavaDir, "/bin/bash", kScripts + "/lcm-spy.sh"},
+                                             log.string(), 60s);
+  fs::remove(log);
+  EXPECT_EQ(r.rc, 1) << r.output;
+  EXPECT_NE(r.output.find("no display to open lcm-spy's window on (DISPLAY and WAYLAND_DISPLAY are unset)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("lcm-spy.sh --text"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("Exception"), std::string::npos) << r.output;
+}
+
+// A display that is set but cannot be opened: the launcher gives the same advice instead of a stack trace.
+TEST(LcmSpyScript, ADisplayThatCannotBeOpenedGetsTheSameAdvice) {
+  if (!onPath("java")) GTEST_SKIP() << "no java runtime (apt-get install default-jre): lcm-spy cannot run";
+  if (!fs::exists(fs::path(kJavaDir) / "ogf_spy.jar") || !fs::exists(fs::path(kJavaDir) / "lcmtypes_ogf.jar"))
+    GTEST_SKIP() << "ogf_spy.jar / lcmtypes_ogf.jar not built in " << kJavaDir << " (no JDK at configure time)";
+  if (!fs::exists("/usr/share/java/lcm.jar")) GTEST_SKIP() << "liblcm-java is not installed";
+  if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
+  const std::string url = ogf::testing::loopbackUdpmUrl(243);
+  const fs::path log = fs::temp_directory_path() / ("ogf-lcm-spy-baddisplay-" + std::to_string(::getpid()) + ".log");
+  // Display 97 on a host with no X server listening there (its socket would be /tmp/.X11-unix/X97).
+  if (fs::exists("/tmp/.X11-unix/X97")) GTEST_SKIP() << "an X server answers on :97";
+  const auto r = ogf::testing::runAndCapture({"/usr/bin/env", "-u", "WAYLAND_DISPLAY", "DISPLAY=:97",
+                                              "OGF_JAVA_DIR=" + kJavaDir, "/bin/bash", kScripts + "/lcm-spy.sh",
+                                              "--lcm-url", url},
+                                             log.string(), 60s);
+  fs::remove(log);
+  EXPECT_EQ(r.rc, 1) << r.output;
+  EXPECT_NE(r.output.find("ogf-spy: cannot open lcm-spy's window"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("lcm-spy.sh --text"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("\tat "), std::string::npos) << "a stack trace\n" << r.output;
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "support/device_clock_shift.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 #include <vector>
@@ -24,7 +25,8 @@ void putLe32(std::uint8_t* p, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) p[i] = static_cast<std::uint8_t>(v >> (8 * i));
 }
 
-// Calls visit(payload, size) for every UDP payload of the capture's bytes; returns an error or nullopt.
+// Calls visit(payload, size, record_header) for every UDP payload of the capture's bytes; returns an error
+// or nullopt.
 template <class Visit>
 std::optional<std::string> forEachPayload(std::vector<std::uint8_t>& bytes, const std::string& name,
                                           Visit visit) {
@@ -42,7 +44,7 @@ std::optional<std::string> forEachPayload(std::vector<std::uint8_t>& bytes, cons
     if (captured >= kEthernet + 20 + kUdp && f[12] == 0x08 && f[13] == 0x00 && f[kEthernet + 9] == 17) {
       const std::size_t ip = static_cast<std::size_t>(f[kEthernet] & 0x0FU) * 4;
       const std::size_t payload = kEthernet + ip + kUdp;
-      if (payload <= captured) visit(bytes.data() + frame + payload, captured - payload);
+      if (payload <= captured) visit(bytes.data() + frame + payload, captured - payload, bytes.data() + at);
     }
     at = frame + captured;
   }
@@ -53,6 +55,13 @@ std::optional<std::string> readAll(const std::filesystem::path& path, std::vecto
   std::ifstream in(path, std::ios::binary);
   if (!in) return path.string() + ": cannot open";
   bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return std::nullopt;
+}
+
+std::optional<std::string> writeAll(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  if (!out.flush()) return path.string() + ": cannot write";
   return std::nullopt;
 }
 
@@ -67,7 +76,7 @@ std::optional<std::string> copyWithDeviceClockShift(const std::filesystem::path&
                                       kHourUs);
   };
   std::size_t data = 0;
-  auto error = forEachPayload(bytes, from.string(), [&](std::uint8_t* payload, std::size_t size) {
+  auto error = forEachPayload(bytes, from.string(), [&](std::uint8_t* payload, std::size_t size, std::uint8_t*) {
     if (size == kDataPayload) {
       putLe32(payload + kDataToh, shifted(le32(payload + kDataToh)));
       ++data;
@@ -77,17 +86,49 @@ std::optional<std::string> copyWithDeviceClockShift(const std::filesystem::path&
   });
   if (error) return error;
   if (data == 0) return from.string() + ": no data packets";
-  std::ofstream out(to, std::ios::binary);
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  if (!out.flush()) return to.string() + ": cannot write";
-  return std::nullopt;
+  return writeAll(to, bytes);
+}
+
+std::optional<std::string> copyWithPause(const std::filesystem::path& from, const std::filesystem::path& to,
+                                         std::int64_t after_data_packets, std::int64_t pause_us) {
+  std::vector<std::uint8_t> bytes;
+  if (auto error = readAll(from, bytes)) return error;
+  std::int64_t data = 0;
+  bool paused = false;
+  auto error = forEachPayload(bytes, from.string(), [&](std::uint8_t* payload, std::size_t size, std::uint8_t* record) {
+    if (size == kDataPayload && data++ == after_data_packets) paused = true;
+    if (!paused) return;
+    // The record's capture time (seconds, microseconds) and the sensor's counter both run on through the pause.
+    const std::int64_t t = static_cast<std::int64_t>(le32(record)) * 1'000'000 + le32(record + 4) + pause_us;
+    putLe32(record, static_cast<std::uint32_t>(t / 1'000'000));
+    putLe32(record + 4, static_cast<std::uint32_t>(t % 1'000'000));
+    const std::size_t toh = size == kDataPayload ? kDataToh : kPositionToh;
+    if (size == kDataPayload || size == 512 || size == 554)
+      putLe32(payload + toh, static_cast<std::uint32_t>((le32(payload + toh) + pause_us) % kHourUs));
+  });
+  if (error) return error;
+  if (!paused) return from.string() + ": fewer than " + std::to_string(after_data_packets + 1) + " data packets";
+  return writeAll(to, bytes);
+}
+
+std::optional<std::pair<std::int64_t, std::int64_t>> captureTimeSpan(const std::filesystem::path& capture) {
+  std::vector<std::uint8_t> bytes;
+  if (readAll(capture, bytes)) return std::nullopt;
+  std::optional<std::pair<std::int64_t, std::int64_t>> span;
+  const auto error = forEachPayload(bytes, capture.string(), [&](std::uint8_t*, std::size_t, std::uint8_t* record) {
+    const std::int64_t t = static_cast<std::int64_t>(le32(record)) * 1'000'000 + le32(record + 4);
+    if (!span) span.emplace(t, t);
+    span->first = std::min(span->first, t);
+    span->second = std::max(span->second, t);
+  });
+  return error ? std::nullopt : span;
 }
 
 std::optional<std::uint32_t> firstDataPacketToh(const std::filesystem::path& capture) {
   std::vector<std::uint8_t> bytes;
   if (readAll(capture, bytes)) return std::nullopt;
   std::optional<std::uint32_t> toh;
-  const auto error = forEachPayload(bytes, capture.string(), [&](std::uint8_t* payload, std::size_t size) {
+  const auto error = forEachPayload(bytes, capture.string(), [&](std::uint8_t* payload, std::size_t size, std::uint8_t*) {
     if (!toh && size == kDataPayload) toh = le32(payload + kDataToh);
   });
   return error ? std::nullopt : toh;

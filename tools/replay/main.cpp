@@ -2,8 +2,9 @@
 // as tcpreplay would for a driver listening on a socket: each record's UDP payload is sent to --dest at the
 // data or position port, paced by the capture timestamps divided by --speed on a steady clock (sleep_until
 // from the start, so no drift), with loops and a packet-rate limit; optionally the robot's odometry is
-// published on LCM on the same clock, so ogf-driver and ogf-mapper see a live robot. Records that are not
-// usable UDP are skipped and counted.
+// published on LCM at the same pace, stamped on the clock ogf-driver will give the replayed packets
+// (--odometry-clock, ogf/replay/odometry_clock.hpp), so ogf-driver and ogf-mapper see a live robot.
+// Records that are not usable UDP are skipped and counted.
 #include <CLI/CLI.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/udp.hpp>
@@ -24,6 +25,7 @@
 #include "ogf/log_io/packet_log.hpp"
 #include "ogf/driver_sources/pcap_file_reader.hpp"
 #include "ogf/replay/destination_ports.hpp"
+#include "ogf/replay/odometry_clock.hpp"
 #include "ogf/replay/pose_events.hpp"
 #include "ogf/replay/replay_clock.hpp"
 #include "ogf/rosbag/bag_packets.hpp"
@@ -73,13 +75,15 @@ int main(int argc, char** argv) {
       "Data packets (captured to 2368) go to --data-port, position packets (8308) to --position-port, others to "
       "their captured port. Pacing: capture time / --speed, on a steady clock; --fast sends as fast as possible; "
       "--max-rate caps packets per second. Each odometry pose is published when the replay clock reaches its "
-      "utime (capture clock).\n"
+      "utime (capture clock), stamped on --odometry-clock: as recorded (capture), or moved to the host time at "
+      "which the replay sends what was captured then (host), which is the clock ogf-driver stamps replayed "
+      "packets with when they carry no PPS-locked GPS time (auto picks it so).\n"
       "At the end one line on stdout:\n"
       "  packets N data N position N other N skipped N send_errors N poses N loops N seconds S rate R\n"
       "Exit 0 when packets were sent, 1 when none could be (an input missing or unreadable), 2 on bad flags."};
   std::string pcap, lcm_log, rosbag2, packets_topic, packets_channel = "VELODYNE_PACKETS", dest = "127.0.0.1",
       odometry, lcm_url,
-      pose_channel = "POSE", log_level = "info";
+      pose_channel = "POSE", log_level = "info", odometry_clock_name = "auto";
   int data_port = 2368, position_port = 8308, loops = 1;
   double speed = 1.0, max_rate = 0.0, start_delay = 0.0, loop_gap = 0.0;
   bool fast = false;
@@ -114,6 +118,11 @@ int main(int argc, char** argv) {
   app.add_option("--lcm-url", lcm_url, "LCM URL for the odometry (default $LCM_DEFAULT_URL, else LCM's default)")
       ->needs(odo_opt);
   app.add_option("--pose-channel", pose_channel, "Odometry channel")->capture_default_str();
+  app.add_option("--odometry-clock", odometry_clock_name,
+                 "Clock of the published odometry's utime: capture (as recorded), host (the host time the replay "
+                 "sends the packets captured at that utime), auto (host unless the capture's position packets "
+                 "carry PPS-locked GPS time, as ogf-driver and ogf-mapper's time_base auto decide)")
+      ->capture_default_str()->check(CLI::IsMember({"capture", "host", "auto"}))->needs(odo_opt);
   app.add_option("--start-delay", start_delay, "Seconds to wait before the first packet (let listeners start)")
       ->capture_default_str()->check(ogf::cli::nonNegative());
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error")->capture_default_str();
@@ -181,6 +190,53 @@ int main(int argc, char** argv) {
     spdlog::info("{}: {} poses to publish on {} ({})", odometry, poses->events.size(), pose_channel, url);
   }
 
+  // The odometry's clock: auto looks at the capture's position packets first.
+  const ogf::replay::OdometryClock requested_clock = *ogf::replay::parseOdometryClock(odometry_clock_name);
+  ogf::replay::OdometryClock odometry_clock = ogf::replay::OdometryClock::kCapture;
+  std::string clock_reason = "--odometry-clock capture";
+  if (poses) {
+    ogf::replay::GpsTimeProbe probe;
+    if (requested_clock == ogf::replay::OdometryClock::kAuto) {
+      if (!pcap.empty()) {
+        if (auto reader = ds::PcapFileReader::open(pcap)) {
+          ds::PcapRecord record;
+          for (ds::ReadStatus st = (*reader)->next(record); !probe.decided() && st != ds::ReadStatus::End &&
+                                                               st != ds::ReadStatus::Error;
+               st = (*reader)->next(record))
+            if (st == ds::ReadStatus::Datagram && record.datagram.destination_port == ports.kCapturedPosition)
+              probe.addPositionPayload(record.datagram.payload);
+        }
+      } else if (!lcm_log.empty()) {
+        (void)ogf::log_io::readPacketLog(lcm_log, packets_channel, [&](const ogf::log_io::LoggedPacket& p) {
+          if (p.port == ports.kCapturedPosition) probe.addPositionPayload(p.payload);
+        });
+      }
+      clock_reason = std::string("--odometry-clock auto: ") + input +
+                     (probe.hasGpsTime() ? " has PPS-locked GPS time, which ogf-driver stamps the packets with"
+                                         : " has no PPS-locked GPS time (" + std::to_string(probe.positionPackets()) +
+                                               " position packets looked at), so ogf-driver stamps the replayed "
+                                               "packets on the host clock");
+    } else if (requested_clock == ogf::replay::OdometryClock::kHost) {
+      clock_reason = "--odometry-clock host";
+    }
+    odometry_clock = ogf::replay::resolveOdometryClock(requested_clock, probe);
+    if (odometry_clock == ogf::replay::OdometryClock::kHost) {
+      if (fast) {
+        spdlog::error("odometry on the host clock ({}) needs a paced replay: --fast gives the packets no host time "
+                      "to stamp the poses with; use --speed, or --odometry-clock capture",
+                      clock_reason);
+        return kExitUsage;
+      }
+      for (const auto& e : poses->events) {
+        if (auto moved = ogf::replay::restampPose(e.bytes, [](std::int64_t t) { return t; }); !moved) {
+          spdlog::error("--odometry {}: {} ({}); --odometry-clock capture publishes it as recorded", odometry,
+                        moved.error().message, clock_reason);
+          return kExitNothingSent;
+        }
+      }
+    }
+  }
+
   boost::asio::io_context io;
   boost::asio::ip::udp::socket socket(io);
   socket.open(boost::asio::ip::udp::v4(), ec);
@@ -197,6 +253,11 @@ int main(int argc, char** argv) {
 
   if (start_delay > 0) std::this_thread::sleep_for(std::chrono::duration<double>(start_delay));
   const Clock::time_point start = Clock::now();
+  // The host time of the replay's start: a record due at offset d goes out at host time start_host_us + d.
+  const std::int64_t start_host_us = std::chrono::duration_cast<std::chrono::microseconds>(
+                                         std::chrono::system_clock::now().time_since_epoch())
+                                         .count();
+  const auto hostTimeOf = [&](std::int64_t capture_utime) { return start_host_us + clock.dueEvent(capture_utime); };
   const auto waitUntil = [&](std::int64_t due_us) {
     const auto due = start + std::chrono::microseconds(due_us);
     const auto now = Clock::now();
@@ -204,7 +265,17 @@ int main(int argc, char** argv) {
     else counts.late_us_max = std::max<std::int64_t>(counts.late_us_max, std::chrono::duration_cast<std::chrono::microseconds>(now - due).count());
   };
   const auto publishPose = [&](const ogf::replay::PoseEvent& e) {
-    if (lcm->publish(pose_channel, e.bytes.data(), static_cast<unsigned>(e.bytes.size())) == 0) ++counts.poses;
+    const std::vector<std::uint8_t>* bytes = &e.bytes;
+    ogf::Result<std::vector<std::uint8_t>> moved = std::vector<std::uint8_t>();
+    if (odometry_clock == ogf::replay::OdometryClock::kHost) {
+      moved = ogf::replay::restampPose(e.bytes, hostTimeOf);
+      if (!moved) {
+        ++counts.pose_errors;
+        return;
+      }
+      bytes = &*moved;
+    }
+    if (lcm->publish(pose_channel, bytes->data(), static_cast<unsigned>(bytes->size())) == 0) ++counts.poses;
     else ++counts.pose_errors;
   };
 
@@ -222,6 +293,13 @@ int main(int argc, char** argv) {
       if (poses && !poses->events.empty()) origin = std::min(origin, poses->events.front().utime);
       clock.setOrigin(origin);
       origin_set = true;
+      if (poses && odometry_clock == ogf::replay::OdometryClock::kHost)
+        spdlog::info("odometry on the host clock ({}): each pose's utime moves by {:+.6f} s, the replay's start on "
+                     "the host clock minus the capture's start{}",
+                     clock_reason, static_cast<double>(hostTimeOf(origin) - origin) / 1e6,
+                     speed != 1.0 ? " (then capture time / --speed)" : "");
+      else if (poses)
+        spdlog::info("odometry on the capture clock ({}): poses published as recorded", clock_reason);
     }
     // Poses due before this packet go first, each at its own time.
     while (poses && next_pose < poses->events.size() && poses->events[next_pose].utime <= utime) {

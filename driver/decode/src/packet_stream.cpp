@@ -176,6 +176,10 @@ void PacketStream::finish() {
       pending_.clear();
     }
   }
+  flushScan();
+}
+
+void PacketStream::flushScan() {
   assembler_.flush([this](const Scan& scan) {
     ++counters_.scans;
     if (sink_) sink_(scan);

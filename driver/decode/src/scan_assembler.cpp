@@ -58,6 +58,18 @@ void ScanAssembler::finish(const Sink& sink, bool at_cut) {
 
 void ScanAssembler::add(const DecodedPacket& packet, const PacketTime& time, Model model, const Sink& sink) {
   period_us_ = packetPeriodUs(model, packet.dual_layout ? ReturnMode::Dual : ReturnMode::Strongest);
+  if (prev_host_utime_ && static_cast<double>(time.host_utime - *prev_host_utime_) > config_.pause_us) {
+    // A pause: the open scan is dropped, not emitted late (see the header), and the time since is no loss.
+    if (open_) {
+      open_ = false;
+      ++dropped_at_pause_;
+      packets_dropped_at_pause_ += scan_.packets_received;
+    }
+    prev_azimuth_.reset();
+    prev_packet_utime_.reset();
+    pending_lost_ = 0;
+  }
+  prev_host_utime_ = time.host_utime;
   // Loss from the device-time gap to the previous packet.
   if (prev_packet_utime_) {
     const double gap = static_cast<double>(time.device.utime - *prev_packet_utime_);
@@ -172,6 +184,8 @@ void ScanAssembler::flush(const Sink& sink) {
   finish(sink, false);
   prev_azimuth_.reset();
   prev_packet_utime_.reset();
+  prev_host_utime_.reset();
+  pending_lost_ = 0;
 }
 
 }  // namespace ogf::velodyne

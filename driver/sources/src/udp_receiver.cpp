@@ -2,6 +2,7 @@
 
 #include <arpa/inet.h>
 #include <linux/sock_diag.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <sys/time.h>
 
@@ -44,8 +45,10 @@ velodyne::Result<std::unique_ptr<UdpReceiver>> UdpReceiver::open(boost::asio::io
   r->socket_.set_option(boost::asio::socket_base::receive_buffer_size(config.receive_buffer_bytes), ec);
   boost::asio::socket_base::receive_buffer_size granted;
   r->socket_.get_option(granted, ec);
-  // Linux reports twice what it grants (the doubling is its bookkeeping overhead, socket(7)).
-  r->granted_buffer_ = granted.value() / 2;
+  // Linux reports twice what it grants (the doubling is its bookkeeping overhead, socket(7)); Boost.Asio's
+  // get_option halves SO_RCVBUF on Linux already (boost/asio/detail/impl/socket_ops.ipp, getsockopt), so
+  // the value is the size granted, at most net.core.rmem_max.
+  r->granted_buffer_ = granted.value();
   const int on = 1;
   ::setsockopt(r->socket_.native_handle(), SOL_SOCKET, SO_TIMESTAMP, &on, sizeof(on));
   ::setsockopt(r->socket_.native_handle(), SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof(on));
@@ -106,6 +109,11 @@ void UdpReceiver::drain() {
     d.utime = static_cast<std::int64_t>(stamp.tv_sec) * 1'000'000 + stamp.tv_usec;
     handler_(d);
   }
+}
+
+bool UdpReceiver::datagramWaiting() {
+  int bytes = 0;  // FIONREAD on a UDP socket: the size of the next datagram, 0 when none waits
+  return ::ioctl(socket_.native_handle(), FIONREAD, &bytes) == 0 && bytes > 0;
 }
 
 std::uint64_t UdpReceiver::kernelDrops() {

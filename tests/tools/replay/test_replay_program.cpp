@@ -1,6 +1,6 @@
 // ogf-replay as a user runs it: a real capture's (or a ROS 2 bag's) payloads arrive on a UDP socket on
 // loopback, every data and position packet, redirected to the ports asked for, loops repeating it; bad
-// flags exit 2.
+// flags (and host-clock odometry without pacing) exit 2.
 #include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -136,6 +136,21 @@ TEST(ReplayProgram, BadFlagsExitTwoAMissingFileOne) {
   const auto bag = run("--rosbag2 /nonexistent/bag");
   EXPECT_EQ(bag.rc, 1);
   EXPECT_NE(bag.out.find("/nonexistent/bag: no such bag folder"), std::string::npos) << bag.out;
+}
+
+// Host-clock odometry needs paced packets: with --fast their host times are not the capture's, so the
+// combination is refused with the way out; an unknown clock name is a usage error too.
+TEST(ReplayProgram, OdometryOnTheHostClockWithFastIsRefusedNamingTheFix) {
+  OGF_REQUIRE_SHARED_FILE(capture, "data/real/vlp-16-test-90deg-1-50-frames.pcap");
+  const auto csv = fs::temp_directory_path() / ("ogf-replay-host-fast-" + std::to_string(::getpid()) + ".csv");
+  std::ofstream(csv) << "utime,x,y,z,qw,qx,qy,qz\n1415069209557000,0,0,0,1,0,0,0\n";
+  const auto fast = run("--pcap " + capture.string() + " --fast --odometry " + csv.string() +
+                        " --lcm-url memq:// --odometry-clock host --data-port 9 --position-port 9");
+  EXPECT_EQ(fast.rc, 2) << fast.out;
+  EXPECT_NE(fast.out.find("needs a paced replay"), std::string::npos) << fast.out;
+  EXPECT_NE(fast.out.find("--odometry-clock capture"), std::string::npos) << fast.out;
+  EXPECT_EQ(run("--pcap " + capture.string() + " --odometry " + csv.string() + " --odometry-clock gps").rc, 2);
+  fs::remove(csv);
 }
 
 }  // namespace

@@ -3,8 +3,11 @@
 
 #include "ogf/tools/pose_csv.hpp"
 
+#include <bot_core/pose_t.hpp>
 #include <lcm/lcm-cpp.hpp>
 #include <ogf/odometry_t.hpp>
+
+#include "ogf/messages/decode_message.hpp"
 
 #include <algorithm>
 #include <array>
@@ -27,6 +30,17 @@ std::vector<std::uint8_t> encodeOdometry(std::int64_t utime, const std::array<do
   std::vector<std::uint8_t> bytes(static_cast<std::size_t>(m.getEncodedSize()));
   m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
   return bytes;
+}
+
+template <class Message>
+Result<std::vector<std::uint8_t>> restampAs(const std::vector<std::uint8_t>& bytes, const char* type,
+                                            const std::function<std::int64_t(std::int64_t)>& restamp) {
+  Message m;
+  if (auto why = messages::decodeMessage(bytes.data(), bytes.size(), m)) return Error{std::string(type) + " " + *why};
+  m.utime = restamp(m.utime);
+  std::vector<std::uint8_t> out(static_cast<std::size_t>(m.getEncodedSize()));
+  m.encode(out.data(), 0, static_cast<int>(out.size()));
+  return out;
 }
 
 void sortByTime(PoseEvents& out) {
@@ -75,6 +89,18 @@ Result<PoseEvents> loadPoseEvents(const std::filesystem::path& path, const std::
     return Error{path.string() + ": no pose (" + std::to_string(out.skipped) + " malformed lines" +
                  (out.problems.empty() ? std::string() : "; first: " + out.problems.front()) + ")"};
   return out;
+}
+
+Result<std::vector<std::uint8_t>> restampPose(const std::vector<std::uint8_t>& bytes,
+                                              const std::function<std::int64_t(std::int64_t)>& restamp) {
+  std::uint64_t fingerprint = 0;  // LCM encodes it big-endian, first
+  for (std::size_t i = 0; i < 8 && i < bytes.size(); ++i) fingerprint = (fingerprint << 8) | bytes[i];
+  const auto fp = static_cast<std::int64_t>(fingerprint);
+  if (bytes.size() >= 8 && fp == ogf::odometry_t::getHash())
+    return restampAs<ogf::odometry_t>(bytes, "ogf.odometry_t", restamp);
+  if (bytes.size() >= 8 && fp == bot_core::pose_t::getHash())
+    return restampAs<bot_core::pose_t>(bytes, "bot_core.pose_t", restamp);
+  return Error{"a message of neither ogf.odometry_t nor bot_core.pose_t (fingerprint): its utime cannot be moved"};
 }
 
 }  // namespace ogf::replay

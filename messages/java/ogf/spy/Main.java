@@ -29,6 +29,12 @@ public final class Main {
     System.exit(rc);
   }
 
+  static void noDisplay(String why) {
+    System.err.println("ogf-spy: cannot open lcm-spy's window (" + why + "). Over ssh or on the robot, run "
+                       + "scripts/lcm-spy.sh --text (the same table each second, no window), or log in with ssh -X.");
+    System.exit(1);
+  }
+
   public static void main(String[] args) throws Exception {
     String url = null;
     int buffer = -1;
@@ -67,8 +73,14 @@ public final class Main {
     if (buffer < 0) buffer = ReceiveBuffer.DEFAULT_BYTES;
 
     if (!text) {
+      // Without a usable display Swing throws HeadlessException or AWTError: say what to do instead.
+      if (java.awt.GraphicsEnvironment.isHeadless()) noDisplay("this Java runs headless");
       if (buffer > 0) ReceiveBuffer.watchReaders(buffer, 60);
-      lcm.spy.Spy.main(new String[] {"--lcm-url=" + url});
+      try {
+        lcm.spy.Spy.main(new String[] {"--lcm-url=" + url});
+      } catch (java.awt.HeadlessException | java.awt.AWTError e) {
+        noDisplay(e.getMessage());
+      }
       return;
     }
     new TextSpy(url, buffer).run(duration);

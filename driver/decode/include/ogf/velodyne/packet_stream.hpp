@@ -63,12 +63,19 @@ class PacketStream {
   bool addPositionPacket(std::span<const std::uint8_t> payload, std::int64_t host_utime);
   // End of input: decodes what waited for the model and emits the scan in progress.
   void finish();
+  // The stream went idle: emits the scan in progress now, with its own times, rather than holding it
+  // across the pause (ScanAssembler drops a scan held open across one). Packets still waiting for the
+  // model or the time base stay held.
+  void flushScan();
+  // Whether a scan is in progress.
+  bool holdsScan() const { return assembler_.holdsScan(); }
 
   const StreamCounters& counters() const { return counters_; }
   std::optional<Model> model() const { return detector_.model(); }
   std::optional<ReturnMode> returnMode() const { return last_mode_; }
   float rpm() const { return assembler_.lastRpm(); }
   std::int64_t packetsLost() const { return assembler_.packetsLost(); }
+  std::int64_t scansDroppedAtPause() const { return assembler_.scansDroppedAtPause(); }
   const std::optional<PositionPacket>& lastPosition() const { return last_position_; }
   const StreamConfig& config() const { return config_; }
 

@@ -35,10 +35,13 @@ class UdpReceiver {
   UdpReceiver(const UdpReceiver&) = delete;
   UdpReceiver& operator=(const UdpReceiver&) = delete;
 
-  // The receive buffer the kernel granted, bytes, comparable with what was asked (Linux caps it at
-  // net.core.rmem_max; getsockopt reports twice this).
+  // The receive buffer the kernel granted, bytes, comparable with what was asked: the size asked for, or
+  // net.core.rmem_max when that is less (Linux caps it there; the raw getsockopt reports twice this).
   int grantedReceiveBuffer() const { return granted_buffer_; }
   std::uint16_t port() const { return port_; }
+  // Whether a datagram waits in the kernel's queue, not yet handed to the handler (the process was
+  // descheduled or busy): the stream is not idle then.
+  bool datagramWaiting();
   // Datagrams longer than the buffer (cut by the kernel): counted, not delivered.
   std::uint64_t oversized() const { return oversized_; }
   // Datagrams the kernel dropped on this socket since it was opened (its receive buffer was full), as of

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -33,5 +34,11 @@ Result<PoseEvents> loadPoseEvents(const std::filesystem::path& path, const std::
 // Parses pose CSV text (ogf/tools/pose_csv.hpp) into odometry_t events; `source` names it in problems
 // ("odometry.csv:12: ...").
 PoseEvents parsePoseCsv(const std::string& text, const std::string& source);
+
+// The same pose message with its utime replaced by `restamp(utime)`, every other field as it was, for
+// publishing recorded odometry on another clock (odometry_clock.hpp). Decodes ogf.odometry_t and
+// bot_core.pose_t (told apart by fingerprint, the two types the mapper reads); an error for anything else.
+Result<std::vector<std::uint8_t>> restampPose(const std::vector<std::uint8_t>& bytes,
+                                              const std::function<std::int64_t(std::int64_t)>& restamp);
 
 }  // namespace ogf::replay

@@ -1,0 +1,37 @@
+// The odometry's clock in a replay: see odometry_clock.hpp.
+#include "ogf/replay/odometry_clock.hpp"
+
+#include "ogf/velodyne/position_packet.hpp"
+
+namespace ogf::replay {
+
+std::optional<OdometryClock> parseOdometryClock(std::string_view name) {
+  if (name == "capture") return OdometryClock::kCapture;
+  if (name == "host") return OdometryClock::kHost;
+  if (name == "auto") return OdometryClock::kAuto;
+  return std::nullopt;
+}
+
+std::string_view odometryClockName(OdometryClock clock) {
+  switch (clock) {
+    case OdometryClock::kCapture: return "capture";
+    case OdometryClock::kHost: return "host";
+    case OdometryClock::kAuto: return "auto";
+  }
+  return "?";
+}
+
+void GpsTimeProbe::addPositionPayload(std::span<const std::uint8_t> payload) {
+  if (decided()) return;
+  const auto packet = velodyne::parsePositionPacket(payload);
+  if (!packet) return;
+  ++seen_;
+  if (packet->pps == velodyne::PpsState::Locked && packet->gpsFixValid()) locked_ = true;
+}
+
+OdometryClock resolveOdometryClock(OdometryClock requested, const GpsTimeProbe& probe) {
+  if (requested != OdometryClock::kAuto) return requested;
+  return probe.hasGpsTime() ? OdometryClock::kCapture : OdometryClock::kHost;
+}
+
+}  // namespace ogf::replay
