@@ -23,7 +23,13 @@
 #include <sstream>
 #include <thread>
 
+#include <lcm/lcm-cpp.hpp>
+
+#include <ogf/map_delta_t.hpp>
+
+#include "ogf/delta/delta_stream.hpp"
 #include "ogf/view/view_server.hpp"
+#include "support/multicast.hpp"
 #include "support/process_memory.hpp"
 #include "view_process.hpp"
 
@@ -98,14 +104,16 @@ struct Feed {
     } catch (const std::exception&) {
     }
   }
-  // Reads one message; false once the view closed the feed (or nothing came within 30 s).
-  bool readOne() {
+  // Reads one message; nullopt once the view closed the feed (or nothing came within 30 s).
+  std::optional<std::string> read() {
     beast::flat_buffer buffer;
     beast::error_code ec;
     beast::get_lowest_layer(ws).expires_after(std::chrono::seconds(30));
     ws.read(buffer, ec);
-    return !ec;
+    if (ec) return std::nullopt;
+    return beast::buffers_to_string(buffer.data());
   }
+  bool readOne() { return read().has_value(); }
   boost::asio::io_context io;
   websocket::stream<beast::tcp_stream> ws;
   int status = 0;
@@ -297,6 +305,74 @@ TEST(ViewLimits, ClientsThatNeverReadKeepTheViewMemoryBounded) { expectMemoryBou
 TEST(ViewLimits, ClientsThatNeverReadShareOneWholeStateWhenAllAreTaken) {
   const int n = idleClients();
   expectMemoryBoundedWithNeverReadingFeeds(n, {"--max-clients", std::to_string(n)});
+}
+
+// On a live bus, 16 feeds that never read each hold the whole state of the moment they joined (6.6 MB:
+// 300 000 occupied cells, --max-boxes above it) while the map changes between joins: every generation
+// they pin (106 MB in all) is kept only for them. With --memory-budget 16 the view closes the feeds whose
+// writes waited longest once those frames pass 16 MiB, and its memory stays under start + the budget +
+// three whole states (the current one, one being made, one in flight) + 64 KiB a connection + 32 MiB.
+TEST(ViewLimits, FramesKeptForFeedsThatAreBehindStayWithinTheMemoryBudget) {
+  if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << *why;
+  const std::string bus = ogf::testing::loopbackUdpmUrl(25);
+  lcm::LCM lcm(bus);
+  ASSERT_TRUE(lcm.good());
+  ViewProcess view({"--lcm-url", bus, "--port", "0", "--rate", "10", "--memory-budget", "16", "--max-boxes", "2000000"},
+                   "budget");
+  const auto port = view.port();
+  ASSERT_NE(port, 0);
+
+  ogf::delta::DeltaStream stream({0.2, 25, ogf::messages::kMaxDeltaCellsPerMessage});
+  std::vector<ogf::delta::PublishedCell> block;
+  for (int x = 0; x < 150; ++x)
+    for (int y = 0; y < 100; ++y)
+      for (int z = 0; z < 20; ++z) block.push_back({{x, y, z}, 9000, ogf::map_delta_t::CLASS_OCCUPIED, 0.3f});
+  stream.update(1, block);
+  const std::int64_t whole_state = static_cast<std::int64_t>(block.size()) * 22;
+  Feed watcher(port);
+  ASSERT_EQ(watcher.status, 101) << view.log();
+  // Until the watcher's figures say `seq`; the keyframe is sent again when a datagram was lost.
+  const auto waitForSeq = [&](std::int64_t seq, const std::vector<ogf::map_delta_t>& resend) {
+    const std::string want = "\"seq\":" + std::to_string(seq) + ",";
+    for (int i = 0; i < 600; ++i) {
+      const auto m = watcher.read();
+      if (!m) return false;
+      if (m->find(want) != std::string::npos) return true;
+      if (i % 20 == 0)
+        for (const auto& d : resend) lcm.publish("OGF_MAP_DELTA", &d);
+    }
+    return false;
+  };
+  ASSERT_TRUE(waitForSeq(1, stream.keyframe(2))) << view.log();
+  const auto start = ogf::testing::residentBytes(view.pid());
+  ASSERT_TRUE(start.has_value());
+
+  std::int64_t peak = 0, over_budget = -1, behind_bytes = -1;
+  int clients = 0;
+  {
+    ogf::testing::RssSampler sampler(view.pid(), std::chrono::milliseconds(20));
+    std::vector<std::unique_ptr<Feed>> stuck;
+    for (int g = 0; g < 16; ++g, ++clients) {
+      stuck.push_back(std::make_unique<Feed>(port));
+      std::vector<ogf::delta::PublishedCell> one{{{200 + g, 0, 0}, 9000, ogf::map_delta_t::CLASS_OCCUPIED, 0.3f}};
+      const auto update = stream.update(3 + g, one);
+      for (const auto& d : update) lcm.publish("OGF_MAP_DELTA", &d);
+      ASSERT_TRUE(waitForSeq(stream.seq(), stream.keyframe(3 + g))) << view.log();
+    }
+    std::this_thread::sleep_for(std::chrono::seconds(1));
+    peak = sampler.peakBytes();
+    over_budget = statusFigure(port, "over_budget");
+    behind_bytes = statusFigure(port, "behind_bytes");
+  }
+  const std::int64_t budget = std::int64_t{16} << 20;
+  const std::int64_t bound = *start + budget + 3 * whole_state + clients * (64 << 10) + (std::int64_t{32} << 20);
+  std::printf("[ figures ] %d feeds stuck on as many generations of a %.1f MB whole state, --memory-budget 16: view RSS "
+              "%.1f MB at start, %.1f MB peak, bound %.1f MB\n",
+              clients, mb(whole_state), mb(*start), mb(peak), mb(bound));
+  EXPECT_GE(over_budget, 1);
+  EXPECT_GE(behind_bytes, 0);
+  EXPECT_LE(behind_bytes, budget);
+  EXPECT_LE(peak, bound);
 }
 
 TEST(ViewLimits, AnOversizedIncomingMessageClosesThatClientOnly) {
