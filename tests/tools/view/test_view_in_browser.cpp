@@ -221,6 +221,10 @@ TEST(ViewProgram, ExitCodesSayUsageOrFailure) {
   EXPECT_EQ(run({"--map", "/nonexistent.ogfm"}), 2);
   EXPECT_EQ(run({"--three-dir", "/nonexistent", "--port", "0"}), 1);
   EXPECT_EQ(run({"--bind", "not-an-address", "--port", "0", "--lcm-url", "memq://"}), 1);
+  const fs::path short_token = fs::temp_directory_path() / ("ogf-view-short-token-" + std::to_string(::getpid()));
+  std::ofstream(short_token) << "abc\n";
+  EXPECT_EQ(run({"--token", short_token.string(), "--port", "0", "--lcm-url", "memq://"}), 2);
+  fs::remove(short_token);
 }
 
 }  // namespace
