@@ -3,11 +3,17 @@
 // status channels, or shows a saved map (--map), and serves one page with a WebSocket feed: the occupied
 // cells as binary frames a few times a second, the figures and the poses as JSON.
 //
+// Who can connect and what each connection may cost is bounded (view_server.hpp); on an address other
+// than loopback every request needs a token (access_token.hpp), read from --token FILE or made at start
+// and printed in the address.
+//
 // Exit codes: 0 stopped by SIGINT/SIGTERM, 1 runtime failure (the bus, the port, the map file, three.js),
-// 2 usage.
+// 2 usage (the token file included).
 #include <CLI/CLI.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <lcm/lcm-cpp.hpp>
+#include <sys/random.h>
+#include <sys/stat.h>
 
 #include <ogf/driver_status_t.hpp>
 #include <ogf/map_delta_t.hpp>
@@ -34,6 +40,7 @@
 #include "ogf/transport/lcm_url.hpp"
 #include "ogf/transport/logging.hpp"
 #include "ogf/transport/subscriber.hpp"
+#include "ogf/view/access_token.hpp"
 #include "ogf/view/cell_frame.hpp"
 #include "ogf/view/live_figures.hpp"
 #include "ogf/view/occupied_slots.hpp"
@@ -50,6 +57,30 @@ std::optional<std::string> readFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return std::nullopt;
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// 128 random bits as 32 hex digits.
+std::optional<std::string> randomToken() {
+  unsigned char bytes[16];
+  if (::getrandom(bytes, sizeof bytes, 0) != static_cast<ssize_t>(sizeof bytes)) return std::nullopt;
+  std::string out;
+  for (const unsigned char b : bytes) out += fmt::format("{:02x}", b);
+  return out;
+}
+
+// The token of --token FILE: its first line without surrounding blanks; an error message when unusable.
+ogf::Result<std::string> tokenFromFile(const std::string& path) {
+  const auto text = readFile(path);
+  if (!text) return ogf::Error{"--token " + path + ": cannot read the file"};
+  std::string token = text->substr(0, text->find('\n'));
+  const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+  while (!token.empty() && blank(token.back())) token.pop_back();
+  while (!token.empty() && blank(token.front())) token.erase(token.begin());
+  if (auto why = ogf::view::tokenProblem(token)) return ogf::Error{"--token " + path + ": " + *why};
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && (st.st_mode & 077) != 0)
+    spdlog::warn("--token {}: other users can read the file (chmod 600 it)", path);
+  return token;
 }
 
 // A POSE channel carries ogf.odometry_t or bot_core.pose_t: decoded from the raw bytes.
@@ -86,6 +117,10 @@ int main(int argc, char** argv) {
   double keyframe_retry_s = 1.0;
   std::string three_dir = "/usr/share/javascript/three";
   std::string log_level = "info";
+  ogf::view::ServerLimits limits;
+  double client_timeout_s = 30.0;
+  std::size_t memory_budget_mib = limits.memory_budget >> 20;
+  std::string token_path;
   app.add_option("--lcm-url", url, "LCM URL (default: $LCM_DEFAULT_URL, else LCM's default)");
   app.add_option("--map", map_path, "Show this map file (ogf-map --out) or daemon snapshot instead of the bus")
       ->check(CLI::ExistingFile);
@@ -109,6 +144,20 @@ int main(int argc, char** argv) {
                  "Where three.js is installed (Debian's libjs-three): three.min.js and "
                  "examples/js/controls/OrbitControls.js")
       ->capture_default_str();
+  app.add_option("--max-clients", limits.max_clients,
+                 "Browsers served at once (each a WebSocket feed); the rest are refused with 503")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{10000}))->capture_default_str();
+  app.add_option("--client-timeout", client_timeout_s,
+                 "Seconds of silence after which a connection is closed: an incomplete or idle HTTP request, a "
+                 "feed whose browser answers no ping or takes no data")
+      ->check(CLI::Range(1.0, 3600.0))->capture_default_str();
+  app.add_option("--memory-budget", memory_budget_mib,
+                 "MiB of frames kept for browsers that are behind, in all; beyond, the slowest is disconnected")
+      ->check(CLI::Range(std::size_t{16}, std::size_t{1} << 20))->capture_default_str();
+  app.add_option("--token", token_path,
+                 "File whose first line is the token every request must carry (?token=...); without it a "
+                 "non-loopback --bind makes one and prints it in the address")
+      ->check(CLI::ExistingFile);
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
   OGF_PARSE_COMMAND_LINE(app, argc, argv);
   if (!map_path.empty() && !url.empty()) {
@@ -116,6 +165,23 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   if (!ogf::transport::setupLoggingAt("ogf-view", "--log-level", log_level)) return kExitUsage;
+  limits.client_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(client_timeout_s * 1000.0));
+  limits.memory_budget = memory_budget_mib << 20;
+  if (!token_path.empty()) {
+    auto token = tokenFromFile(token_path);
+    if (!token) {
+      spdlog::error("{}", token.error().message);
+      return kExitUsage;
+    }
+    limits.token = *token;
+  } else if (!ogf::view::isLoopbackAddress(bind)) {
+    auto token = randomToken();
+    if (!token) {
+      spdlog::error("cannot make a token (getrandom failed): give --token FILE");
+      return kExitFailure;
+    }
+    limits.token = *token;
+  }
 
   const std::string three_path = three_dir + "/three.min.js";
   const std::string controls_path = three_dir + "/examples/js/controls/OrbitControls.js";
@@ -181,12 +247,21 @@ int main(int argc, char** argv) {
   pages["/"] = {"text/html; charset=utf-8", std::make_shared<const std::string>(ogf::view::indexHtml())};
   pages["/lib/three.min.js"] = {"text/javascript", std::make_shared<const std::string>(*three)};
   pages["/lib/OrbitControls.js"] = {"text/javascript", std::make_shared<const std::string>(*controls)};
-  auto server = ogf::view::ViewServer::start(
-      loop.io(), bind, port, std::move(pages), [&](ogf::view::WebSocketSession& s) {
-        refreshStream();
-        for (const auto& f : cellFrames(slots.filledSlots(), true)) s.send(f);
-        s.send(textFrame(figures.json(stream, 0, 0)));
-      });
+  // The whole state, made once and shared by every browser that joins or catches up: the cells until
+  // they change, the figures (with the whole trails) until the next tick.
+  std::vector<Frame> whole_cells;
+  std::optional<Frame> whole_figures;
+  const auto wholeState = [&] {
+    if (whole_cells.empty()) whole_cells = cellFrames(slots.filledSlots(), true);
+    if (!whole_figures) {
+      refreshStream();
+      whole_figures = textFrame(figures.json(stream, 0, 0));
+    }
+    std::vector<Frame> out = whole_cells;
+    out.push_back(*whole_figures);
+    return out;
+  };
+  auto server = ogf::view::ViewServer::start(loop.io(), bind, port, std::move(pages), wholeState, limits);
   if (!server) {
     spdlog::error("{}", server.error().message);
     return kExitFailure;
@@ -260,6 +335,8 @@ int main(int argc, char** argv) {
   std::size_t raw_sent = 0;
   std::size_t corrected_sent = 0;
   const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(1.0 / rate_hz));
+  auto last_server_log = std::chrono::steady_clock::now();
+  std::string last_server_status;
   std::function<void()> flush = [&] {
     if (lcm && receiver.needsKeyframe() &&
         std::chrono::steady_clock::now() - last_request > std::chrono::duration<double>(keyframe_retry_s))
@@ -273,25 +350,46 @@ int main(int argc, char** argv) {
     refreshStream();
     const bool full = slots.takeFullPending();
     const auto changed = slots.takeChanged();
+    std::vector<Frame> update;
     if (full) {
-      for (const auto& f : cellFrames(slots.filledSlots(), true)) srv.broadcast(f);
+      whole_cells = cellFrames(slots.filledSlots(), true);
+      update = whole_cells;
     } else if (!changed.empty()) {
-      for (const auto& f : cellFrames(changed, false)) srv.broadcast(f);
+      whole_cells.clear();
+      update = cellFrames(changed, false);
     }
-    srv.broadcast(textFrame(figures.json(stream, raw_sent, corrected_sent)));
+    whole_figures.reset();
+    update.push_back(textFrame(figures.json(stream, raw_sent, corrected_sent)));
+    srv.broadcast(update);
     raw_sent = figures.trail(false).points().size();
     corrected_sent = figures.trail(true).points().size();
-    srv.resyncLagging();
+    srv.maintain();
+    if (const auto now = std::chrono::steady_clock::now(); now - last_server_log > std::chrono::minutes(1)) {
+      if (auto json = srv.statusJson(); json != last_server_status) {
+        spdlog::info("server: {}", json.substr(0, json.size() - 1));
+        last_server_status = std::move(json);
+      }
+      last_server_log = now;
+    }
     tick.expires_after(period);
     tick.async_wait([&](const boost::system::error_code& ec) { if (!ec) flush(); });
   };
   flush();
 
-  std::printf("ogf-view: http://%s:%u/\n", bind == "0.0.0.0" ? "127.0.0.1" : bind.c_str(),
-              static_cast<unsigned>(srv.port()));
+  const std::string host = bind == "0.0.0.0" ? "127.0.0.1" : bind.find(':') != std::string::npos ? "[" + bind + "]" : bind;
+  if (limits.token.empty()) {
+    std::printf("ogf-view: http://%s:%u/\n", host.c_str(), static_cast<unsigned>(srv.port()));
+  } else if (token_path.empty()) {
+    std::printf("ogf-view: http://%s:%u/?token=%s\n", host.c_str(), static_cast<unsigned>(srv.port()),
+                limits.token.c_str());
+  } else {
+    std::printf("ogf-view: http://%s:%u/ (add ?token= and the token in %s)\n", host.c_str(),
+                static_cast<unsigned>(srv.port()), token_path.c_str());
+  }
   std::fflush(stdout);
   loop.ready(map_path.empty() ? "following " + delta_channel : "showing " + map_path);
   const int rc = loop.run();
-  spdlog::info("stopped: {} browsers connected, {} frames dropped for slow browsers", srv.clients(), srv.dropped());
+  const auto json = srv.statusJson();
+  spdlog::info("stopped: {}", json.substr(0, json.size() - 1));
   return rc;
 }

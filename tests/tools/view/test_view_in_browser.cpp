@@ -23,11 +23,13 @@
 #include "png_image.hpp"
 #include "support/child_process.hpp"
 #include "support/multicast.hpp"
+#include "view_process.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using ogf::testing::ChildProcess;
+using ogf::testing::ViewProcess;
 using ogf::testing::HeadlessChromium;
 using ogf::testing::RgbImage;
 
@@ -75,38 +77,6 @@ RgbImage screenshot(HeadlessChromium& browser, const std::string& name) {
   return img.value_or(RgbImage{});
 }
 
-// ogf-view as a process; url() once it printed where it serves.
-class View {
- public:
-  explicit View(std::vector<std::string> args, const std::string& name)
-      : log_path_((fs::temp_directory_path() / ("ogf-view-" + std::to_string(::getpid()) + "-" + name + ".log")).string()) {
-    args.insert(args.begin(), std::string(OGF_BIN_DIR) + "/ogf-view");
-    process_ = std::make_unique<ChildProcess>(args, log_path_);
-  }
-  ~View() {
-    process_->signal(SIGTERM);
-    const auto rc = process_->wait(std::chrono::seconds(10));
-    EXPECT_EQ(rc, 0) << process_->log();
-    fs::remove(log_path_);
-  }
-  std::string url() {
-    const std::regex serving(R"(ogf-view: (http://[0-9.]+:[0-9]+/))");
-    std::smatch m;
-    for (int i = 0; i < 200; ++i) {
-      const std::string text = process_->log();
-      if (std::regex_search(text, m, serving)) return m[1];
-      if (process_->wait(std::chrono::milliseconds(100))) break;
-    }
-    ADD_FAILURE() << "ogf-view did not start serving:\n" << process_->log();
-    return "";
-  }
-  std::string log() const { return process_->log(); }
-
- private:
-  std::string log_path_;
-  std::unique_ptr<ChildProcess> process_;
-};
-
 // A 3 m × 3 m room with 1 m walls at 0.2 m: the walls' cells measured occupied, the inside free.
 std::vector<ogf::Measurement> room() {
   std::vector<ogf::Measurement> m;
@@ -125,7 +95,9 @@ std::size_t occupiedCount(const std::vector<ogf::delta::PublishedCell>& cells) {
   }));
 }
 
-TEST(ViewInBrowser, SavedMapIsDrawn) {
+// The room saved to a file, shown by ogf-view started with `args`, opened at its printed address plus
+// `query`; the page's title and the screenshot say whether it was drawn.
+void expectSavedRoomDrawn(std::vector<std::string> args, const std::string& query, const std::string& name) {
   HeadlessChromium browser;
   if (auto why = browser.start(kWidth, kHeight)) GTEST_SKIP() << "chromium cannot run here: " << *why;
 
@@ -140,19 +112,32 @@ TEST(ViewInBrowser, SavedMapIsDrawn) {
   const fs::path map_path = fs::temp_directory_path() / ("ogf-view-room-" + std::to_string(::getpid()) + ".ogfm");
   ASSERT_TRUE(ogf::filter::saveMapFile(*map, map_path).ok());
 
-  View view({"--map", map_path.string(), "--port", "0"}, "saved");
+  args.insert(args.end(), {"--map", map_path.string(), "--port", "0"});
+  ViewProcess view(args, name);
   const std::string url = view.url();
   ASSERT_FALSE(url.empty());
-  ASSERT_TRUE(browser.open(url));
+  ASSERT_TRUE(browser.open(url + query));
   const std::string want = "drawn " + std::to_string(occupied) + " boxes";
   const std::string title = browser.waitForTitle(want, std::chrono::seconds(30));
   fs::remove(map_path);
   if (title.find("no WebGL") != std::string::npos) GTEST_SKIP() << "chromium has no WebGL here: " << title;
   ASSERT_NE(title.find(want), std::string::npos) << "title: " << title << "\n" << view.log();
 
-  const RgbImage img = screenshot(browser, "saved-map.png");
+  const RgbImage img = screenshot(browser, name + ".png");
   EXPECT_EQ(img.width, kWidth);
-  EXPECT_GT(cellPixels(img), 5000u) << "the room's walls are not on the screen (" << screenshotDir() / "saved-map.png" << ")";
+  EXPECT_GT(cellPixels(img), 5000u) << "the room's walls are not on the screen (" << screenshotDir() / (name + ".png") << ")";
+}
+
+TEST(ViewInBrowser, SavedMapIsDrawn) { expectSavedRoomDrawn({}, "", "saved-map"); }
+
+// The token from a file: the page's address carries it, the libraries and the feed get it from the page.
+TEST(ViewInBrowser, SavedMapIsDrawnWhenTheViewAsksForAToken) {
+  const fs::path token_file = fs::temp_directory_path() / ("ogf-view-token-" + std::to_string(::getpid()));
+  const std::string token = "0123456789abcdef0123456789abcdef";
+  std::ofstream(token_file) << token << "\n";
+  fs::permissions(token_file, fs::perms::owner_read | fs::perms::owner_write);
+  expectSavedRoomDrawn({"--token", token_file.string()}, "?token=" + token, "saved-map-token");
+  fs::remove(token_file);
 }
 
 TEST(ViewInBrowser, LiveDeltasChangeThePicture) {
@@ -163,7 +148,7 @@ TEST(ViewInBrowser, LiveDeltasChangeThePicture) {
   const std::string bus = ogf::testing::loopbackUdpmUrl(23);
   lcm::LCM lcm(bus);
   ASSERT_TRUE(lcm.good());
-  View view({"--lcm-url", bus, "--port", "0", "--rate", "5"}, "live");
+  ViewProcess view({"--lcm-url", bus, "--port", "0", "--rate", "5"}, "live");
   const std::string url = view.url();
   ASSERT_FALSE(url.empty());
 
@@ -236,6 +221,10 @@ TEST(ViewProgram, ExitCodesSayUsageOrFailure) {
   EXPECT_EQ(run({"--map", "/nonexistent.ogfm"}), 2);
   EXPECT_EQ(run({"--three-dir", "/nonexistent", "--port", "0"}), 1);
   EXPECT_EQ(run({"--bind", "not-an-address", "--port", "0", "--lcm-url", "memq://"}), 1);
+  const fs::path short_token = fs::temp_directory_path() / ("ogf-view-short-token-" + std::to_string(::getpid()));
+  std::ofstream(short_token) << "abc\n";
+  EXPECT_EQ(run({"--token", short_token.string(), "--port", "0", "--lcm-url", "memq://"}), 2);
+  fs::remove(short_token);
 }
 
 }  // namespace
