@@ -75,6 +75,7 @@ Status readVector3(const std::filesystem::path& path, const YAML::Node& parent, 
 }
 
 Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path, MapperOptions& o);
+Status parseServicesSection(const YAML::Node& node, const std::filesystem::path& path, ServicesOptions& s);
 
 #define OGF_TRY(expr)                  \
   if (auto st_ = (expr); !st_) return st_
@@ -98,7 +99,26 @@ Status MapperOptions::validate() const {
   if (!(status_interval_s > 0)) return Error{"status_interval_s: must be > 0"};
   if (!(test_drop_delta_fraction >= 0 && test_drop_delta_fraction < 1))
     return Error{"test_drop_delta_fraction: must be in [0, 1)"};
+  // services:
+  if (services.commands_enabled && services.key_file.empty())
+    return Error{"services.commands_enabled: needs services.key_file (ogf-map-query keygen FILE makes one)"};
+  if (services.max_query_cells < 1 || services.max_query_cells > 100'000'000)
+    return Error{"services.max_query_cells: must be 1 to 100000000"};
+  if (services.box_chunk_cells < 1000) return Error{"services.box_chunk_cells: must be 1000 or more"};
+  if (!(services.budget_ms_per_scan > 0) || !std::isfinite(services.budget_ms_per_scan))
+    return Error{"services.budget_ms_per_scan: must be > 0"};
+  if (const auto exports = services.exportDirFor(state_dir); !exports.empty() && !state_dir.empty()) {
+    const auto a = std::filesystem::weakly_canonical(exports), b = std::filesystem::weakly_canonical(state_dir);
+    if (a == b || a == b / "pages")
+      return Error{"services.export_dir: " + exports.string() + " is the state directory's own; exports must never land among its files"};
+  }
   return okStatus();
+}
+
+std::filesystem::path ServicesOptions::exportDirFor(const std::filesystem::path& state_dir) const {
+  if (!export_dir.empty()) return export_dir;
+  if (state_dir.empty()) return {};
+  return state_dir / "exports";
 }
 
 Status loadMapperOptions(const std::filesystem::path& path, MapperOptions& o) {
@@ -126,7 +146,7 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
   OGF_TRY(checkKeys(path, root, "", {"lcm_url", "channels", "time_base", "state_dir", "snapshot_interval_s",
                                      "page_out_distance_m",
                                      "keyframe_interval_s", "status_interval_s", "map", "filter", "fusion",
-                                     "pose_correction"}));
+                                     "pose_correction", "services"}));
   OGF_TRY(read(path, root, "", "lcm_url", o.lcm_url));
   std::string state_dir = o.state_dir.string();
   OGF_TRY(read(path, root, "", "state_dir", state_dir));
@@ -218,6 +238,7 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
     }
     OGF_TRY(read(path, f, "filter", "threads", fc.threads));
   }
+  if (const auto sv = root["services"]) OGF_TRY(parseServicesSection(sv, path, o.services));
   if (const auto fu = root["fusion"]) {
     auto& fc = o.map.fusion;
     OGF_TRY(checkKeys(path, fu, "fusion", {"max_pose_wait_s", "pose_buffer_capacity", "max_pending_scans",
@@ -237,6 +258,24 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
     OGF_TRY(read(path, fu, "fusion", "clock_jump_messages", fc.time_sanity.follow_after));
     OGF_TRY(read(path, fu, "fusion", "quaternion_tolerance", fc.pose_buffer.quaternion_tolerance));
   }
+  return okStatus();
+}
+
+// The `services:` section (map queries and commands).
+Status parseServicesSection(const YAML::Node& sv, const std::filesystem::path& path, ServicesOptions& s) {
+  OGF_TRY(checkKeys(path, sv, "services", {"commands_enabled", "key_file", "export_dir", "export_min_free_bytes",
+                                           "max_query_cells", "budget_ms_per_scan", "box_chunk_cells"}));
+  OGF_TRY(read(path, sv, "services", "commands_enabled", s.commands_enabled));
+  std::string key_file = s.key_file.string(), export_dir = s.export_dir.string();
+  OGF_TRY(read(path, sv, "services", "key_file", key_file));
+  OGF_TRY(read(path, sv, "services", "export_dir", export_dir));
+  s.key_file = key_file;
+  s.export_dir = export_dir;
+  OGF_TRY(read(path, sv, "services", "export_min_free_bytes", s.export_min_free_bytes));
+  OGF_TRY(read(path, sv, "services", "max_query_cells", s.max_query_cells));
+  OGF_TRY(read(path, sv, "services", "budget_ms_per_scan", s.budget_ms_per_scan));
+  OGF_TRY(requireRange(path, sv, "services", "budget_ms_per_scan", s.budget_ms_per_scan, false));
+  OGF_TRY(read(path, sv, "services", "box_chunk_cells", s.box_chunk_cells));
   return okStatus();
 }
 
@@ -300,7 +339,18 @@ std::string exampleMapperConfig() {
     << "  band_z_min: " << d.pose_correction.projection.z_min_m
     << "           # body-frame height band cut into the planar scan, metres\n"
     << "  band_z_max: " << d.pose_correction.projection.z_max_m << "\n"
-    << "  seed: " << d.pose_correction.corrector.slam.seed << "\n";
+    << "  seed: " << d.pose_correction.corrector.slam.seed << "\n"
+    << "services:                   # OGF_MAP_QUERY and OGF_MAP_COMMAND (docs/reliability.md, \"Map services\")\n"
+    << "  commands_enabled: false   # save, reset and export; when true each needs a MAC made with key_file\n"
+    << "  key_file: \"\"              # 64 hex digits, mode 0600, owned by the mapper's user (ogf-map-query keygen)\n"
+    << "  export_dir: \"\"            # exports go only here; empty: <state_dir>/exports\n"
+    << "  export_min_free_bytes: " << d.services.export_min_free_bytes
+    << "   # an export that would leave less free is refused\n"
+    << "  max_query_cells: " << d.services.max_query_cells
+    << "     # a larger box query is refused before the map is read\n"
+    << "  budget_ms_per_scan: " << d.services.budget_ms_per_scan
+    << "    # service work between two scans; the rest waits for the next\n"
+    << "  box_chunk_cells: " << d.services.box_chunk_cells << "     # cells of a box summarised in one step\n";
   return s.str();
 }
 
