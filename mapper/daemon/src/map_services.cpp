@@ -154,6 +154,15 @@ bool MapperDaemon::servicesWaiting() {
 }
 
 void MapperDaemon::serve() {
+  // Regions brought back for a query count in the status' memory and cells at once, not at the next scan.
+  const std::size_t cells_before = mapper_.filter().allocatedCells();
+  struct Refresh {
+    MapperDaemon* self;
+    std::size_t before;
+    ~Refresh() {
+      if (self->mapper_.filter().allocatedCells() != before) self->refreshMapStats();
+    }
+  } refresh{this, cells_before};
   const auto began = std::chrono::steady_clock::now();
   const auto budget = std::chrono::duration<double, std::milli>(options_.services.budget_ms_per_scan);
   do {
