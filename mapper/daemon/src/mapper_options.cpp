@@ -340,7 +340,7 @@ std::string exampleMapperConfig() {
     << "           # body-frame height band cut into the planar scan, metres\n"
     << "  band_z_max: " << d.pose_correction.projection.z_max_m << "\n"
     << "  seed: " << d.pose_correction.corrector.slam.seed << "\n"
-    << "services:                   # OGF_MAP_QUERY and OGF_MAP_COMMAND (docs/reliability.md, \"Map services\")\n"
+    << "services:                   # OGF_MAP_QUERY and OGF_MAP_COMMAND (docs/mapping.md, \"Map services\")\n"
     << "  commands_enabled: false   # save, reset and export; when true each needs a MAC made with key_file\n"
     << "  key_file: \"\"              # 64 hex digits, mode 0600, owned by the mapper's user (ogf-map-query keygen)\n"
     << "  export_dir: \"\"            # exports go only here; empty: <state_dir>/exports\n"

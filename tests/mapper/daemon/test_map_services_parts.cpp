@@ -8,6 +8,7 @@
 #include "ogf/mapper_daemon/log_text.hpp"
 #include "ogf/mapper_daemon/map_export.hpp"
 #include "ogf/mapper_daemon/map_query_answer.hpp"
+#include "ogf/mapper_daemon/mapper_options.hpp"
 
 namespace ogf::mapper_daemon {
 namespace {
@@ -126,6 +127,43 @@ TEST(LogText, ControlCharactersBecomeQuestionMarksAndLengthIsBounded) {
   const auto long_name = sanitisedForLog(std::string(500, 'x'));
   EXPECT_EQ(long_name.size(), kMaxLoggedName);
   EXPECT_EQ(long_name.substr(long_name.size() - 3), "...");
+}
+
+TEST(ServicesSection, TheExampleParsesBackAndEveryKeyIsRead) {
+  MapperOptions o;
+  ASSERT_TRUE(parseMapperOptions(exampleMapperConfig(), "example.yaml", o).ok());
+  EXPECT_FALSE(o.services.commands_enabled);
+  const std::string yaml =
+      "services:\n  commands_enabled: true\n  key_file: /k\n  export_dir: /x\n  export_min_free_bytes: 5\n"
+      "  max_query_cells: 1000\n  budget_ms_per_scan: 2.5\n  box_chunk_cells: 2000\n";
+  ASSERT_TRUE(parseMapperOptions(yaml, "s.yaml", o).ok());
+  EXPECT_TRUE(o.services.commands_enabled);
+  EXPECT_EQ(o.services.key_file, "/k");
+  EXPECT_EQ(o.services.exportDirFor("/state"), "/x");
+  EXPECT_EQ(o.services.export_min_free_bytes, 5u);
+  EXPECT_EQ(o.services.max_query_cells, 1000);
+  EXPECT_EQ(o.services.budget_ms_per_scan, 2.5);
+  EXPECT_EQ(o.services.box_chunk_cells, 2000);
+  EXPECT_TRUE(o.validate().ok());
+  const auto bad = parseMapperOptions("services:\n  budget_ms: 3\n", "b.yaml", o);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().message.find("services.budget_ms"), std::string::npos) << bad.error().message;
+}
+
+TEST(ServicesSection, CommandsWithoutAKeyAndExportsIntoTheStateDirectoryAreRefused) {
+  MapperOptions o;
+  EXPECT_EQ(o.services.exportDirFor("/var/lib/ogf"), std::filesystem::path("/var/lib/ogf/exports"));
+  EXPECT_TRUE(o.services.exportDirFor("").empty());
+  o.services.commands_enabled = true;
+  EXPECT_FALSE(o.validate().ok());
+  o.services.commands_enabled = false;
+  o.state_dir = "/var/lib/ogf";
+  o.services.export_dir = "/var/lib/ogf/";
+  EXPECT_FALSE(o.validate().ok());
+  o.services.export_dir = "/var/lib/ogf/pages";
+  EXPECT_FALSE(o.validate().ok());
+  o.services.export_dir = "/var/lib/ogf/exports";
+  EXPECT_TRUE(o.validate().ok());
 }
 
 }  // namespace
