@@ -108,7 +108,13 @@ Status MapperOptions::validate() const {
   if (!(services.budget_ms_per_scan > 0) || !std::isfinite(services.budget_ms_per_scan))
     return Error{"services.budget_ms_per_scan: must be > 0"};
   if (const auto exports = services.exportDirFor(state_dir); !exports.empty() && !state_dir.empty()) {
-    const auto a = std::filesystem::weakly_canonical(exports), b = std::filesystem::weakly_canonical(state_dir);
+    // Compared resolved (links, '..') and without a trailing '/', so no spelling of the state directory passes.
+    const auto resolved = [](const std::filesystem::path& p) {
+      std::string s = std::filesystem::weakly_canonical(p).lexically_normal().string();
+      while (s.size() > 1 && s.back() == '/') s.pop_back();
+      return std::filesystem::path(s);
+    };
+    const auto a = resolved(exports), b = resolved(state_dir);
     if (a == b || a == b / "pages")
       return Error{"services.export_dir: " + exports.string() + " is the state directory's own; exports must never land among its files"};
   }
