@@ -232,6 +232,31 @@ TEST_F(ServicesTest, ExportsAreConfinedToTheExportDirectoryAndARestartRestoresTh
   EXPECT_EQ(again->wait(30s), 0) << again->log();
 }
 
+// Attack 3: an export that would leave less than services.export_min_free_bytes free is refused and
+// counted before anything is copied or written.
+TEST_F(ServicesTest, AnExportThatWouldLeaveTooLittleFreeSpaceIsRefusedAndCounted) {
+  const std::string url = ogf::testing::loopbackUdpmUrl(87);
+  LatestMessage<Status> status(url, "OGF_MAPPER_STATUS");
+  CommandReplies replies(url);
+  // More than any disk holds: every export is refused for space.
+  auto mapper = startMapper(url, "services:\n  commands_enabled: true\n  key_file: " + key_path_.string() +
+                                     "\n  export_min_free_bytes: 1000000000000000000\n");
+  ASSERT_TRUE(status.waitFor([](const Status&) { return true; }, 10s)) << mapper->log();
+  lcm::LCM lcm(url);
+  feed(lcm, status, 0, 10);
+  auto c = command("export", "csv", "map.csv");
+  ogf::mapper_daemon::signCommand(c, key_);
+  lcm.publish("OGF_MAP_COMMAND", &c);
+  const auto r = replies.waitFor(c.request_id, 10s);
+  ASSERT_TRUE(r) << mapper->log();
+  EXPECT_EQ(r->status, ogf::map_command_reply_t::STATUS_REFUSED);
+  EXPECT_NE(r->message.find("disk space"), std::string::npos) << r->message;
+  EXPECT_TRUE(status.waitFor([](const Status& s) { return s.commands_refused_disk_space == 1; }, 5s));
+  EXPECT_FALSE(fs::exists(dir_ / "state" / "exports" / "map.csv"));
+  mapper->signal(SIGTERM);
+  EXPECT_EQ(mapper->wait(30s), 0) << mapper->log();
+}
+
 // Attacks 4 and 5: with commands disabled (the default) a reset is refused; enabled, an unsigned, a
 // wrongly signed, a stale and a replayed reset are refused and counted, the map kept; a command signed by
 // ogf-map-query --key is carried out.
