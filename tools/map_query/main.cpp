@@ -193,5 +193,7 @@ int main(int argc, char** argv) {
   if (!r) return noReply(command_channel, timeout_s, resolved);
   std::printf("%s: %s (map_id %lld seq %lld)\n", r->status == ogf::map_command_reply_t::STATUS_OK ? "done" : "not done",
               r->message.c_str(), static_cast<long long>(r->map_id), static_cast<long long>(r->seq));
+  if (r->status == ogf::map_command_reply_t::STATUS_REFUSED && !key)
+    std::fprintf(stderr, "commands are signed with --key FILE (the mapper's services.key_file)\n");
   return r->status == ogf::map_command_reply_t::STATUS_OK ? kExitOk : kExitFailed;
 }
