@@ -7,6 +7,7 @@ find_package(yaml-cpp REQUIRED)                         # libyaml-cpp-dev
 find_package(CLI11 REQUIRED)                            # libcli11-dev
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(PCAP REQUIRED IMPORTED_TARGET libpcap)  # libpcap-dev
+pkg_check_modules(SODIUM REQUIRED IMPORTED_TARGET libsodium)  # libsodium-dev (map command MACs)
 find_package(SQLite3 REQUIRED)                          # libsqlite3-dev (rosbag2 bags)
 
 if(TARGET yaml-cpp AND NOT TARGET yaml-cpp::yaml-cpp)

@@ -9,7 +9,7 @@ PACKAGES=(
   # (default-jre: lcm-spy opens a window; the headless JDK alone only builds the jar)
   liblcm-dev liblcm-bin liblcm-java default-jdk-headless default-jre libjchart2d-java
   # libraries the code uses
-  zlib1g-dev libpcap-dev libsqlite3-dev libeigen3-dev libboost-dev libspdlog-dev libyaml-cpp-dev libcli11-dev
+  zlib1g-dev libpcap-dev libsodium-dev libsqlite3-dev libeigen3-dev libboost-dev libspdlog-dev libyaml-cpp-dev libcli11-dev
   # ogf-view's page: three.js, served from /usr/share/javascript/three (Boost.Beast is in libboost-dev)
   libjs-three
   # tests and benchmarks

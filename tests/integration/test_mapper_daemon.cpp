@@ -369,9 +369,17 @@ TEST_F(MapperDaemonTest, ScanMatchingCorrectsDriftingOdometryAndPublishesTheCorr
 
 // ogf-map-query against the running daemon: a box over the room and cells on a wall and in the air are
 // answered from the map it holds; malformed and oversized requests are refused and counted, never stop
-// it; save, export and reset do what they say (the old map kept on disk) and mapping goes on after them.
+// it; save, export and reset signed with the key do what they say (the export in the export directory,
+// the old map kept on disk) and mapping goes on after them.
 TEST_F(MapperDaemonTest, MapServicesAnswerQueriesAndCommandsWhileTheDaemonMaps) {
   const std::string url = ogf::testing::loopbackUdpmUrl(34);
+  const std::string key = (dir_ / "command.key").string();
+  {
+    ChildProcess keygen({kBin + "/ogf-map-query", "keygen", key}, (dir_ / "keygen.log").string());
+    ASSERT_EQ(keygen.wait(10s).value_or(-1), 0) << keygen.log();
+  }
+  std::ofstream(dir_ / "mapper.yaml", std::ios::app)
+      << "services: {commands_enabled: true, key_file: " << key << ", export_min_free_bytes: 0}\n";
   StatusListener status(url);
   ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir_ / "state").string(), "--config",
                        (dir_ / "mapper.yaml").string(), "--log-level", "warn"},
@@ -423,15 +431,15 @@ TEST_F(MapperDaemonTest, MapServicesAnswerQueriesAndCommandsWhileTheDaemonMaps) 
   lcm.publish("OGF_MAP_QUERY", junk, sizeof junk);
   EXPECT_TRUE(status.waitFor([](const ogf::mapper_status_t& s) { return s.service_requests_refused >= 2; }, 10s))
       << mapper.log();
-  std::tie(rc, out) = query({"export", "ply", "relative.ply"});
+  std::tie(rc, out) = query({"--key", key, "export", "ply", (dir_ / "map.ply").string()});
   EXPECT_EQ(rc, 1) << out;
 
-  std::tie(rc, out) = query({"export", "ply", (dir_ / "map.ply").string()});
+  std::tie(rc, out) = query({"--key", key, "export", "ply", "map.ply"});
   ASSERT_EQ(rc, 0) << out;
-  EXPECT_GT(fs::file_size(dir_ / "map.ply"), 1000u);
-  std::tie(rc, out) = query({"save"});
+  EXPECT_GT(fs::file_size(dir_ / "state" / "exports" / "map.ply"), 1000u);
+  std::tie(rc, out) = query({"--key", key, "save"});
   EXPECT_EQ(rc, 0) << out;
-  std::tie(rc, out) = query({"reset"});
+  std::tie(rc, out) = query({"--key", key, "reset"});
   ASSERT_EQ(rc, 0) << out;
   bool kept = false;
   for (const auto& e : fs::directory_iterator(dir_ / "state")) {

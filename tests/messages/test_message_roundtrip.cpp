@@ -156,6 +156,14 @@ void fill(ogf::mapper_status_t& m, std::size_t, Rng&) {
   m.keyframes_sent = 2;
   m.persistence_ok = false;
   m.persistence_error = "state directory /var/lib/ogf is read-only";
+  m.map_resets = 1;
+  m.commands_refused_unauthenticated = 7;
+  m.commands_refused_replayed = 2;
+  m.commands_refused_bad_name = 3;
+  m.commands_refused_busy = 1;
+  m.commands_refused_disk_space = 1;
+  m.queries_refused = 4;
+  m.last_requester = "planner:1234";
 }
 
 // Largest array each type is specified to carry (messages/limits.hpp); fixed-size types use 0.

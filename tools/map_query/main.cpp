@@ -2,7 +2,8 @@
 // and prints the reply, the command-line face of the map services a planner uses over LCM.
 //   ogf-map-query cell X Y Z [X Y Z ...]          probability, class, mean, variance, entropy per point
 //   ogf-map-query box XMIN YMIN ZMIN XMAX YMAX ZMAX  known and unknown volume, mean entropy of the box
-//   ogf-map-query save | reset | export FORMAT PATH
+//   ogf-map-query --key FILE save | reset | export FORMAT NAME   (signed with the mapper's key)
+//   ogf-map-query keygen FILE                      a new key file (mode 0600) for services.key_file
 // Exit 0 when answered (or done), 1 when refused, failed or unanswered within --timeout, 2 on bad usage.
 #include <CLI/CLI.hpp>
 #include <lcm/lcm-cpp.hpp>
@@ -21,6 +22,7 @@
 #include <vector>
 
 #include "ogf/common/command_line.hpp"
+#include "ogf/mapper_daemon/command_auth.hpp"
 #include "ogf/transport/lcm_url.hpp"
 #include "ogf/transport/logging.hpp"
 #include "ogf/transport/subscriber.hpp"
@@ -82,13 +84,35 @@ int main(int argc, char** argv) {
   cell->add_option("xyz", cell_xyz, "X Y Z [X Y Z ...], metres")->required()->expected(3, 3 * 10'000);
   auto* boxc = app.add_subcommand("box", "Known and unknown volume and mean entropy of a box");
   boxc->add_option("corners", box, "XMIN YMIN ZMIN XMAX YMAX ZMAX, metres")->required()->expected(6);
+  std::string key_file, keygen_file;
+  app.add_option("--key", key_file,
+                 "Key file to sign commands with (the mapper's services.key_file; 64 hex digits, mode 0600)");
+  auto* keygen = app.add_subcommand("keygen", "Create a new key file (mode 0600) for services.key_file; nothing is sent");
+  keygen->add_option("file", keygen_file, "Where to create it (never replaced)")->required();
   app.add_subcommand("save", "Write a snapshot to the mapper's state directory now");
   app.add_subcommand("reset", "Start an empty map with a new map id (the old one is kept on disk)");
   std::string format, path;
-  auto* exp = app.add_subcommand("export", "Write the map on the mapper's machine");
+  auto* exp = app.add_subcommand("export", "Write the map into the mapper's export directory (services.export_dir)");
   exp->add_option("format", format, "ogfm, ply, pcd, csv or bt")->required();
-  exp->add_option("path", path, "Absolute path on the mapper's machine")->required();
+  exp->add_option("name", path, "Plain file name ending in .FORMAT (no directory); an existing file is kept")->required();
   OGF_PARSE_COMMAND_LINE(app, argc, argv);
+  if (keygen->parsed()) {
+    if (auto st = ogf::mapper_daemon::createCommandKey(keygen_file); !st) {
+      std::fprintf(stderr, "keygen: %s\n", st.error().message.c_str());
+      return kExitFailed;
+    }
+    std::printf("wrote a new key to %s (mode 0600)\n", keygen_file.c_str());
+    return kExitOk;
+  }
+  std::optional<ogf::mapper_daemon::CommandKey> key;
+  if (!key_file.empty()) {
+    auto k = ogf::mapper_daemon::loadCommandKey(key_file);
+    if (!k) {
+      std::fprintf(stderr, "--key: %s\n", k.error().message.c_str());
+      return kExitUsage;
+    }
+    key = *k;
+  }
   if (cell->parsed() && cell_xyz.size() % 3 != 0) {
     std::fprintf(stderr, "cell: give X Y Z triples (%zu numbers given)\n", cell_xyz.size());
     return kExitUsage;
@@ -161,10 +185,15 @@ int main(int argc, char** argv) {
   }
   c.format = format;
   c.path = path;
+  c.nonce = static_cast<std::int64_t>(rng());
+  // Unsigned without --key: the mapper refuses it, and says why.
+  if (key) ogf::mapper_daemon::signCommand(c, *key);
   const auto r = awaitReply<ogf::map_command_reply_t>(lcm, command_channel + "_REPLY", id, timeout_s,
                                                       [&] { lcm.publish(command_channel, &c); });
   if (!r) return noReply(command_channel, timeout_s, resolved);
   std::printf("%s: %s (map_id %lld seq %lld)\n", r->status == ogf::map_command_reply_t::STATUS_OK ? "done" : "not done",
               r->message.c_str(), static_cast<long long>(r->map_id), static_cast<long long>(r->seq));
+  if (r->status == ogf::map_command_reply_t::STATUS_REFUSED && !key)
+    std::fprintf(stderr, "commands are signed with --key FILE (the mapper's services.key_file)\n");
   return r->status == ogf::map_command_reply_t::STATUS_OK ? kExitOk : kExitFailed;
 }

@@ -270,6 +270,51 @@ ConfigKey poseKey(std::string path, std::string meaning, unsigned users, Access 
 constexpr std::size_t kChannelLength = 63;
 constexpr std::size_t kServiceChannelLength = kChannelLength - 6;
 
+// A file's path in the services section: any text ("" = none).
+ConfigKey servicesPathKey(std::string path, std::string meaning, std::filesystem::path ServicesOptions::*in_services,
+                          std::string note) {
+  return {std::move(path), "text", "", std::move(meaning), kMapper,
+          [in_services](const YAML::Node& n, MapperOptions& o, const Locate& where) -> Status {
+            auto v = readText(n, where);
+            if (!v) return v.error();
+            o.services.*in_services = *v;
+            return okStatus();
+          },
+          [in_services](const MapperOptions& o) { return yamlText((o.services.*in_services).string()); },
+          std::move(note)};
+}
+
+// The map services (OGF_MAP_QUERY, OGF_MAP_COMMAND): who may command the mapper, where exports go, and how
+// much of the mapping thread queries and commands may take (docs/reliability.md, "Map services").
+void declareServices(std::vector<ConfigKey>& k) {
+  k.push_back(boolKey("services.commands_enabled",
+                      "`save`, `reset` and `export` are carried out only when true, and then each needs a MAC made "
+                      "with `services.key_file` (`ogf-map-query --key`)",
+                      kMapper, [](auto& o) -> auto& { return o.services.commands_enabled; }));
+  k.push_back(servicesPathKey("services.key_file",
+                      "the commands' key: 64 hex digits in a regular file of the mapper's user, mode 0600 "
+                      "(`ogf-map-query keygen FILE` makes one); the mapper refuses to start with any other",
+                      &ServicesOptions::key_file, ""));
+  k.push_back(servicesPathKey("services.export_dir",
+                      "exports are written only here, by plain file name, never replacing a file; never the state "
+                      "directory itself",
+                      &ServicesOptions::export_dir, "`\"\"` (`<state_dir>/exports`)"));
+  k.push_back(integerKey("services.export_min_free_bytes", "bytes",
+                         "an export that would leave less free space on its file system is refused", kMapper, 0,
+                         std::numeric_limits<long long>::max(),
+                         [](auto& o) -> auto& { return o.services.export_min_free_bytes; }));
+  k.push_back(integerKey("services.max_query_cells", "cells",
+                         "a box query over more cells is refused before any of the map is read or paged in", kMapper,
+                         1, 100'000'000, [](auto& o) -> auto& { return o.services.max_query_cells; }));
+  k.push_back(numberKey("services.budget_ms_per_scan", "ms",
+                        "service work on the mapping thread between two scans; the queries and commands beyond it "
+                        "wait for the next scan",
+                        kMapper, positive, [](auto& o) -> auto& { return o.services.budget_ms_per_scan; }));
+  k.push_back(integerKey("services.box_chunk_cells", "cells",
+                         "cells of a box query summarised in one step (a larger box is answered over several scans)",
+                         kMapper, 1000, 100'000'000, [](auto& o) -> auto& { return o.services.box_chunk_cells; }));
+}
+
 std::vector<ConfigKey> declare() {
   std::vector<ConfigKey> k;
   k.push_back(textKey("lcm_url", "the LCM bus; empty: `$LCM_DEFAULT_URL`, else `udpm://239.255.76.67:7667?ttl=0`",
@@ -444,6 +489,7 @@ std::vector<ConfigKey> declare() {
   k.push_back(integerKey("pose_correction.seed", "", "seed of `rbpf`'s random draws", kOffline, 0,
                          std::numeric_limits<long long>::max(),
                          [](auto& o) -> auto& { return o.pose_correction.corrector.slam.seed; }));
+  declareServices(k);
   return k;
 }
 

@@ -27,6 +27,10 @@ double msSince(Clock::time_point since) {
   return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
 }
 
+// How far a command's utime may be from the mapper's clock (command_auth.hpp's replay rule): wide enough
+// for hosts whose clocks agree to a few seconds (NTP), short enough that a recorded command soon expires.
+constexpr std::int64_t kCommandWindowUs = 30'000'000;
+
 // A worker that has not come round its loop for this long is stuck (the watchdog stops being fed).
 constexpr std::int64_t kWorkerStuckUs = 10'000'000;
 
@@ -69,7 +73,15 @@ Result<std::unique_ptr<MapperDaemon>> MapperDaemon::create(const MapperOptions& 
     if (!c) return Error{"pose_correction: " + c.error().message};
     correction.emplace(std::move(*c));
   }
+  std::optional<CommandKey> key;
+  if (options.services.commands_enabled) {
+    // Never start accepting commands with a key others could read or that is not ours.
+    auto k = loadCommandKey(options.services.key_file);
+    if (!k) return Error{"services.key_file: " + k.error().message};
+    key = *k;
+  }
   std::unique_ptr<MapperDaemon> d(new MapperDaemon(options, lcm, loop, std::move(*mapper), std::move(correction)));
+  d->command_key_ = key;
   d->restore();
   return d;
 }
@@ -87,6 +99,7 @@ MapperDaemon::MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, transpor
       pending_(options.map.fusion.pending),
       pose_clock_(options.map.fusion.time_sanity),
       scan_clock_(options.map.fusion.time_sanity),
+      replay_guard_(wallUtime(), kCommandWindowUs),
       status_timer_(loop.io()) {
   stats_.persistence_ok = true;
 }
@@ -298,6 +311,7 @@ void MapperDaemon::stop() {
     cv_.notify_one();
   }
   if (worker_.joinable()) worker_.join();
+  finishExport(true);
   keyframe_sender_.reset();
   {
     std::lock_guard lk(mu_);
@@ -431,7 +445,7 @@ void MapperDaemon::workerLoop() {
       const auto now = steadyUtime();
       const bool keyframe_due = (keyframe_requested_ || keyframe_waiting_ || now - last_keyframe_steady_ > keyframe_us) &&
                                 !keyframe_sender_->busy();
-      if (keyframe_due || !service_requests_.empty() || snapshotWritten() ||
+      if (keyframe_due || !service_requests_.empty() || box_job_ || snapshotWritten() || exportWritten() ||
           ((state_ || retry_persistence_) && now - last_snapshot_steady_ > snapshot_us)) {
         more = true;
         break;
@@ -439,10 +453,10 @@ void MapperDaemon::workerLoop() {
     }
     const bool keyframe = keyframe_requested_;
     keyframe_requested_ = false;
-    std::deque<ServiceRequest> services;
-    services.swap(service_requests_);
     lk.unlock();
-    serve(services);
+    serve();
+    finishExport(false);
+    more = more || servicesWaiting();
     const auto now = steadyUtime();
     // A keyframe asked for while one is going out follows it; a periodic one waits for the sender.
     keyframe_waiting_ = keyframe_waiting_ || keyframe;

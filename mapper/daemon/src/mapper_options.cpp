@@ -139,7 +139,32 @@ Status MapperOptions::validate() const {
   if (!(status_interval_s > 0)) return Error{"status_interval_s: must be > 0"};
   if (!(test_drop_delta_fraction >= 0 && test_drop_delta_fraction < 1))
     return Error{"test_drop_delta_fraction: must be in [0, 1)"};
+  // services:
+  if (services.commands_enabled && services.key_file.empty())
+    return Error{"services.commands_enabled: needs services.key_file (ogf-map-query keygen FILE makes one)"};
+  if (services.max_query_cells < 1 || services.max_query_cells > 100'000'000)
+    return Error{"services.max_query_cells: must be 1 to 100000000"};
+  if (services.box_chunk_cells < 1000) return Error{"services.box_chunk_cells: must be 1000 or more"};
+  if (!(services.budget_ms_per_scan > 0) || !std::isfinite(services.budget_ms_per_scan))
+    return Error{"services.budget_ms_per_scan: must be > 0"};
+  if (const auto exports = services.exportDirFor(state_dir); !exports.empty() && !state_dir.empty()) {
+    // Compared resolved (links, '..') and without a trailing '/', so no spelling of the state directory passes.
+    const auto resolved = [](const std::filesystem::path& p) {
+      std::string s = std::filesystem::weakly_canonical(p).lexically_normal().string();
+      while (s.size() > 1 && s.back() == '/') s.pop_back();
+      return std::filesystem::path(s);
+    };
+    const auto a = resolved(exports), b = resolved(state_dir);
+    if (a == b || a == b / "pages")
+      return Error{"services.export_dir: " + exports.string() + " is the state directory's own; exports must never land among its files"};
+  }
   return okStatus();
+}
+
+std::filesystem::path ServicesOptions::exportDirFor(const std::filesystem::path& state_dir) const {
+  if (!export_dir.empty()) return export_dir;
+  if (state_dir.empty()) return {};
+  return state_dir / "exports";
 }
 
 Status loadMapperOptions(const std::filesystem::path& path, MapperOptions& o, std::vector<std::string>* keys_read) {

@@ -13,6 +13,7 @@
 #include <ogf/fusion/pose_buffer.hpp>
 #include <ogf/fusion/time_sanity.hpp>
 #include <ogf/lidar_scan_t.hpp>
+#include <ogf/map_command_reply_t.hpp>
 #include <ogf/map_command_t.hpp>
 #include <ogf/map_query_t.hpp>
 #include <ogf/map_request_t.hpp>
@@ -35,7 +36,9 @@
 
 #include "ogf/common/result.hpp"
 #include "ogf/delta/delta_stream.hpp"
+#include "ogf/mapper_daemon/command_auth.hpp"
 #include "ogf/mapper_daemon/keyframe_sender.hpp"
+#include "ogf/mapper_daemon/map_query_answer.hpp"
 #include "ogf/mapper_daemon/mapper_options.hpp"
 #include "ogf/persistence/map_pager.hpp"
 #include "ogf/persistence/state_directory.hpp"
@@ -108,13 +111,28 @@ class MapperDaemon {
   void watchClocks(const ogf::lidar_scan_t& scan);
   void fillClockStatus(ogf::mapper_status_t& s) const;
   void armStatusTimer();
-  // Map services (map_services.cpp): queries and commands arrive on the Asio thread, wait in a bounded
-  // queue and are served by the worker between scans, so they never hold up mapping.
+  // Map services (map_services.cpp): queries and commands arrive on the Asio thread, which refuses
+  // commands that are disabled, unauthenticated or replayed at once; the rest wait in a bounded queue and
+  // are served by the worker between scans for at most services.budget_ms_per_scan each time (a box query
+  // in chunks over several turns, an export written on its own thread), so they never hold up mapping.
   using ServiceRequest = std::variant<ogf::map_query_t, ogf::map_command_t>;
+  enum class CommandRefusal { kUnauthenticated, kReplayed, kBadName, kBusy, kDiskSpace, kOther };
   void subscribeServices();
   void enqueueService(ServiceRequest request);
-  void serve(std::deque<ServiceRequest>& requests);
+  // Why the command may not be carried out (mu_ held), nullopt when it may.
+  std::optional<std::pair<CommandRefusal, std::string>> authenticate(const ogf::map_command_t& command);
+  void refuseCommand(const ogf::map_command_t& command, CommandRefusal why, const std::string& message);
+  void refuseQuery(const ogf::map_query_t& query, const std::string& message);
+  // Whether service work waits (a request, or a box being answered); the worker's.
+  bool servicesWaiting();
+  void serve();
+  void answer(const ogf::map_query_t& query);
+  void stepBox();
   void carryOut(const ogf::map_command_t& command);
+  // Export: checked and copied on the worker, written on its own thread; one at a time.
+  void startExport(const ogf::map_command_t& command, ogf::map_command_reply_t& reply);
+  bool exportWritten() const;
+  void finishExport(bool wait);
   void resetMap();
   void refreshMapStats();
   // What the status reports as the map's memory: the filter's map and the published map beside it (the
@@ -179,6 +197,21 @@ class MapperDaemon {
   std::deque<ServiceRequest> service_requests_;
   std::int64_t service_in_ = 0;       // queries and commands received, malformed ones too
   std::int64_t service_refused_ = 0;  // malformed, beyond the limits, or refused for a full queue
+  std::optional<CommandKey> command_key_;  // services.key_file, when commands are enabled
+  ReplayGuard replay_guard_;
+  // The worker's: the box query being answered chunk by chunk, and the export being written.
+  struct BoxJob {
+    ogf::map_query_t query;
+    ChunkedBox chunks;
+    std::int64_t map_id;
+  };
+  std::optional<BoxJob> box_job_;
+  struct ExportJob {
+    ogf::map_command_reply_t reply;
+    std::string command_text;  // for the log: command, name and requester, sanitised
+    std::future<Status> written;
+  };
+  std::optional<ExportJob> export_job_;
   double update_ms_sum_ = 0;
   int update_count_ = 0;
 

@@ -6,6 +6,7 @@
 // back to a default), then overridden by flags, then validated as a whole.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -24,6 +25,29 @@ using adapters::ScanTimeBase;
 // Where the body's pose comes from: the odometry on the pose channel, or one fixed pose from the
 // configuration (a sensor on a mast or a bench: infrastructure lidars, tests).
 enum class PoseSource { kOdometry, kStatic };
+
+// The map services (OGF_MAP_QUERY, OGF_MAP_COMMAND): the `services:` section.
+struct ServicesOptions {
+  // Commands (save, reset, export) are refused unless enabled, and then need a MAC with the key in key_file
+  // (command_auth.hpp); the mapper refuses to start when the file is missing, not a regular file, or
+  // readable by the group or others.
+  bool commands_enabled = false;
+  std::filesystem::path key_file;
+  // Exports go only here; empty = <state_dir>/exports (no export without either).
+  std::filesystem::path export_dir;
+  // An export is refused when its size bound (map_export.hpp) would leave less than this free.
+  std::uint64_t export_min_free_bytes = 1024ULL * 1024 * 1024;
+  // A box query over more cells is refused before any of the map is read or paged in.
+  std::int64_t max_query_cells = 4'000'000;
+  // Service work between two scans on the mapping thread: queries and commands are served until this
+  // is spent (at least one step: one command, one cells query, or one chunk of a box), the rest wait.
+  double budget_ms_per_scan = 10.0;
+  // Cells of a box query summarised in one step (a box is answered over several scans when larger).
+  std::int64_t box_chunk_cells = 100'000;
+
+  // The export directory in force for `state_dir` (empty when none).
+  std::filesystem::path exportDirFor(const std::filesystem::path& state_dir) const;
+};
 
 struct MapperOptions {
   std::string lcm_url;  // "" = $LCM_DEFAULT_URL, else LCM's default
@@ -60,6 +84,7 @@ struct MapperOptions {
   double page_out_distance_m = 60.0;
   double keyframe_interval_s = 30.0;
   double status_interval_s = 1.0;
+  ServicesOptions services;
 
   // Fault injection for tests: drop this fraction of delta updates before publishing (0 = never).
   double test_drop_delta_fraction = 0.0;
