@@ -339,7 +339,7 @@ void MapperDaemon::onScan(const ogf::lidar_scan_t& scan, const lcm::ReceiveBuffe
   if (!timePlausible("scan", verdict, scan_clock_, span.end_utime, wallUtime(), bad_time_log_)) return;
   if (verdict == fusion::TimeVerdict::kFollowJump) pending_.restartClock();
   const auto outcome = pending_.push({span.begin_utime, span.end_utime, static_cast<std::size_t>(scan.num_points)},
-                                     std::move(owned), steadyUtime());
+                                     std::move(owned), poses_, steadyUtime());
   if (outcome == fusion::PushOutcome::kLate) {
     if (auto n = bad_scan_log_.allow()) spdlog::warn("scan seq {} arrived after a newer one: dropped ({} more)", scan.seq, *n);
   }
