@@ -156,6 +156,11 @@ void fill(ogf::mapper_status_t& m, std::size_t, Rng&) {
   m.keyframes_sent = 2;
   m.persistence_ok = false;
   m.persistence_error = "state directory /var/lib/ogf is read-only";
+  m.inputs = ogf::mapper_status_t::INPUTS_WAITING_FOR_POSES;
+  m.last_scan_age_s = 0.1f;
+  m.last_pose_age_s = -1.0f;
+  m.pose_source = ogf::mapper_status_t::POSE_SOURCE_STATIC;
+  m.poses_ignored = 13;
 }
 
 // Largest array each type is specified to carry (messages/limits.hpp); fixed-size types use 0.

@@ -1,5 +1,5 @@
 // ogf-mapper: the mapping daemon. Scans (VELODYNE_SCAN) and the robot's odometry (POSE, ogf.odometry_t or
-// bot_core.pose_t) in; the OGF map out as deltas on OGF_MAP_DELTA, keyframes on request, status on
+// bot_core.pose_t; or, with --static, one fixed pose from the configuration) in; the OGF map out as deltas on OGF_MAP_DELTA, keyframes on request, status on
 // OGF_MAPPER_STATUS; the map kept in a state directory so a restart resumes it.
 #include <CLI/CLI.hpp>
 #include <lcm/lcm-cpp.hpp>
@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   std::optional<int> threads;
   std::optional<std::string> scan_ch, pose_ch, delta_ch, request_ch, status_ch;
   bool in_memory = false;
+  bool is_static = false;
   bool print_config = false;
   app.add_option("--config", config_path, "YAML configuration file (see --print-config)")->check(CLI::ExistingFile);
   app.add_option("--lcm-url", url, "LCM URL (default: the file's lcm_url, $LCM_DEFAULT_URL, LCM's default)");
@@ -41,6 +42,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "device", "host"}));
   app.add_option("--snapshot-interval", snapshot_s, "Seconds between snapshots")->check(ogf::cli::positive());
   app.add_option("--keyframe-interval", keyframe_s, "Seconds between unsolicited keyframes")->check(ogf::cli::positive());
+  app.add_flag("--static", is_static,
+               "The sensor does not move (an infrastructure lidar, a bench): every scan is mapped at the file's "
+               "static_pose (default: the origin), no odometry needed (pose_source: static)");
   app.add_option("--scan-channel", scan_ch, "Scan channel (default VELODYNE_SCAN)");
   app.add_option("--pose-channel", pose_ch, "Odometry channel (default POSE)");
   app.add_option("--delta-channel", delta_ch, "Delta channel (default OGF_MAP_DELTA)");
@@ -93,6 +97,7 @@ int main(int argc, char** argv) {
   if (request_ch) options.request_channel = *request_ch;
   if (status_ch) options.status_channel = *status_ch;
   if (drop_fraction) options.test_drop_delta_fraction = *drop_fraction;
+  if (is_static) options.pose_source = MapperOptions::PoseSource::kStatic;
   if (auto st = options.validate(); !st) {
     spdlog::critical("configuration: {}", st.error().message);
     return ogf::cli::kExitUsage;
@@ -127,8 +132,19 @@ int main(int argc, char** argv) {
   loop.onShutdown([&d] { d.stop(); });
   loop.setHealthCheck([&d] { return d.healthy(); });
   d.start();
-  spdlog::info("mapping {} + {} on {} at {} m; deltas on {}", options.scan_channel, options.pose_channel, resolved,
-               options.map.filter.resolution, options.delta_channel);
-  loop.ready("mapping");
+  if (options.pose_source == MapperOptions::PoseSource::kStatic) {
+    const Eigen::Isometry3d body = options.static_pose.bodyFromSensor();
+    const Eigen::Quaterniond q(body.linear());
+    spdlog::info("mapping {} with a static pose on {} at {} m; deltas on {}; the body at ({}, {}, {}) m, quaternion "
+                 "(w {:.4f}, x {:.4f}, y {:.4f}, z {:.4f}) in the map frame; {} is not used",
+                 options.scan_channel, resolved, options.map.filter.resolution, options.delta_channel,
+                 body.translation().x(), body.translation().y(), body.translation().z(), q.w(), q.x(), q.y(), q.z(),
+                 options.pose_channel);
+    loop.ready("mapping with a static pose");
+  } else {
+    spdlog::info("mapping {} + {} on {} at {} m; deltas on {}", options.scan_channel, options.pose_channel, resolved,
+                 options.map.filter.resolution, options.delta_channel);
+    loop.ready("mapping");
+  }
   return loop.run();
 }

@@ -74,6 +74,19 @@ Status readVector3(const std::filesystem::path& path, const YAML::Node& parent, 
   return okStatus();
 }
 
+// A rigid transform as {translation: [x, y, z], rpy: [roll, pitch, yaw]} or with quaternion: [w, x, y, z].
+Status readTransform(const std::filesystem::path& path, const YAML::Node& node, const std::string& section,
+                     fusion::ExtrinsicConfig& out) {
+  if (auto st = checkKeys(path, node, section, {"translation", "rpy", "quaternion"}); !st) return st;
+  if (auto st = readVector3(path, node, section, "translation", out.translation_m); !st) return st;
+  if (auto st = readVector3(path, node, section, "rpy", out.rpy_rad); !st) return st;
+  if (const auto q = node["quaternion"]) {
+    if (!q.IsSequence() || q.size() != 4) return Error{where(path, q, section + ".quaternion") + ": expected [w, x, y, z]"};
+    out.quaternion = Eigen::Quaterniond(q[0].as<double>(), q[1].as<double>(), q[2].as<double>(), q[3].as<double>());
+  }
+  return okStatus();
+}
+
 Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path, MapperOptions& o);
 
 #define OGF_TRY(expr)                  \
@@ -84,6 +97,9 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
 Status MapperOptions::validate() const {
   if (auto st = map.validate(); !st) return Error{"map: " + st.error().message};
   if (auto st = pose_correction.validate(); !st) return Error{"pose_correction: " + st.error().message};
+  if (auto st = static_pose.validate(); !st) return Error{"static_pose: " + st.error().message};
+  if (pose_source == PoseSource::kStatic && pose_correction.corrector.mode != slam::CorrectionMode::kNone)
+    return Error{"pose_correction: must be none with pose_source static (a fixed pose has no odometry to correct)"};
   for (const auto* ch : {&scan_channel, &pose_channel, &delta_channel, &request_channel, &status_channel,
                          &corrected_pose_channel, &query_channel, &command_channel}) {
     if (ch->empty() || ch->size() > 63) return Error{"channels: '" + *ch + "' must be 1 to 63 characters"};
@@ -123,8 +139,8 @@ namespace {
 
 Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path, MapperOptions& o) {
   if (!root || root.IsNull()) return okStatus();
-  OGF_TRY(checkKeys(path, root, "", {"lcm_url", "channels", "time_base", "state_dir", "snapshot_interval_s",
-                                     "page_out_distance_m",
+  OGF_TRY(checkKeys(path, root, "", {"lcm_url", "channels", "time_base", "pose_source", "static_pose", "state_dir",
+                                     "snapshot_interval_s", "page_out_distance_m",
                                      "keyframe_interval_s", "status_interval_s", "map", "filter", "fusion",
                                      "pose_correction"}));
   OGF_TRY(read(path, root, "", "lcm_url", o.lcm_url));
@@ -142,6 +158,13 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
     else if (v == "auto") o.time_base = ScanTimeBase::kAuto;
     else return Error{where(path, tb, "time_base") + ": 'auto', 'device' or 'host', got '" + v + "'"};
   }
+  if (const auto ps = root["pose_source"]) {
+    const auto v = ps.as<std::string>();
+    if (v == "odometry") o.pose_source = MapperOptions::PoseSource::kOdometry;
+    else if (v == "static") o.pose_source = MapperOptions::PoseSource::kStatic;
+    else return Error{where(path, ps, "pose_source") + ": 'odometry' or 'static', got '" + v + "'"};
+  }
+  if (const auto sp = root["static_pose"]) OGF_TRY(readTransform(path, sp, "static_pose", o.static_pose));
   if (const auto ch = root["channels"]) {
     OGF_TRY(checkKeys(path, ch, "channels",
                       {"scan", "pose", "delta", "request", "status", "corrected_pose", "query", "command"}));
@@ -179,15 +202,7 @@ Status parseMapperYaml(const YAML::Node& root, const std::filesystem::path& path
     OGF_TRY(read(path, map, "map", "max_range", m.max_range_m));
     OGF_TRY(requireRange(path, map, "map", "max_range", m.max_range_m, false));
     OGF_TRY(read(path, map, "map", "free_space_for_no_return", m.free_space_for_no_return));
-    if (const auto ex = map["extrinsic"]) {
-      OGF_TRY(checkKeys(path, ex, "map.extrinsic", {"translation", "rpy", "quaternion"}));
-      OGF_TRY(readVector3(path, ex, "map.extrinsic", "translation", o.map.fusion.extrinsic.translation_m));
-      OGF_TRY(readVector3(path, ex, "map.extrinsic", "rpy", o.map.fusion.extrinsic.rpy_rad));
-      if (const auto q = ex["quaternion"]) {
-        if (!q.IsSequence() || q.size() != 4) return Error{where(path, q, "map.extrinsic.quaternion") + ": expected [w, x, y, z]"};
-        o.map.fusion.extrinsic.quaternion = Eigen::Quaterniond(q[0].as<double>(), q[1].as<double>(), q[2].as<double>(), q[3].as<double>());
-      }
-    }
+    if (const auto ex = map["extrinsic"]) OGF_TRY(readTransform(path, ex, "map.extrinsic", o.map.fusion.extrinsic));
   }
   if (const auto f = root["filter"]) {
     auto& fc = o.map.filter;
@@ -255,6 +270,8 @@ std::string exampleMapperConfig() {
     << "}   # map services answer on <channel>_REPLY\n"
     << "time_base: auto            # the scan clock odometry utime shares: device, host, or auto (device when\n"
     << "                           # the driver reports PPS locked, host otherwise)\n"
+    << "pose_source: odometry      # odometry (the pose channel), or static: every scan at static_pose, no odometry\n"
+    << "static_pose: {translation: [0, 0, 0], rpy: [0, 0, 0]}   # body -> map with pose_source static; or quaternion\n"
     << "state_dir: \"\"              # snapshots + journal; empty keeps the map in memory only\n"
     << "snapshot_interval_s: " << d.snapshot_interval_s << "\n"
     << "page_out_distance_m: " << d.page_out_distance_m

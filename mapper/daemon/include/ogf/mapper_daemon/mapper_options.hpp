@@ -17,6 +17,10 @@ namespace ogf::mapper_daemon {
 using adapters::ScanTimeBase;
 
 struct MapperOptions {
+  // Where each scan's body pose comes from: the odometry on the pose channel (interpolated at every
+  // point's time), or one fixed pose (static_pose) for a sensor that does not move, with no odometry.
+  enum class PoseSource { kOdometry, kStatic };
+
   std::string lcm_url;  // "" = $LCM_DEFAULT_URL, else LCM's default
   std::string scan_channel = "VELODYNE_SCAN";
   std::string pose_channel = "POSE";
@@ -30,6 +34,10 @@ struct MapperOptions {
   // Which scan clock the odometry's utime shares: the sensor's device time (GPS/PPS or top-of-hour +
   // host hour) or the driver host's receive time.
   ScanTimeBase time_base = ScanTimeBase::kAuto;
+  PoseSource pose_source = PoseSource::kOdometry;
+  // With pose_source kStatic: the body in the map frame (the extrinsic still places the sensor on the
+  // body); identity by default.
+  fusion::ExtrinsicConfig static_pose;
 
   pipeline::MapperConfig map;
   // The optional stage between odometry and the OGF: none, scan-match or rbpf.
