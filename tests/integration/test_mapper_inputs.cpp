@@ -11,13 +11,12 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <lcm/lcm-cpp.hpp>
-#include <ogf/mapper_status_t.hpp>
-
 #include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <lcm/lcm-cpp.hpp>
+#include <ogf/mapper_status_t.hpp>
 #include <regex>
 #include <string>
 #include <thread>
@@ -37,7 +36,8 @@ using Status = ogf::mapper_status_t;
 const std::string kBin = OGF_BIN_DIR;
 
 std::int64_t wallUtime() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
       .count();
 }
 
@@ -61,7 +61,8 @@ ogf::lidar_scan_t fixedSensorScan(std::int64_t seq, std::int64_t utime, int poin
 class MapperInputsTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
+    if (auto why = ogf::testing::ensureLoopbackMulticast())
+      GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
     dir_ = fs::temp_directory_path() / ("ogf-mapper-inputs-" + std::to_string(::getpid()) + "-" +
                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
@@ -72,10 +73,12 @@ class MapperInputsTest : public ::testing::Test {
   }
   // ogf-mapper with `config` (YAML) and `flags`, logging at info.
   std::unique_ptr<ChildProcess> startMapper(const std::string& url, const std::string& config,
-                                            std::vector<std::string> flags, const std::string& log = "mapper.log") {
+                                            std::vector<std::string> flags,
+                                            const std::string& log = "mapper.log") {
     std::ofstream(dir_ / "mapper.yaml") << "status_interval_s: 0.1\n" << config;
-    std::vector<std::string> args{kBin + "/ogf-mapper", "--lcm-url", url, "--config", (dir_ / "mapper.yaml").string(),
-                                  "--log-level", "info"};
+    std::vector<std::string> args{
+        kBin + "/ogf-mapper", "--lcm-url", url, "--config", (dir_ / "mapper.yaml").string(),
+        "--log-level",        "info"};
     args.insert(args.end(), flags.begin(), flags.end());
     return std::make_unique<ChildProcess>(args, (dir_ / log).string());
   }
@@ -97,7 +100,8 @@ TEST_F(MapperInputsTest, StaticPoseMapsEveryScanWithoutOdometryAtTheConfiguredPo
   // The scans see the room from (1.5, 0, 0.5): the wall at x = 5 is 3.5 m ahead of the sensor.
   auto mapper = startMapper(url, "static_pose: {translation: [1.5, 0, 0.5]}\n", {"--static", "--in-memory"});
   ASSERT_TRUE(status.waitFor([](const Status&) { return true; }, 10s)) << mapper->log();
-  EXPECT_NE(mapper->log().find("mapping VELODYNE_SCAN with a static pose on "), std::string::npos) << mapper->log();
+  EXPECT_NE(mapper->log().find("mapping VELODYNE_SCAN with a static pose on "), std::string::npos)
+      << mapper->log();
 
   lcm::LCM lcm(url);
   constexpr int kScans = 30;
@@ -133,7 +137,8 @@ TEST_F(MapperInputsTest, StaticPoseMapsEveryScanWithoutOdometryAtTheConfiguredPo
   EXPECT_EQ(occurrences(mapper->log(), "but the pose is static"), 1U) << mapper->log();
 }
 
-TEST_F(MapperInputsTest, ScansWithoutOdometryAreSaidOnceNamingThePoseChannelAndDroppedForWantOfAPoseNotBehind) {
+TEST_F(MapperInputsTest,
+       ScansWithoutOdometryAreSaidOnceNamingThePoseChannelAndDroppedForWantOfAPoseNotBehind) {
   const std::string url = ogf::testing::loopbackUdpmUrl(82);
   ogf::testing::LatestMessage<Status> status(url, "OGF_MAPPER_STATUS");
   auto mapper = startMapper(url, "", {"--in-memory"});
@@ -154,7 +159,10 @@ TEST_F(MapperInputsTest, ScansWithoutOdometryAreSaidOnceNamingThePoseChannelAndD
     std::this_thread::sleep_for(100ms);
   }
   const auto waiting = status.waitFor(
-      [&](const Status& s) { return s.scans_in == i && s.scans_dropped_no_pose + s.scans_dropped_behind == i; }, 10s);
+      [&](const Status& s) {
+        return s.scans_in == i && s.scans_dropped_no_pose + s.scans_dropped_behind == i;
+      },
+      10s);
   ASSERT_TRUE(waiting) << mapper->log();
   EXPECT_EQ(waiting->scans_dropped_behind, 0) << "no scan could be mapped: the queue is not to blame";
   EXPECT_EQ(waiting->scans_dropped_no_pose, i);
@@ -164,7 +172,8 @@ TEST_F(MapperInputsTest, ScansWithoutOdometryAreSaidOnceNamingThePoseChannelAndD
   EXPECT_EQ(waiting->pose_source, Status::POSE_SOURCE_ODOMETRY);
   std::string log = mapper->log();
   EXPECT_EQ(occurrences(log, "scans arrive on VELODYNE_SCAN but no pose on POSE"), 1U) << log;
-  EXPECT_NE(log.find("--static"), std::string::npos) << "the warning names the fix for a fixed sensor: " << log;
+  EXPECT_NE(log.find("--static"), std::string::npos)
+      << "the warning names the fix for a fixed sensor: " << log;
 
   // The odometry comes: said once, and the scans are mapped.
   const int first_covered = i + 1;  // the first scan of a resumed odometry begins before its first pose
@@ -175,7 +184,10 @@ TEST_F(MapperInputsTest, ScansWithoutOdometryAreSaidOnceNamingThePoseChannelAndD
     std::this_thread::sleep_for(100ms);
   }
   const auto ok = status.waitFor(
-      [&](const Status& s) { return s.inputs == Status::INPUTS_OK && s.scans_mapped >= i - first_covered - 1; }, 10s);
+      [&](const Status& s) {
+        return s.inputs == Status::INPUTS_OK && s.scans_mapped >= i - first_covered - 1;
+      },
+      10s);
   ASSERT_TRUE(ok) << mapper->log();
   EXPECT_EQ(ok->scans_dropped_behind, 0);
   log = mapper->log();
@@ -186,7 +198,8 @@ TEST_F(MapperInputsTest, ScansWithoutOdometryAreSaidOnceNamingThePoseChannelAndD
     for (const auto& p : ogf::testing::feedStep(i, 400).poses) lcm.publish("POSE", &p);
     std::this_thread::sleep_for(100ms);
   }
-  const auto no_scans = status.waitFor([](const Status& s) { return s.inputs == Status::INPUTS_WAITING_FOR_SCANS; }, 10s);
+  const auto no_scans =
+      status.waitFor([](const Status& s) { return s.inputs == Status::INPUTS_WAITING_FOR_SCANS; }, 10s);
   ASSERT_TRUE(no_scans) << mapper->log();
   EXPECT_GT(no_scans->last_scan_age_s, 3.0f);
   mapper->signal(SIGTERM);
@@ -217,10 +230,12 @@ TEST_F(MapperInputsTest, NoScanIsRefusedAfterAPauseLongerThanMaxTimeAheadAndASta
   const auto stale = fixedSensorScan(seq++, last.device_utime_end + 1'000, 300);
   lcm.publish("VELODYNE_SCAN", &stale);
   for (int k = 0; k < 20; ++k) scanNow();
-  const auto done = status.waitFor([&](const Status& s) { return s.scans_in == seq && s.scans_mapped == seq; }, 20s);
+  const auto done =
+      status.waitFor([&](const Status& s) { return s.scans_in == seq && s.scans_mapped == seq; }, 20s);
   const auto s = status.latest();
   ASSERT_TRUE(s);
-  EXPECT_TRUE(done) << "scans in " << s->scans_in << " mapped " << s->scans_mapped << " of " << seq << "\n" << mapper->log();
+  EXPECT_TRUE(done) << "scans in " << s->scans_in << " mapped " << s->scans_mapped << " of " << seq << "\n"
+                    << mapper->log();
   EXPECT_EQ(s->scans_refused_time, 0) << mapper->log();
   EXPECT_EQ(s->clock_jumps, 0) << mapper->log();
   mapper->signal(SIGTERM);

@@ -1,17 +1,20 @@
 // InputWatch: which of the mapper's inputs arrive, and when that changes.
-#include <ogf/fusion/input_watch.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <ogf/fusion/input_watch.hpp>
 
 namespace ogf::fusion {
 
 const char* inputStateName(InputState s) {
   switch (s) {
-    case InputState::kNone: return "no input";
-    case InputState::kOk: return "ok";
-    case InputState::kWaitingForPoses: return "waiting for poses";
-    case InputState::kWaitingForScans: return "waiting for scans";
+    case InputState::kNone:
+      return "no input";
+    case InputState::kOk:
+      return "ok";
+    case InputState::kWaitingForPoses:
+      return "waiting for poses";
+    case InputState::kWaitingForScans:
+      return "waiting for scans";
   }
   return "?";
 }
@@ -29,9 +32,12 @@ bool InputWatch::silent(std::optional<std::int64_t> last, std::int64_t utime) co
 
 std::int64_t InputWatch::silentFor(std::int64_t utime) const {
   std::optional<std::int64_t> missing;
-  if (state_ == InputState::kWaitingForPoses) missing = last_pose_;
-  else if (state_ == InputState::kWaitingForScans) missing = last_scan_;
-  else if (state_ == InputState::kNone) missing = std::max(last_scan_.value_or(start_), last_pose_.value_or(start_));
+  if (state_ == InputState::kWaitingForPoses)
+    missing = last_pose_;
+  else if (state_ == InputState::kWaitingForScans)
+    missing = last_scan_;
+  else if (state_ == InputState::kNone)
+    missing = std::max(last_scan_.value_or(start_), last_pose_.value_or(start_));
   return utime - std::max(missing.value_or(start_), start_);
 }
 
@@ -40,8 +46,10 @@ std::optional<InputWatch::Change> InputWatch::observe(std::int64_t utime) {
   const bool poses = arriving(last_pose_, utime);
   InputState next = state_;
   if (!config_.poses_needed) {
-    if (scans) next = InputState::kOk;
-    else if (silent(last_scan_, utime)) next = InputState::kWaitingForScans;
+    if (scans)
+      next = InputState::kOk;
+    else if (silent(last_scan_, utime))
+      next = InputState::kWaitingForScans;
   } else if (scans && poses) {
     next = InputState::kOk;
   } else if (scans && silent(last_pose_, utime)) {

@@ -1,9 +1,8 @@
 // InputWatch: scans without poses, poses without scans, and neither are told apart once the missing
 // stream has been silent for silence_s; each state is reported once, and so is the return to normal.
-#include <ogf/fusion/input_watch.hpp>
-
 #include <gtest/gtest.h>
 
+#include <ogf/fusion/input_watch.hpp>
 #include <vector>
 
 namespace ogf::fusion {
@@ -14,7 +13,8 @@ constexpr std::int64_t kStart = 100 * kS;
 
 // Feeds scans at 10 Hz and/or poses at 100 Hz from `from` to `to` (steady µs), observing every 10 ms;
 // returns the changes reported.
-std::vector<InputWatch::Change> run(InputWatch& w, std::int64_t from, std::int64_t to, bool scans, bool poses) {
+std::vector<InputWatch::Change> run(InputWatch& w, std::int64_t from, std::int64_t to, bool scans,
+                                    bool poses) {
   std::vector<InputWatch::Change> out;
   for (std::int64_t t = from; t < to; t += 10'000) {
     if (scans && (t - from) % 100'000 == 0) w.scanArrived(t);

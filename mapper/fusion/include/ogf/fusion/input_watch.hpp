@@ -15,7 +15,8 @@ enum class InputState {
   kNone,             // neither input arrives
   kOk,               // scans arrive, and poses when they are needed
   kWaitingForPoses,  // scans arrive, no pose for silence_s
-  kWaitingForScans,  // poses arrive (or, with a fixed pose, nothing but scans is needed), no scan for silence_s
+  kWaitingForScans,  // poses arrive (or, with a fixed pose, nothing but scans is needed), no scan for
+                     // silence_s
 };
 
 const char* inputStateName(InputState s);
