@@ -105,7 +105,7 @@ MapperDaemon::MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, transpor
       pending_(options.map.fusion.pending),
       pose_clock_(options.map.fusion.time_sanity),
       scan_clock_(options.map.fusion.time_sanity),
-      inputs_(fusion::InputWatchConfig{3.0, options.pose_source == MapperOptions::PoseSource::kOdometry}, steadyUtime()),
+      inputs_(inputWatchConfig(), steadyUtime()),
       status_timer_(loop.io()) {
   stats_.persistence_ok = true;
 }
@@ -303,6 +303,8 @@ void MapperDaemon::start() {
   {
     std::lock_guard lk(mu_);
     worker_heartbeat_ = steadyUtime();
+    // The inputs' silence counts from now, not from before restoring the map (a long journal replay).
+    inputs_ = fusion::InputWatch(inputWatchConfig(), steadyUtime());
   }
   keyframe_sender_ = std::make_unique<KeyframeSender>(
       [this](const ogf::map_delta_t& m) { lcm_.publish(options_.delta_channel, &m); },

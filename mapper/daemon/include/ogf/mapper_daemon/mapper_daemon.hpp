@@ -116,6 +116,8 @@ class MapperDaemon {
   // A message arrived on the pose channel while the pose is static (mu_ held): counted, said once.
   void poseIgnored();
   bool staticPose() const { return options_.pose_source == MapperOptions::PoseSource::kStatic; }
+  // A missing input is said after 3 s: several scan periods (10 Hz) and far beyond odometry's (50-100 Hz).
+  fusion::InputWatchConfig inputWatchConfig() const { return {3.0, !staticPose()}; }
   void armStatusTimer();
   // Map services (map_services.cpp): queries and commands arrive on the Asio thread, wait in a bounded
   // queue and are served by the worker between scans, so they never hold up mapping.
