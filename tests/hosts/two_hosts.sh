@@ -104,7 +104,8 @@ rejected=$(status mapper.scans_rejected)
 [ "$in" -eq "$published" ] || fail "the mapper in B received $in of the $published scans published in A"
 [ "$mapped" -gt 0 ] && [ "$mapped" -eq "$in" ] || fail "the mapper mapped $mapped of $in scans"
 [ "$rejected" -eq 0 ] || fail "the mapper rejected $rejected scans"
-checksum=$(sed -n 's/.* checksum \([0-9a-f]*\) server_checksum.*/\1/p' <<<"$line")
-server=$(sed -n 's/.* server_checksum \([0-9a-f]*\) .*/\1/p' <<<"$line")
-[ -n "$checksum" ] && [ "$checksum" = "$server" ] || fail "client checksum '$checksum' != server checksum '$server'"
+checksum=$(sed -n 's/.* published_checksum \([0-9a-f]*\) mapper_published_checksum.*/\1/p' <<<"$line")
+server=$(sed -n 's/.* mapper_published_checksum \([0-9a-f]*\) .*/\1/p' <<<"$line")
+[ -n "$checksum" ] && [ "$checksum" = "$server" ] ||
+  fail "client published_checksum '$checksum' != mapper_published_checksum '$server'"
 echo "PASS: $published scans crossed the veth from $ns_a to $ns_b, $mapped mapped, client checksum $checksum = mapper's"

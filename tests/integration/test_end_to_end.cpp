@@ -279,8 +279,8 @@ class EndToEnd : public ::testing::Test {
     EXPECT_EQ(m.poses_rejected, 0);
     SCOPED_TRACE(run.client_line);
     EXPECT_EQ(field(run.client_line, "consistent"), "yes");
-    EXPECT_FALSE(field(run.client_line, "checksum").empty());
-    EXPECT_EQ(field(run.client_line, " checksum"), field(run.client_line, "server_checksum"));
+    EXPECT_FALSE(field(run.client_line, " published_checksum").empty());
+    EXPECT_EQ(field(run.client_line, " published_checksum"), field(run.client_line, "mapper_published_checksum"));
     EXPECT_EQ(field(run.client_line, " seq"), std::to_string(m.delta_seq));
     const std::string acc = field(run.eval_table, R"(accuracy \(eq\. 13, unknown = wrong\))");
     ASSERT_FALSE(acc.empty()) << run.eval_table;

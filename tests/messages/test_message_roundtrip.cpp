@@ -164,6 +164,11 @@ void fill(ogf::mapper_status_t& m, std::size_t, Rng&) {
   m.commands_refused_disk_space = 1;
   m.queries_refused = 4;
   m.last_requester = "planner:1234";
+  m.inputs = ogf::mapper_status_t::INPUTS_WAITING_FOR_POSES;
+  m.last_scan_age_s = 0.1f;
+  m.last_pose_age_s = -1.0f;
+  m.pose_source = ogf::mapper_status_t::POSE_SOURCE_STATIC;
+  m.poses_ignored = 13;
 }
 
 // Largest array each type is specified to carry (messages/limits.hpp); fixed-size types use 0.

@@ -1,10 +1,12 @@
 // ogf-map-client: follows the OGF_MAP_DELTA stream the way a planner or viewer would: rebuilds the map
 // from deltas and keyframes, asks for a keyframe (map_request_t on OGF_MAP_REQUEST) at start and after
-// any gap, and prints the checksum of its map, which equals the mapper's when nothing was missed.
+// any gap, and prints the checksum of the published map it rebuilt (cells as the deltas carry them:
+// quantised probability, class, variance), which equals the checksum the mapper stamps on each delta
+// when nothing was missed. Neither is the status's filter_checksum (every float the filter stores).
 //
 // Output: a line per second while running (with --progress) and, at the end,
-//   map_id <id> seq <n> cells <n> checksum <hex> server_checksum <hex> consistent <yes|no> gaps <n>
-//   keyframes <n> malformed <n> messages <n>
+//   map_id <id> seq <n> cells <n> published_checksum <hex> mapper_published_checksum <hex>
+//   consistent <yes|no> gaps <n> keyframes <n> malformed <n> messages <n>
 #include <CLI/CLI.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <lcm/lcm-cpp.hpp>
@@ -27,8 +29,14 @@
 #include "ogf/transport/subscriber.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"Rebuild the ogf map from OGF_MAP_DELTA and print its checksum (equal to the mapper's when "
-               "nothing was missed)."};
+  CLI::App app{
+      "Rebuild the ogf map from OGF_MAP_DELTA and print the checksum of that published map.\n\n"
+      "Output at the end: map_id, seq, cells, published_checksum (of the map this client rebuilt), "
+      "mapper_published_checksum (the one the mapper stamps on its deltas for the same seq), consistent (yes when "
+      "the two are equal: nothing was missed), gaps, keyframes, malformed, messages.\n"
+      "Both checksums cover the published cells (quantised probability, class, variance). The filter_checksum in "
+      "OGF_MAPPER_STATUS covers every float the filter stores: a different number, to compare only with another "
+      "mapper's filter_checksum or with the checksum ogf-map prints."};
   std::string url;
   std::string delta_channel = "OGF_MAP_DELTA";
   std::string request_channel = "OGF_MAP_REQUEST";
@@ -109,7 +117,7 @@ int main(int argc, char** argv) {
     if (receiver.needsKeyframe() && now - last_request > std::chrono::duration<double>(keyframe_retry_s)) requestKeyframe();
     if (progress && now - last_progress >= std::chrono::seconds(1)) {
       last_progress = now;
-      std::printf("seq %lld cells %zu checksum %016llx gaps %llu messages %llu\n",
+      std::printf("seq %lld cells %zu published_checksum %016llx gaps %llu messages %llu\n",
                   static_cast<long long>(receiver.appliedSeq()), receiver.map().size(),
                   static_cast<unsigned long long>(receiver.map().checksum()),
                   static_cast<unsigned long long>(receiver.gaps()), static_cast<unsigned long long>(messages));
@@ -133,8 +141,8 @@ int main(int argc, char** argv) {
   const int rc = loop.run();
 
   const auto server = receiver.serverChecksum();
-  std::printf("map_id %lld seq %lld cells %zu checksum %016llx server_checksum %016llx consistent %s gaps %llu "
-              "keyframes %llu malformed %llu messages %llu\n",
+  std::printf("map_id %lld seq %lld cells %zu published_checksum %016llx mapper_published_checksum %016llx "
+              "consistent %s gaps %llu keyframes %llu malformed %llu messages %llu\n",
               static_cast<long long>(receiver.mapId().value_or(-1)), static_cast<long long>(receiver.appliedSeq()),
               receiver.map().size(), static_cast<unsigned long long>(receiver.map().checksum()),
               static_cast<unsigned long long>(server.value_or(0)), receiver.consistent() ? "yes" : "no",

@@ -1,5 +1,5 @@
 // ogf-mapper: the mapping daemon. Scans (VELODYNE_SCAN) and the robot's odometry (POSE, ogf.odometry_t or
-// bot_core.pose_t) in; the OGF map out as deltas on OGF_MAP_DELTA, keyframes on request, status on
+// bot_core.pose_t; or, with --static, one fixed pose from the configuration) in; the OGF map out as deltas on OGF_MAP_DELTA, keyframes on request, status on
 // OGF_MAPPER_STATUS; the map kept in a state directory so a restart resumes it.
 #include <CLI/CLI.hpp>
 #include <lcm/lcm-cpp.hpp>
@@ -42,6 +42,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "device", "host"}));
   app.add_option("--snapshot-interval", snapshot_s, "Seconds between snapshots")->check(ogf::cli::positive());
   app.add_option("--keyframe-interval", keyframe_s, "Seconds between unsolicited keyframes")->check(ogf::cli::positive());
+  app.add_flag("--static", is_static,
+               "The sensor does not move (an infrastructure lidar, a bench): every scan is mapped at the file's "
+               "static_pose (default: the origin), no odometry needed (pose_source: static)");
   app.add_option("--scan-channel", scan_ch, "Scan channel (default VELODYNE_SCAN)");
   app.add_option("--pose-channel", pose_ch, "Odometry channel (default POSE)");
   app.add_option("--delta-channel", delta_ch, "Delta channel (default OGF_MAP_DELTA)");
@@ -50,8 +53,6 @@ int main(int argc, char** argv) {
   app.add_option("--test-drop-deltas", drop_fraction, "Testing: drop this fraction of delta updates (gap injection)")
       ->check(ogf::cli::between(0.0, 0.99));
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
-  app.add_flag("--static", is_static,
-               "The sensor does not move: the body stays at static_pose (pose_source: static), no odometry");
   app.add_option("--print-config", print_config,
                  "Print the configuration (every key with its value: the defaults, then --config's and the flags') "
                  "as YAML and exit; --print-config=markdown prints the table of keys instead")
@@ -140,8 +141,19 @@ int main(int argc, char** argv) {
   loop.onShutdown([&d] { d.stop(); });
   loop.setHealthCheck([&d] { return d.healthy(); });
   d.start();
-  spdlog::info("mapping {} + {} on {} at {} m; deltas on {}", options.scan_channel, options.pose_channel, resolved,
-               options.map.filter.resolution, options.delta_channel);
-  loop.ready("mapping");
+  if (options.pose_source == PoseSource::kStatic) {
+    const Eigen::Isometry3d body = options.static_pose.bodyFromSensor();
+    const Eigen::Quaterniond q(body.linear());
+    spdlog::info("mapping {} with a static pose on {} at {} m; deltas on {}; the body at ({}, {}, {}) m, quaternion "
+                 "(w {:.4f}, x {:.4f}, y {:.4f}, z {:.4f}) in the map frame; {} is not used",
+                 options.scan_channel, resolved, options.map.filter.resolution, options.delta_channel,
+                 body.translation().x(), body.translation().y(), body.translation().z(), q.w(), q.x(), q.y(), q.z(),
+                 options.pose_channel);
+    loop.ready("mapping with a static pose");
+  } else {
+    spdlog::info("mapping {} + {} on {} at {} m; deltas on {}", options.scan_channel, options.pose_channel, resolved,
+                 options.map.filter.resolution, options.delta_channel);
+    loop.ready("mapping");
+  }
   return loop.run();
 }

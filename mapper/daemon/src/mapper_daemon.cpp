@@ -34,9 +34,14 @@ constexpr std::int64_t kCommandWindowUs = 30'000'000;
 // A worker that has not come round its loop for this long is stuck (the watchdog stops being fed).
 constexpr std::int64_t kWorkerStuckUs = 10'000'000;
 
-// Whether a message whose clock TimeSanity judged goes on; logs a refusal (rate-limited) or a followed jump.
+// Seconds between two microsecond times, for the log.
+double secondsBetween(std::int64_t later, std::int64_t earlier) { return static_cast<double>(later - earlier) * 1e-6; }
+
+// Whether a message whose clock TimeSanity judged (before check() took it in) goes on; logs a refusal
+// (rate-limited) with the times it was judged against, or a followed jump.
 bool timePlausible(const char* what, fusion::TimeVerdict verdict, const fusion::TimeSanity& clock,
-                   std::int64_t utime, std::int64_t wall_utime, transport::LogRateLimiter& log) {
+                   std::optional<std::int64_t> expected, std::int64_t utime, std::int64_t wall_utime,
+                   transport::LogRateLimiter& log) {
   using fusion::TimeVerdict;
   if (verdict == TimeVerdict::kAccept) return true;
   if (verdict == TimeVerdict::kFollowJump) {
@@ -44,11 +49,23 @@ bool timePlausible(const char* what, fusion::TimeVerdict verdict, const fusion::
                  clock.timeBeforeLastJump() ? std::to_string(*clock.timeBeforeLastJump()) : "none", utime, wall_utime);
     return true;
   }
-  static constexpr const char* kWhy[] = {"", "ahead of the host clock", "ahead of the stream", "behind the stream"};
-  if (auto n = log.allow())
-    spdlog::warn("{} at {} refused: {} (newest accepted {}, host clock {}) ({} more)", what, utime,
-                 kWhy[static_cast<int>(verdict)],
-                 clock.reference() ? std::to_string(*clock.reference()) : "none", wall_utime, *n);
+  const auto n = log.allow();
+  if (!n) return false;
+  const double max_ahead_s = static_cast<double>(clock.maxAheadUs()) * 1e-6;
+  std::string why;
+  if (verdict == TimeVerdict::kAheadOfHost) {
+    why = fmt::format("{:.3f} s ahead of the host clock {} (at most {} s is plausible)", secondsBetween(utime, wall_utime),
+                      wall_utime, max_ahead_s);
+  } else if (verdict == TimeVerdict::kAheadOfStream && expected) {
+    why = fmt::format("{:.3f} s ahead of the stream, which is expected at {} (its newest time {} plus the host time "
+                      "since; at most {} s beyond is plausible)",
+                      secondsBetween(utime, *expected), *expected, clock.reference().value_or(0), max_ahead_s);
+  } else {
+    why = fmt::format("{:.3f} s behind the stream's newest time {} (at most {} s is plausible)",
+                      secondsBetween(clock.reference().value_or(utime), utime), clock.reference().value_or(0),
+                      static_cast<double>(clock.maxBehindUs()) * 1e-6);
+  }
+  spdlog::warn("{} at {} refused: {}; host clock {} ({} more)", what, utime, why, wall_utime, *n);
   return false;
 }
 
@@ -91,6 +108,7 @@ MapperDaemon::MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, transpor
     : options_(options),
       lcm_(lcm),
       loop_(loop),
+      static_map_from_sensor_(options.static_pose.bodyFromSensor() * options.map.fusion.extrinsic.bodyFromSensor()),
       mapper_(std::move(mapper)),
       correction_(std::move(correction)),
       deltas_({options.map.filter.resolution, newMapId(), ogf::messages::kMaxDeltaCellsPerMessage}),
@@ -99,6 +117,7 @@ MapperDaemon::MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, transpor
       pending_(options.map.fusion.pending),
       pose_clock_(options.map.fusion.time_sanity),
       scan_clock_(options.map.fusion.time_sanity),
+      inputs_(inputWatchConfig(), steadyUtime()),
       replay_guard_(wallUtime(), kCommandWindowUs),
       status_timer_(loop.io()) {
   stats_.persistence_ok = true;
@@ -147,8 +166,10 @@ bool MapperDaemon::applyRecovered(const persistence::RecoveredState& rec, const 
   // The whole map's cells and checksum, paged-out regions included, as the status reports them.
   const auto& map = mapper_.filter();
   const filter::BlockHashSum held = pager_ ? pager_->heldBlocks() : filter::BlockHashSum{};
-  spdlog::info("restored map {} at seq {} (snapshot {} + {} journal records): {} cells, checksum {:016x}", rec.map_id,
-               rec.last_seq, rec.snapshot_seq, rec.replay.size(),
+  // The map id the delta stream, queries and command replies carry: a restart is a new stream for clients
+  // (they take a keyframe), so this run's id, not the one the state directory's files were written under.
+  spdlog::info("restored map {} at seq {} (snapshot {} + {} journal records): {} cells, filter checksum {:016x}",
+               deltas_.mapId(), rec.last_seq, rec.snapshot_seq, rec.replay.size(),
                map.allocatedCells() + held.blocks * map.cellsPerBlock(), map.checksum(held));
   return true;
 }
@@ -264,6 +285,7 @@ void MapperDaemon::start() {
         {
           std::lock_guard lk(mu_);
           ++malformed_scans_;
+          inputs_.scanArrived(steadyUtime());
         }
         if (auto n = bad_scan_log_.allow()) spdlog::warn("scan on {} ({} bytes) {} ({} more)", ch, size, why, *n);
       });
@@ -294,6 +316,8 @@ void MapperDaemon::start() {
   {
     std::lock_guard lk(mu_);
     worker_heartbeat_ = steadyUtime();
+    // The inputs' silence counts from now, not from before restoring the map (a long journal replay).
+    inputs_ = fusion::InputWatch(inputWatchConfig(), steadyUtime());
   }
   keyframe_sender_ = std::make_unique<KeyframeSender>(
       [this](const ogf::map_delta_t& m) { lcm_.publish(options_.delta_channel, &m); },
@@ -344,6 +368,7 @@ void MapperDaemon::onScan(const ogf::lidar_scan_t& scan, const lcm::ReceiveBuffe
     {
       std::lock_guard lk(mu_);
       ++malformed_scans_;
+      inputs_.scanArrived(steadyUtime());
     }
     if (auto n = bad_scan_log_.allow()) spdlog::warn("scan seq {} rejected: {} ({} more)", scan.seq, st.error().message, *n);
     return;
@@ -351,12 +376,15 @@ void MapperDaemon::onScan(const ogf::lidar_scan_t& scan, const lcm::ReceiveBuffe
   auto owned = std::make_shared<const ogf::lidar_scan_t>(scan);
   const fusion::ScanTimeSpan span = fusion::timeSpanOf(scanPointsOf(*owned, options_.time_base));
   std::lock_guard lk(mu_);
+  const std::int64_t wall = wallUtime(), steady = steadyUtime();
+  inputs_.scanArrived(steady);
   watchClocks(scan);  // before the time checks: a scan on another clock than the odometry is told apart
-  const auto verdict = scan_clock_.check(span.end_utime, wallUtime(), steadyUtime());
-  if (!timePlausible("scan", verdict, scan_clock_, span.end_utime, wallUtime(), bad_time_log_)) return;
+  const auto expected = scan_clock_.expectedAt(steady);
+  const auto verdict = scan_clock_.check(span.end_utime, wall, steady);
+  if (!timePlausible("scan", verdict, scan_clock_, expected, span.end_utime, wall, bad_time_log_)) return;
   if (verdict == fusion::TimeVerdict::kFollowJump) pending_.restartClock();
   const auto outcome = pending_.push({span.begin_utime, span.end_utime, static_cast<std::size_t>(scan.num_points)},
-                                     std::move(owned), steadyUtime());
+                                     std::move(owned), poses_, steady);
   if (outcome == fusion::PushOutcome::kLate) {
     if (auto n = bad_scan_log_.allow()) spdlog::warn("scan seq {} arrived after a newer one: dropped ({} more)", scan.seq, *n);
   }
@@ -365,11 +393,18 @@ void MapperDaemon::onScan(const ogf::lidar_scan_t& scan, const lcm::ReceiveBuffe
 }
 
 void MapperDaemon::onPose(const lcm::ReceiveBuffer& rb) {
+  if (staticPose()) {
+    std::lock_guard lk(mu_);
+    inputs_.poseArrived(steadyUtime());
+    poseIgnored();
+    return;
+  }
   auto pose = decodePose(rb.data, rb.data_size);
   if (!pose) {
     {
       std::lock_guard lk(mu_);
       ++malformed_poses_;
+      inputs_.poseArrived(steadyUtime());
     }
     if (auto n = bad_pose_log_.allow())
       spdlog::warn("message on {} ({} bytes): {} ({} more)", options_.pose_channel, rb.data_size, pose.error().message, *n);
@@ -379,10 +414,13 @@ void MapperDaemon::onPose(const lcm::ReceiveBuffer& rb) {
   {
     std::lock_guard lk(mu_);
     // A pose refused for its content is counted as such by insert(), whatever its time.
+    const std::int64_t wall = wallUtime(), steady = steadyUtime();
+    inputs_.poseArrived(steady);
+    const auto expected = pose_clock_.expectedAt(steady);
     const auto verdict = poses_.contentRejection(*pose) == fusion::PoseRejection::kNone
-                             ? pose_clock_.check(pose->utime, wallUtime(), steadyUtime())
+                             ? pose_clock_.check(pose->utime, wall, steady)
                              : fusion::TimeVerdict::kAccept;
-    if (!timePlausible("pose", verdict, pose_clock_, pose->utime, wallUtime(), bad_time_log_)) return;
+    if (!timePlausible("pose", verdict, pose_clock_, expected, pose->utime, wall, bad_time_log_)) return;
     if (verdict == fusion::TimeVerdict::kFollowJump) poses_.clear();
     r = poses_.insert(*pose);
     if (r.accepted()) last_pose_steady_ = steadyUtime();
@@ -411,20 +449,23 @@ void MapperDaemon::workerLoop() {
     cv_.wait_for(lk, std::chrono::milliseconds(20), [this] { return stop_ || work_; });
     work_ = false;
     worker_heartbeat_ = steadyUtime();
-    // Scans whose poses have arrived, oldest first; waiting ones expire inside popReady. Keyframes, map
-    // services and snapshots come between two scans, also while scans keep arriving faster than they are
-    // mapped: the loop leaves for them and comes straight back.
+    watchInputs();
+    // Scans whose poses have arrived (every scan, with a static pose), oldest first; waiting ones expire
+    // inside popReady. Keyframes, map services and snapshots come between two scans, also while scans keep
+    // arriving faster than they are mapped: the loop leaves for them and comes straight back.
     bool more = false;
     while (!stop_) {
-      auto entry = pending_.popReady(poses_, steadyUtime());
+      auto entry = staticPose() ? pending_.popOldest() : pending_.popReady(poses_, steadyUtime());
       if (!entry) break;
       const ScanPtr scan = std::move(entry->payload);
       const auto t0 = Clock::now();
       const fusion::ScanPoints points = scanPointsOf(*scan, options_.time_base);
       // With pose correction only the placing needs the pose buffer's lock; the correction (an RBPF may
       // take a while) runs after it is released, so odometry and scans keep arriving meanwhile.
-      const auto coverage = correction_ ? mapper_.place(points, poses_) : mapper_.measure(points, poses_);
+      fusion::PoseCoverage coverage = fusion::PoseCoverage::kCovered;
+      if (!staticPose()) coverage = correction_ ? mapper_.place(points, poses_) : mapper_.measure(points, poses_);
       lk.unlock();
+      if (staticPose()) mapper_.measureStatic(points, static_map_from_sensor_);
       if (coverage == fusion::PoseCoverage::kCovered) {
         if (correction_) {
           correction::ScanCorrection applied;
@@ -677,6 +718,7 @@ void MapperDaemon::publishStatus() {
     update_ms_sum_ = 0;
     update_count_ = 0;
     fillClockStatus(s);
+    fillInputStatus(s);
   }
   s.utime = wallUtime();
   lcm_.publish(options_.status_channel, &s);

@@ -1,6 +1,7 @@
 // TimeSanity: refuses implausible message times and follows a clock that really jumped.
 #include <ogf/fusion/time_sanity.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -35,6 +36,11 @@ bool TimeSanity::follows(const Mark& from, std::int64_t utime, std::int64_t stea
   return utime > from.utime && utime - from.utime <= elapsed + max_ahead_us_;
 }
 
+std::optional<std::int64_t> TimeSanity::expectedAt(std::int64_t steady_utime) const {
+  if (!reference_) return std::nullopt;
+  return *reference_ + std::max<std::int64_t>(0, steady_utime - reference_steady_);
+}
+
 TimeVerdict TimeSanity::check(std::int64_t utime, std::int64_t wall_utime, std::int64_t steady_utime) {
   TimeVerdict verdict = TimeVerdict::kAccept;
   if (!reference_) {
@@ -46,9 +52,15 @@ TimeVerdict TimeSanity::check(std::int64_t utime, std::int64_t wall_utime, std::
   }
   if (verdict == TimeVerdict::kAccept) {
     candidates_ = 0;
-    if (!reference_ || utime > *reference_) {
+    if (!reference_) {
       reference_ = utime;
       reference_steady_ = steady_utime;
+    } else if (utime > *reference_) {
+      // The reference's steady time moves on by at most the message time's advance: a message that
+      // advances less than the host time elapsed (a partial scan the driver held across a pause and sends
+      // late) never shortens the allowance the next messages are measured against.
+      reference_steady_ = std::min(steady_utime, reference_steady_ + (utime - *reference_));
+      reference_ = utime;
     }
     return verdict;
   }

@@ -1,6 +1,7 @@
 // TimeSanity: a message dated far from the host clock or from its stream is refused, counted, and never
 // becomes the reference; a clock that really jumps is followed after the configured run of agreeing
-// messages, forwards and backwards.
+// messages, forwards and backwards; a stale message after a pause of the stream never makes the resumed
+// stream look ahead.
 #include <ogf/fusion/time_sanity.hpp>
 
 #include <gtest/gtest.h>
@@ -58,6 +59,49 @@ TEST(TimeSanity, TheStreamMayRunAheadByTheHostTimeElapsed) {
   // A stream paused and resumed (a log player): behind the host, on time for itself.
   const std::int64_t host = s.t + 600 * kS;
   EXPECT_EQ(s.sanity.check(s.t + 60 * kS + 10'000, host, host), TimeVerdict::kAccept);
+}
+
+// A sensor stream at 10 Hz pauses for 15 s (longer than max_ahead_s); the driver then publishes the partial
+// scan it held, dated before the pause, and the scans resume on the sensor's clock, which ran on.
+TEST(TimeSanity, AStaleScanAfterAPauseLongerThanMaxAheadDoesNotMakeTheResumedScansLookAhead) {
+  TimeSanity sanity{TimeSanityConfig{}};
+  std::int64_t t = kNow;
+  std::int64_t host = kNow;
+  for (int i = 0; i < 50; ++i, t += 100'000, host += 100'000) ASSERT_EQ(sanity.check(t, host, host), TimeVerdict::kAccept);
+  const std::int64_t last = t - 100'000;
+  host += 15 * kS;
+  t += 15 * kS;
+  EXPECT_EQ(sanity.check(last + 50'000, host, host), TimeVerdict::kAccept) << "the stale partial scan";
+  for (int i = 0; i < 20; ++i, t += 100'000, host += 100'000) {
+    host += 1'000;  // each arrives a little after its time, as over a network
+    EXPECT_EQ(sanity.check(t, host, host), TimeVerdict::kAccept) << "resumed scan " << i;
+  }
+  EXPECT_EQ(sanity.counts().refused(), 0);
+  EXPECT_EQ(sanity.counts().jumps_followed, 0);
+}
+
+TEST(TimeSanity, AStaleMessageAfterAPauseStillLeavesAFarFutureTimeRefused) {
+  Stream s;
+  for (int i = 0; i < 10; ++i) ASSERT_EQ(s.next(), TimeVerdict::kAccept);
+  const std::int64_t host = s.t + 15 * kS;
+  ASSERT_EQ(s.sanity.check(s.t + 5'000, host, host), TimeVerdict::kAccept);
+  // The stream may have run on 15 s, plus max_ahead_s (10 s): 26 s beyond the message before the pause is
+  // one second too far.
+  EXPECT_EQ(s.sanity.check(s.t + 26 * kS, host, host), TimeVerdict::kAheadOfStream);
+  EXPECT_EQ(s.sanity.check(kYear2100, host, host), TimeVerdict::kAheadOfStream);
+  EXPECT_EQ(s.sanity.check(s.t + 24 * kS, host, host), TimeVerdict::kAccept);
+  EXPECT_EQ(s.sanity.counts().refused_ahead, 2);
+}
+
+TEST(TimeSanity, TheExpectedStreamTimeIsTheNewestTimePlusTheHostTimeSince) {
+  TimeSanity sanity{TimeSanityConfig{}};
+  EXPECT_FALSE(sanity.expectedAt(kNow).has_value());
+  ASSERT_EQ(sanity.check(kNow, kNow, kNow), TimeVerdict::kAccept);
+  EXPECT_EQ(sanity.expectedAt(kNow + 2 * kS), kNow + 2 * kS);
+  // A message 1 s newer arriving 5 s later: the stream is still expected where its clock ran at host pace.
+  ASSERT_EQ(sanity.check(kNow + kS, kNow + 5 * kS, kNow + 5 * kS), TimeVerdict::kAccept);
+  EXPECT_EQ(sanity.reference(), kNow + kS);
+  EXPECT_EQ(sanity.expectedAt(kNow + 5 * kS), kNow + 5 * kS);
 }
 
 TEST(TimeSanity, ARealJumpIsFollowedAfterTheConfiguredRunForwardsAndBackwards) {

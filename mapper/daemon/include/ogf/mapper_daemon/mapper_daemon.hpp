@@ -1,14 +1,17 @@
-// ogf-mapper's process: subscribes VELODYNE_SCAN and POSE, holds scans until the odometry covers them,
+// ogf-mapper's process: subscribes VELODYNE_SCAN and POSE, holds scans until the odometry covers them (or,
+// with pose_source static, maps each scan at the configured pose and only counts what arrives on POSE),
 // maps them on a worker thread (journal first, then the filter, then OGF_MAP_DELTA), cuts keyframes
 // (periodic and requested) that KeyframeSender's thread sends while mapping goes on, snapshots the map,
 // and publishes OGF_MAPPER_STATUS. With pose correction on, each scan's pose
 // is corrected (scan matching or RBPF) before mapping and the corrected pose goes out on POSE_CORRECTED. The Asio thread only receives and
 // queues, so a slow update never stalls LCM; when mapping falls behind, PendingScans drops whole scans
-// and counts them.
+// and counts them. When one input stops arriving (scans without poses, poses without scans) the log says
+// which, on which channel, and what to check, once per change, and the status carries the state.
 #pragma once
 
 #include <lcm/lcm-cpp.hpp>
 #include <ogf/fusion/clock_agreement.hpp>
+#include <ogf/fusion/input_watch.hpp>
 #include <ogf/fusion/pending_scans.hpp>
 #include <ogf/fusion/pose_buffer.hpp>
 #include <ogf/fusion/time_sanity.hpp>
@@ -110,6 +113,14 @@ class MapperDaemon {
   // Compares the scan with the newest pose (mu_ held); logs when the clocks start or stop agreeing.
   void watchClocks(const ogf::lidar_scan_t& scan);
   void fillClockStatus(ogf::mapper_status_t& s) const;
+  // Re-evaluates which inputs arrive (mu_ held) and logs a change of state once (mapper_inputs.cpp).
+  void watchInputs();
+  void fillInputStatus(ogf::mapper_status_t& s) const;
+  // A message arrived on the pose channel while the pose is static (mu_ held): counted, said once.
+  void poseIgnored();
+  bool staticPose() const { return options_.pose_source == PoseSource::kStatic; }
+  // A missing input is said after 3 s: several scan periods (10 Hz) and far beyond odometry's (50-100 Hz).
+  fusion::InputWatchConfig inputWatchConfig() const { return {3.0, !staticPose()}; }
   void armStatusTimer();
   // Map services (map_services.cpp): queries and commands arrive on the Asio thread, which refuses
   // commands that are disabled, unauthenticated or replayed at once; the rest wait in a bounded queue and
@@ -144,6 +155,9 @@ class MapperDaemon {
   MapperOptions options_;
   lcm::LCM& lcm_;
   transport::DaemonLoop& loop_;
+
+  // With pose_source static: the sensor in the map frame, static_pose after the extrinsic.
+  Eigen::Isometry3d static_map_from_sensor_;
 
   // Owned by the worker once started.
   pipeline::ScanMapper mapper_;
@@ -190,6 +204,9 @@ class MapperDaemon {
   ogf::mapper_status_t stats_{};  // counters the worker owns, copied into each status message
   std::int64_t malformed_scans_ = 0;
   fusion::ClockAgreement clocks_;
+  fusion::InputWatch inputs_;
+  bool inputs_were_ok_ = false;     // the inputs have been OK before (a return to OK is said as such)
+  std::int64_t poses_ignored_ = 0;  // messages on the pose channel while the pose is static
   std::int64_t last_pose_steady_ = 0;  // when the last pose was accepted (0: never)
   std::int64_t malformed_poses_ = 0;
   std::int64_t requests_ = 0;            // well-formed keyframe requests

@@ -63,10 +63,9 @@ struct MapperOptions {
   // Which scan clock the odometry's utime shares: the sensor's device time (GPS/PPS or top-of-hour +
   // host hour) or the driver host's receive time.
   ScanTimeBase time_base = ScanTimeBase::kAuto;
-
   PoseSource pose_source = PoseSource::kOdometry;
-  // With PoseSource::kStatic: the body's fixed pose in the map frame (the sensor then sits at
-  // static_pose · map.extrinsic).
+  // With pose_source kStatic: the body in the map frame (the extrinsic still places the sensor on the
+  // body); identity by default.
   fusion::ExtrinsicConfig static_pose;
 
   pipeline::MapperConfig map;

@@ -1,8 +1,11 @@
 // The scans that wait for the odometry covering them, and the policy that bounds the wait (architecture:
 // "no pose covering a scan's time → wait a bounded time, then drop the scan and count it; never
 // extrapolate silently"). Pure: the caller passes the time in. Bounded in scans and in points: when a new
-// scan does not fit, the oldest whole scans are dropped (the mapper fell behind), so memory never grows
-// without bound. A scan leaves by popReady() once the PoseBuffer covers its whole span, in arrival order;
+// scan does not fit, the oldest whole scans are dropped, so memory never grows without bound. Each drop is
+// counted under its cause: the mapper fell behind only when the poses cover the dropped scan (it could
+// have been mapped); a scan still waiting for its poses counts as dropped for want of a pose, so missing
+// odometry is never blamed on the queue. A scan leaves by popReady() once the PoseBuffer covers its whole
+// span, in arrival order, or by popOldest() when the pose is fixed (no odometry to wait for);
 // it is dropped when it has waited longer than max_pose_wait_s, when its span starts before the oldest
 // pose kept (it can never be covered), or when it spans a split of the trajectory (an odometry jump beyond
 // max_pose_jump: never interpolated across). Payload is whatever the daemon needs to map the scan later
@@ -31,8 +34,9 @@ struct ScanSpan {
 // Cumulative counters, named as in mapper_status_t.
 struct PendingScansCounts {
   std::int64_t scans_in = 0;
-  std::int64_t scans_dropped_behind = 0;   // oldest dropped to make room
-  std::int64_t scans_dropped_no_pose = 0;  // waited too long, or older than the oldest pose kept
+  std::int64_t scans_dropped_behind = 0;   // covered by the poses, dropped to make room; or alone too large
+  std::int64_t scans_dropped_no_pose = 0;  // waited too long, older than the oldest pose kept, or dropped to
+                                           // make room while its poses had not arrived
   std::int64_t scans_late = 0;             // arrived after a newer scan (span begins no later)
   std::int64_t scans_rejected = 0;         // malformed span (end before begin)
   std::int64_t scans_dropped_pose_jump = 0;  // spans a split of the trajectory
@@ -53,9 +57,11 @@ class PendingScans {
   explicit PendingScans(const PendingScansConfig& config)
       : config_(config), max_wait_us_(std::llround(config.max_pose_wait_s * 1e6)) {}
 
-  // Queues a scan that arrived at now_utime (the caller's clock). Drops the oldest whole scans, counted as
-  // dropped_behind, until it fits; a scan larger than max_pending_points alone is dropped the same way.
-  PushOutcome push(const ScanSpan& span, Payload payload, std::int64_t now_utime) {
+  // Queues a scan that arrived at now_utime (the caller's clock). Drops the oldest whole scans until it
+  // fits, each counted by what `poses` says of it (covered: dropped_behind; not yet or never covered:
+  // dropped_no_pose; across a split: dropped_pose_jump); a scan larger than max_pending_points alone is
+  // dropped and counted as dropped_behind.
+  PushOutcome push(const ScanSpan& span, Payload payload, const PoseBuffer& poses, std::int64_t now_utime) {
     ++counts_.scans_in;
     if (span.end_utime < span.begin_utime) {
       ++counts_.scans_rejected;
@@ -72,7 +78,7 @@ class PendingScans {
     }
     while (!queue_.empty() &&
            (queue_.size() >= config_.max_pending_scans || points_ + span.points > config_.max_pending_points)) {
-      dropFront(counts_.scans_dropped_behind);
+      dropFront(counterFor(poses.coverage(queue_.front().span.begin_utime, queue_.front().span.end_utime)));
     }
     points_ += span.points;
     queue_.push_back(Entry{span, now_utime, std::move(payload)});
@@ -104,6 +110,15 @@ class PendingScans {
     return std::nullopt;
   }
 
+  // The oldest scan whatever the poses, for a sensor whose pose is fixed (nothing to wait for).
+  std::optional<Entry> popOldest() {
+    if (queue_.empty()) return std::nullopt;
+    std::optional<Entry> oldest(std::move(queue_.front()));
+    points_ -= oldest->span.points;
+    queue_.pop_front();
+    return oldest;
+  }
+
   // The scans' clock jumped (TimeSanity followed it): a scan is late only against scans on the new clock.
   void restartClock() { last_begin_utime_.reset(); }
 
@@ -112,6 +127,16 @@ class PendingScans {
   const PendingScansCounts& counts() const { return counts_; }
 
  private:
+  std::int64_t& counterFor(PoseCoverage coverage) {
+    switch (coverage) {
+      case PoseCoverage::kCovered: return counts_.scans_dropped_behind;
+      case PoseCoverage::kBroken: return counts_.scans_dropped_pose_jump;
+      case PoseCoverage::kNotYet:
+      case PoseCoverage::kTooOld: break;
+    }
+    return counts_.scans_dropped_no_pose;
+  }
+
   void dropFront(std::int64_t& counter) {
     points_ -= queue_.front().span.points;
     queue_.pop_front();

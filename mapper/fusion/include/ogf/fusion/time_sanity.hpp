@@ -2,7 +2,11 @@
 // message with a wrong date can never become the reference every later message is measured against.
 // A message is refused when it lies more than max_ahead_s ahead of the host clock (while the stream has
 // no reference yet) or of the stream (the newest accepted time plus the host time elapsed since), or more
-// than max_behind_s behind the newest accepted time. Past times are plausible before a reference exists:
+// than max_behind_s behind the newest accepted time. An accepted message never shortens that allowance:
+// one that advances the stream by less than the host time elapsed (a partial scan held across a pause of
+// the sensor and published late, dated before the pause) becomes the newest time, but the host time is
+// still counted from when the stream's clock was last seen running at host pace, so the scans that resume
+// after the pause are on time. Past times are plausible before a reference exists:
 // a replayed log is always in the past. A clock that really jumps (a sensor reset, GPS lock gained, a log
 // played again) is followed once `follow_after` refused messages in a row agree with each other (each
 // within max_ahead_s of what the one before it predicts, and increasing): the last of them becomes the new
@@ -51,6 +55,11 @@ class TimeSanity {
 
   // The newest accepted time (nullopt before the first), and the time it replaced at the last jump.
   std::optional<std::int64_t> reference() const { return reference_; }
+  // Where the stream's clock is expected at `steady_utime`: the newest accepted time plus the host time
+  // counted since (nullopt before the first). A message up to max_ahead_s beyond it is plausible.
+  std::optional<std::int64_t> expectedAt(std::int64_t steady_utime) const;
+  std::int64_t maxAheadUs() const { return max_ahead_us_; }
+  std::int64_t maxBehindUs() const { return max_behind_us_; }
   std::optional<std::int64_t> timeBeforeLastJump() const { return before_jump_; }
   const TimeSanityCounts& counts() const { return counts_; }
 
