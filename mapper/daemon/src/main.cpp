@@ -141,7 +141,7 @@ int main(int argc, char** argv) {
   loop.onShutdown([&d] { d.stop(); });
   loop.setHealthCheck([&d] { return d.healthy(); });
   d.start();
-  if (options.pose_source == PoseSource::kStatic) {
+  if (options.pose_source == ogf::mapper_daemon::PoseSource::kStatic) {
     const Eigen::Isometry3d body = options.static_pose.bodyFromSensor();
     const Eigen::Quaterniond q(body.linear());
     spdlog::info("mapping {} with a static pose on {} at {} m; deltas on {}; the body at ({}, {}, {}) m, quaternion "
