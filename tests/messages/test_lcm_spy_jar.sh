@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The jar holds a class for every .lcm type, and lcm-spy started by scripts/lcm-spy.sh finds them all
-# ("Found N LCM types"). Headless, lcm-spy stops with a HeadlessException after its type scan, which is
-# all this needs. Exit 77 (skip) when no Java runtime is installed.
+# The jar holds a class for every .lcm type, and scripts/lcm-spy.sh finds them all ("Found N LCM types",
+# the type scan lcm-spy's window and its --text table share; without a display the window is refused, so
+# the table is started and stopped after its scan). Exit 77 (skip) when no Java runtime is installed.
 set -u
 src=$1; jar=$2; lcmdir=$3
 command -v java >/dev/null || { echo "SKIP: no java runtime"; exit 77; }
@@ -19,7 +19,8 @@ for f in "$lcmdir"/*.lcm; do
 done
 echo "jar lists all $expected types"
 
-out=$(OGF_JAVA_DIR="$(dirname "$jar")" DISPLAY= timeout 60 bash "$src/scripts/lcm-spy.sh" --lcm-url='udpm://239.255.76.67:7667?ttl=0' 2>&1)
+out=$(OGF_JAVA_DIR="$(dirname "$jar")" DISPLAY= timeout 15 bash "$src/scripts/lcm-spy.sh" --text \
+      --lcm-url='udpm://239.255.76.67:7667?ttl=0' 2>&1)
 found=$(grep -o 'Found [0-9]* LCM types' <<<"$out" | head -1)
 echo "lcm-spy: ${found:-<nothing>}"
 n=$(grep -o '[0-9]*' <<<"$found")
