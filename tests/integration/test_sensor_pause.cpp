@@ -109,7 +109,7 @@ TEST(SensorPause, TheScanHeldAtAPauseIsPublishedWithItsOwnTimeAndTheMapperRefuse
     const auto& a = arrivals[i];
     // Published promptly after its last packet: a scan's time plus the idle wait, never across the pause.
     EXPECT_LT(a.received_utime - a.scan.host_utime_end, kPauseUs / 2)
-        << "scan " << a.scan.seq << " published " << (a.received_utime - a.scan.host_utime_end) / 1e6
+        << "scan " << a.scan.seq << " published " << static_cast<double>(a.received_utime - a.scan.host_utime_end) / 1e6
         << " s after its last packet\n" << driver.log();
     if (i > 0) {
       // In time order: no scan arrives after a newer one.
