@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <ogf/driver_status_t.hpp>
+#include <ogf/map_command_t.hpp>
+#include <ogf/map_query_t.hpp>
 #include <ogf/map_request_t.hpp>
 #include <ogf/mapper_status_t.hpp>
 #include <ogf/odometry_t.hpp>
@@ -55,7 +57,23 @@ TEST(StringLengths, LyingLengthsAreRefusedInEveryTypeWithAString) {
 
   ogf::mapper_status_t mapper{};
   mapper.persistence_error = "disk full";
+  mapper.last_requester = "planner";
   expectLyingLengthsRefused(mapper, 8 + 80 + 12 + 40 + 1);
+  expectLyingLengthsRefused(mapper, 8 + 80 + 12 + 40 + 1 + 4 + 10 + 9 * 8 + 2 + 8 + 7 * 8);
+
+  ogf::map_query_t query{};
+  query.requester = "planner";
+  expectLyingLengthsRefused(query, 24);
+
+  ogf::map_command_t command{};
+  command.requester = "planner";
+  command.command = "save";
+  command.format = "ply";
+  command.path = "map.ply";
+  expectLyingLengthsRefused(command, 24);
+  expectLyingLengthsRefused(command, 24 + 4 + 8);
+  expectLyingLengthsRefused(command, 24 + 4 + 8 + 4 + 5);
+  expectLyingLengthsRefused(command, 24 + 4 + 8 + 4 + 5 + 4 + 4);
 }
 
 }  // namespace

@@ -6,7 +6,9 @@
 #include <bot_core/pose_t.hpp>
 #include <ogf/driver_status_t.hpp>
 #include <ogf/lidar_scan_t.hpp>
+#include <ogf/map_command_t.hpp>
 #include <ogf/map_delta_t.hpp>
+#include <ogf/map_query_t.hpp>
 #include <ogf/map_request_t.hpp>
 #include <ogf/mapper_status_t.hpp>
 #include <ogf/odometry_t.hpp>
@@ -54,5 +56,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   (void)decodes<ogf::velodyne_packets_t>(data, size);
   (void)decodes<ogf::driver_status_t>(data, size);
   (void)decodes<ogf::mapper_status_t>(data, size);
+  (void)decodes<ogf::map_query_t>(data, size);
+  (void)decodes<ogf::map_command_t>(data, size);
   return 0;
 }

@@ -8,7 +8,9 @@
 #include <bot_core/pose_t.hpp>
 #include <ogf/driver_status_t.hpp>
 #include <ogf/lidar_scan_t.hpp>
+#include <ogf/map_command_t.hpp>
 #include <ogf/map_delta_t.hpp>
+#include <ogf/map_query_t.hpp>
 #include <ogf/map_request_t.hpp>
 #include <ogf/mapper_status_t.hpp>
 #include <ogf/odometry_t.hpp>
@@ -139,6 +141,34 @@ struct EncodedSizeCheck<ogf::mapper_status_t> {
     CountReader r(data, size);
     // utime and nine counters, three timings, five more int64, persistence_ok, then persistence_error.
     if (!(r.skip(8 + 10 * 8 + 3 * 4 + 5 * 8 + 1) && r.string())) return "persistence_error: length beyond the buffer";
+    // Nine int64 (requests to service requests), clocks and scan_clock, clock_offset_us, the seven service
+    // counters, then last_requester.
+    if (!(r.skip(9 * 8 + 2 + 8 + 7 * 8) && r.string())) return "last_requester: length beyond the buffer";
+    return std::nullopt;
+  }
+};
+
+// The map services' requests, which any host on the bus can send (OGF_MAP_QUERY, OGF_MAP_COMMAND).
+template <>
+struct EncodedSizeCheck<ogf::map_query_t> {
+  static std::optional<std::string> check(const void* data, std::size_t size) {
+    CountReader r(data, size);
+    if (!(r.skip(8 + 8 + 8) && r.string())) return "requester: length beyond the buffer";
+    if (!r.skip(1)) return "kind: beyond the buffer";
+    // Points of x, y, z floats; the daemon answers at most 10 000 (map_query_answer.hpp), this only bounds
+    // what decode() may allocate.
+    return checkCount(r, r.int32(), 3 * 4, 1 << 20, "num_points");
+  }
+};
+
+template <>
+struct EncodedSizeCheck<ogf::map_command_t> {
+  static std::optional<std::string> check(const void* data, std::size_t size) {
+    CountReader r(data, size);
+    if (!(r.skip(8 + 8 + 8) && r.string())) return "requester: length beyond the buffer";
+    if (!r.string()) return "command: length beyond the buffer";
+    if (!r.string()) return "format: length beyond the buffer";
+    if (!r.string()) return "path: length beyond the buffer";
     return std::nullopt;
   }
 };
