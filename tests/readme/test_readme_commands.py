@@ -34,7 +34,7 @@ EXPECTED_BLOCKS = {"quick-start", "headline-map", "robot-daemons", "robot-config
                    "replay", "replay-offline"}
 REAL_CAPTURE = "data/real/vlp-16-test-90deg-1-50-frames.pcap"
 REAL_CALIBRATION = "data/real/calib/VLP-16.xml"
-OCCUPIED_RGB = (25, 25, 25)  # tools/map/src/topdown_png.cpp, kOccupied
+OCCUPIED_RGB = (25, 25, 25)  # tools/lib/map_io/src/topdown_png.cpp, kOccupied
 # The sensor the README addresses is not on a test host: its capture comes from loopback.
 SUBSTITUTIONS = [("--sensor-ip 192.168.1.201", "--sensor-ip 127.0.0.1")]
 

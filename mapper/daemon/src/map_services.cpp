@@ -6,11 +6,11 @@
 // exactly one reply, a refusal included; refusals are counted by reason in the status.
 #include <ogf/filter/map_file.hpp>
 #include <ogf/map_command_reply_t.hpp>
-#include <ogf/map_io/cell_csv.hpp>
-#include <ogf/map_io/cell_pcd.hpp>
-#include <ogf/map_io/cell_ply.hpp>
-#include <ogf/map_io/map_cells.hpp>
-#include <ogf/map_io/octomap_export.hpp>
+#include <ogf/map_formats/cell_csv.hpp>
+#include <ogf/map_formats/cell_pcd.hpp>
+#include <ogf/map_formats/cell_ply.hpp>
+#include <ogf/map_formats/map_cells.hpp>
+#include <ogf/map_formats/octomap_export.hpp>
 #include <ogf/messages/limits.hpp>
 #include <spdlog/spdlog.h>
 
@@ -338,12 +338,12 @@ void MapperDaemon::startExport(const ogf::map_command_t& command, ogf::map_comma
     auto bytes = std::make_shared<const std::vector<std::uint8_t>>(filter::encodeMap(mapper_.filter()));
     write = [bytes](const std::filesystem::path& p) { return writeBytes(*bytes, p); };
   } else {
-    auto copy = std::make_shared<const map_io::MapCells>(map_io::collectCells(mapper_.filter()));
+    auto copy = std::make_shared<const map_formats::MapCells>(map_formats::collectCells(mapper_.filter()));
     write = [copy, format](const std::filesystem::path& p) -> Status {
-      if (format == "ply") return map_io::writeOccupiedPly(*copy, p);
-      if (format == "pcd") return map_io::writeOccupiedPcd(*copy, p);
-      if (format == "csv") return map_io::writeCellCsv(*copy, p);
-      auto bt = map_io::writeOctomapBinary(*copy, p);
+      if (format == "ply") return map_formats::writeOccupiedPly(*copy, p);
+      if (format == "pcd") return map_formats::writeOccupiedPcd(*copy, p);
+      if (format == "csv") return map_formats::writeCellCsv(*copy, p);
+      auto bt = map_formats::writeOctomapBinary(*copy, p);
       return bt ? okStatus() : Status(bt.error());
     };
   }

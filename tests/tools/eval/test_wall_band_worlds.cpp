@@ -12,7 +12,7 @@
 
 #include "ogf/eval/sim_measurements.hpp"
 #include "ogf/eval/topdown_figures.hpp"
-#include "ogf/map_io/map_cells.hpp"
+#include "ogf/map_formats/map_cells.hpp"
 #include "ogf/map_io/odometry_file.hpp"
 #include "ogf/map_io/offline_mapping.hpp"
 #include "ogf/map_io/pcap_scans.hpp"
@@ -28,7 +28,7 @@ using namespace ogf;
 struct WorldCase {
   const char* name;
   double
-      roof_m;  // the lowest top of the world's walls (tools/sim/presets/<name>.yaml): the band stays under it
+      roof_m;  // the lowest top of the world's walls (tools/lib/sim/presets/<name>.yaml): the band stays under it
 };
 
 // lab: walls and ceiling at 3 m; warehouse: roof at 8 m; street and avenue: the lowest facade is 8 m high.
@@ -48,7 +48,7 @@ class WallBandWorld : public ::testing::TestWithParam<WorldCase> {
 // The columns whose cells with centres in the band hold an occupied cell of the map.
 using Columns = std::set<std::pair<int, int>>;
 
-Columns occupiedColumns(const map_io::MapCells& cells, const tools::WallBand& band) {
+Columns occupiedColumns(const map_formats::MapCells& cells, const tools::WallBand& band) {
   Columns out;
   for (const auto& c : cells.cells) {
     const double centre = (c.key.z + 0.5) * cells.resolution;
@@ -98,7 +98,7 @@ TEST_P(WallBandWorld, MapAndTruthBandsLieBetweenGroundAndRoofAndShowTheTruthsWal
   });
   ASSERT_TRUE(read.ok()) << read.error().message;
   ASSERT_GT(run->counts().scans_mapped, 10);
-  const auto cells = map_io::collectCells(run->mapper().filter());
+  const auto cells = map_formats::collectCells(run->mapper().filter());
 
   const auto truth_band = eval::wallBand(report->truth);
   ASSERT_TRUE(truth_band.has_value());

@@ -11,10 +11,10 @@
 #include <sstream>
 #include <string>
 
-#include "ogf/map_io/cell_csv.hpp"
-#include "ogf/map_io/cell_ply.hpp"
-#include "ogf/map_io/map_cells.hpp"
-#include "ogf/map_io/octomap_export.hpp"
+#include "ogf/map_formats/cell_csv.hpp"
+#include "ogf/map_formats/cell_ply.hpp"
+#include "ogf/map_formats/map_cells.hpp"
+#include "ogf/map_formats/octomap_export.hpp"
 #include "ogf/map_io/offline_mapping.hpp"
 #include "ogf/map_io/topdown_png.hpp"
 #include "scratch_dir.hpp"
@@ -24,7 +24,7 @@ namespace {
 
 using namespace ogf;
 
-map_io::MapCells wallMap() {
+map_formats::MapCells wallMap() {
   pipeline::MapperConfig config;
   config.setResolution(0.2);
   config.fusion.measurement.max_range_m = 10.0;
@@ -32,7 +32,7 @@ map_io::MapCells wallMap() {
   EXPECT_TRUE(run.ok());
   const auto scan = ogf::testing::wallScan(4.1);
   for (int i = 0; i < 3; ++i) run->addStaticScan(scan, Eigen::Isometry3d::Identity());
-  return map_io::collectCells(run->mapper().filter());
+  return map_formats::collectCells(run->mapper().filter());
 }
 
 std::string slurp(const std::filesystem::path& p) {
@@ -46,7 +46,7 @@ TEST(CellCsv, HeaderIsExactAndEveryAllocatedCellIsARowAtItsCentre) {
   ogf::testing::ScratchDir dir;
   const auto cells = wallMap();
   ASSERT_GT(cells.occupiedCount(), 0u);
-  ASSERT_TRUE(map_io::writeCellCsv(cells, dir / "m.csv").ok());
+  ASSERT_TRUE(map_formats::writeCellCsv(cells, dir / "m.csv").ok());
   std::istringstream in(slurp(dir / "m.csv"));
   std::string line;
   std::getline(in, line);
@@ -77,7 +77,7 @@ TEST(CellCsv, HeaderIsExactAndEveryAllocatedCellIsARowAtItsCentre) {
 TEST(OccupiedPly, HeaderParsesAndVertexCountEqualsOccupiedCells) {
   ogf::testing::ScratchDir dir;
   const auto cells = wallMap();
-  ASSERT_TRUE(map_io::writeOccupiedPly(cells, dir / "m.ply").ok());
+  ASSERT_TRUE(map_formats::writeOccupiedPly(cells, dir / "m.ply").ok());
   const std::string bytes = slurp(dir / "m.ply");
   const std::size_t end = bytes.find("end_header\n");
   ASSERT_NE(end, std::string::npos);
@@ -117,7 +117,7 @@ TEST(OccupiedPly, HeaderParsesAndVertexCountEqualsOccupiedCells) {
 TEST(OctomapExport, TreeReadsBackWithLiboctomapAndKeepsTheClasses) {
   ogf::testing::ScratchDir dir;
   const auto cells = wallMap();
-  const auto counts = map_io::writeOctomapBinary(cells, dir / "m.bt");
+  const auto counts = map_formats::writeOctomapBinary(cells, dir / "m.bt");
   ASSERT_TRUE(counts.ok()) << counts.error().message;
   octomap::OcTree tree(0.1);
   ASSERT_TRUE(tree.readBinary((dir / "m.bt").string()));

@@ -9,7 +9,7 @@
 #include <ogf/persistence/map_pager.hpp>
 #include <ogf/persistence/state_directory.hpp>
 
-#include "ogf/map_io/map_loader.hpp"
+#include "ogf/map_formats/map_loader.hpp"
 
 namespace {
 
@@ -38,8 +38,8 @@ TEST(MapLoader, ReadsAMapFileAndASnapshotOfTheSameMapAlike) {
   const auto snap = ogf::persistence::encodeSnapshot(7, 42, bytes);
   std::ofstream(snap_path, std::ios::binary).write(reinterpret_cast<const char*>(snap.data()), static_cast<std::streamsize>(snap.size()));
 
-  auto a = ogf::map_io::loadOgfMap(map_path);
-  auto b = ogf::map_io::loadOgfMap(snap_path);
+  auto a = ogf::map_formats::loadOgfMap(map_path);
+  auto b = ogf::map_formats::loadOgfMap(snap_path);
   fs::remove(map_path);
   fs::remove(snap_path);
   ASSERT_TRUE(a.ok()) << a.error().message;
@@ -71,12 +71,12 @@ TEST(MapLoader, ASnapshotThatNamesPagesIsLoadedWithThemAndRefusedWithoutThem) {
   std::ofstream(dir / "snapshot.ogfs", std::ios::binary)
       .write(reinterpret_cast<const char*>(snap.data()), static_cast<std::streamsize>(snap.size()));
 
-  auto loaded = ogf::map_io::loadOgfMap(dir / "snapshot.ogfs");
+  auto loaded = ogf::map_formats::loadOgfMap(dir / "snapshot.ogfs");
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
   EXPECT_EQ(loaded->map.checksum(), whole) << "the pages' regions are part of the map";
 
   fs::remove(dir / "pages" / pager->files().front());
-  auto partial = ogf::map_io::loadOgfMap(dir / "snapshot.ogfs");
+  auto partial = ogf::map_formats::loadOgfMap(dir / "snapshot.ogfs");
   fs::remove_all(dir);
   ASSERT_FALSE(partial.ok()) << "a map with a region missing is never loaded";
   EXPECT_NE(partial.error().message.find(pager->files().front()), std::string::npos) << partial.error().message;
@@ -85,7 +85,7 @@ TEST(MapLoader, ASnapshotThatNamesPagesIsLoadedWithThemAndRefusedWithoutThem) {
 TEST(MapLoader, RefusesAFileThatIsNeitherNamingIt) {
   const auto path = scratch("junk.bin");
   std::ofstream(path) << "this is not a map";
-  auto r = ogf::map_io::loadOgfMap(path);
+  auto r = ogf::map_formats::loadOgfMap(path);
   fs::remove(path);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find(path.string()), std::string::npos) << r.error().message;

@@ -14,7 +14,7 @@
 #include <set>
 #include <utility>
 
-#include "ogf/map_io/map_cells.hpp"
+#include "ogf/map_formats/map_cells.hpp"
 #include "ogf/map_io/offline_mapping.hpp"
 #include "ogf/map_io/pcap_scans.hpp"
 #include "ogf/map_io/topdown_png.hpp"
@@ -39,8 +39,8 @@ struct Room {
   std::map<std::pair<int, int>, Column> extra;  // cells laid over the room's (furniture)
 };
 
-map_io::MapCells roomMap(const Room& room) {
-  map_io::MapCells cells;
+map_formats::MapCells roomMap(const Room& room) {
+  map_formats::MapCells cells;
   cells.resolution = kRes;
   for (int x = 0; x < room.side; ++x) {
     for (int y = 0; y < room.side; ++y) {
@@ -70,7 +70,7 @@ struct BandColumns {
   std::size_t occupied = 0;
   std::size_t walls = 0;
 };
-BandColumns columnsInBand(const map_io::MapCells& cells, const tools::WallBand& band, int side) {
+BandColumns columnsInBand(const map_formats::MapCells& cells, const tools::WallBand& band, int side) {
   std::set<std::pair<int, int>> occupied;
   for (const auto& c : cells.cells) {
     const double centre = (c.key.z + 0.5) * cells.resolution;
@@ -83,7 +83,7 @@ BandColumns columnsInBand(const map_io::MapCells& cells, const tools::WallBand& 
 }
 
 // The walls' band of `cells`, expected to span [z_min, z_max] metres.
-tools::WallBand expectBand(const map_io::MapCells& cells, double z_min, double z_max) {
+tools::WallBand expectBand(const map_formats::MapCells& cells, double z_min, double z_max) {
   const auto band = map_io::wallBand(cells);
   EXPECT_TRUE(band.has_value());
   if (!band) return {};
@@ -146,8 +146,8 @@ TEST(WallBand, TheBandFollowsTheMapsFrame) {
 }
 
 TEST(WallBand, NothingOccupiedGivesNoBandAndAFloorAloneGivesTheBandAboveIt) {
-  EXPECT_FALSE(map_io::wallBand(map_io::MapCells{}).has_value());
-  map_io::MapCells floor;
+  EXPECT_FALSE(map_io::wallBand(map_formats::MapCells{}).has_value());
+  map_formats::MapCells floor;
   floor.resolution = kRes;
   for (int x = 0; x < 10; ++x) {
     floor.cells.push_back({CellKey{x, 0, 4}, 0.9, 1, 0.1f});
@@ -180,7 +180,7 @@ TEST(WallBand, PngZminAndZmaxOverrideTheWallsBand) {
 
 // The real capture (a VLP-16 standing still indoors, ../shared) mapped at 0.1 m as the README's headline
 // command maps it (--static), with the sensor `height` metres above the body's origin (an extrinsic).
-map_io::MapCells realCaptureMap(const std::filesystem::path& pcap, const std::filesystem::path& calib,
+map_formats::MapCells realCaptureMap(const std::filesystem::path& pcap, const std::filesystem::path& calib,
                                 double height) {
   pipeline::MapperConfig config;
   config.setResolution(0.1);
@@ -194,7 +194,7 @@ map_io::MapCells realCaptureMap(const std::filesystem::path& pcap, const std::fi
     run->addStaticScan(scan, Eigen::Isometry3d::Identity());
   });
   EXPECT_TRUE(read.ok()) << (read.ok() ? "" : read.error().message);
-  return map_io::collectCells(run->mapper().filter());
+  return map_formats::collectCells(run->mapper().filter());
 }
 
 // Per class, the columns a top-down picture of the band shows in it (occupied wins, then free, then unknown).
@@ -203,7 +203,7 @@ struct PictureColumns {
   std::size_t free = 0;
   std::size_t unknown = 0;
 };
-PictureColumns pictureColumns(const map_io::MapCells& cells, double z_min, double z_max) {
+PictureColumns pictureColumns(const map_formats::MapCells& cells, double z_min, double z_max) {
   std::map<std::pair<int, int>, std::int8_t> shown;
   for (const auto& c : cells.cells) {
     const double centre = (c.key.z + 0.5) * cells.resolution;

@@ -1,4 +1,4 @@
-// Who may use ogf-view (tools/view/include/ogf/view/access_token.hpp): which --bind addresses are
+// Who may use ogf-view (tools/lib/view/include/ogf/view/access_token.hpp): which --bind addresses are
 // loopback, the constant-time comparison's answers, and where a request carries its token.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// ogf-view holds its ground against the clients that reach its port (tools/view/include/ogf/view/
+// ogf-view holds its ground against the clients that reach its port (tools/lib/view/include/ogf/view/
 // view_server.hpp): real ogf-view processes showing a saved map, real TCP, HTTP and WebSocket clients on
 // loopback. Each test is one way a client could take the view down: too many clients, silent ones,
 // clients that never read, an oversized message, a descriptor flood, no token on a network address.
