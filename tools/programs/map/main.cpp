@@ -169,18 +169,18 @@ bool writeExports(const ogf::filter::BandedOgf& map, const Options& o) {
     std::error_code ec;
     if (!path->empty() && !parent.empty()) std::filesystem::create_directories(parent, ec);
   }
-  const mio::MapCells cells = mio::collectCells(map);
+  const ogf::map_formats::MapCells cells = ogf::map_formats::collectCells(map);
   const auto report = [&](const char* flag, const ogf::Status& st) {
     if (!st) {
       spdlog::error("{}: {}", flag, st.error().message);
       ok = false;
     }
   };
-  if (!o.export_csv.empty()) report("--export-csv", mio::writeCellCsv(cells, o.export_csv));
-  if (!o.export_ply.empty()) report("--export-ply", mio::writeOccupiedPly(cells, o.export_ply));
-  if (!o.export_pcd.empty()) report("--export-pcd", mio::writeOccupiedPcd(cells, o.export_pcd));
+  if (!o.export_csv.empty()) report("--export-csv", ogf::map_formats::writeCellCsv(cells, o.export_csv));
+  if (!o.export_ply.empty()) report("--export-ply", ogf::map_formats::writeOccupiedPly(cells, o.export_ply));
+  if (!o.export_pcd.empty()) report("--export-pcd", ogf::map_formats::writeOccupiedPcd(cells, o.export_pcd));
   if (!o.export_bt.empty()) {
-    auto bt = mio::writeOctomapBinary(cells, o.export_bt);
+    auto bt = ogf::map_formats::writeOctomapBinary(cells, o.export_bt);
     if (!bt) report("--export-bt", bt.error());
     else
       spdlog::info("{}: {} occupied and {} free leaves{}", o.export_bt, bt->occupied, bt->free,

@@ -29,7 +29,8 @@ fusion::Pose poseOf(const RosTime& stamp, const RosVector3& p, const RosQuaterni
 
 }  // namespace
 
-Result<std::optional<BagPoseSource>> choosePoseSource(const rosbag::Rosbag2Storage& bag, const std::string& topic,
+Result<std::optional<BagPoseSource>> choosePoseSource(const rosbag::Rosbag2Storage& bag,
+                                                      const std::string& topic,
                                                       const std::string& body_frame) {
   const std::string& where = bag.path().string();
   if (!topic.empty()) {

@@ -36,7 +36,8 @@ struct BagPoses {
 // The pose source: `topic` when given (an Odometry or TFMessage topic of the bag), else the default above;
 // nullopt when the bag has neither. An error asks for a choice (several Odometry topics) or names what
 // is wrong with the requested topic.
-Result<std::optional<BagPoseSource>> choosePoseSource(const rosbag::Rosbag2Storage& bag, const std::string& topic,
+Result<std::optional<BagPoseSource>> choosePoseSource(const rosbag::Rosbag2Storage& bag,
+                                                      const std::string& topic,
                                                       const std::string& body_frame = "base_link");
 
 Result<BagPoses> readBagPoses(const rosbag::Rosbag2Storage& bag, const BagPoseSource& source);

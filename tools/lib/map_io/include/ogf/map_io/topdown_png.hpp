@@ -14,12 +14,10 @@
 // out. The programs log the band and why (floor and ceiling heights, wall columns).
 #pragma once
 
-#include <ogf/common/result.hpp>
-
 #include <filesystem>
-#include <optional>
-
+#include <ogf/common/result.hpp>
 #include <ogf/tools/wall_band.hpp>
+#include <optional>
 
 #include "ogf/map_formats/map_cells.hpp"
 
@@ -31,15 +29,16 @@ struct TopDownBand {
 };
 
 struct TopDownSize {
-  int width = 0;   // cell columns
+  int width = 0;  // cell columns
   int height = 0;
 };
 
 // The walls' band of the map (see above) with why it was chosen; nullopt when no cell is occupied.
-std::optional<tools::WallBand> wallBand(const MapCells& cells);
+std::optional<tools::WallBand> wallBand(const map_formats::MapCells& cells);
 
 // Writes DIR/occupancy.png and DIR/entropy.png (creating DIR). Error when no cell lies in the band or the
 // map would exceed 16384 cells on a side.
-Result<TopDownSize> writeTopDownPngs(const MapCells& cells, const TopDownBand& band, const std::filesystem::path& dir);
+Result<TopDownSize> writeTopDownPngs(const map_formats::MapCells& cells, const TopDownBand& band,
+                                     const std::filesystem::path& dir);
 
 }  // namespace ogf::map_io
