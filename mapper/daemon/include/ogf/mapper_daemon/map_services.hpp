@@ -1,4 +1,4 @@
-// ogf-mapper's map services (map_services.cpp): queries on OGF_MAP_QUERY and commands on OGF_MAP_COMMAND
+// ogf-mapper's map services (map_services.cpp, map_queries.cpp, map_commands.cpp): queries on OGF_MAP_QUERY and commands on OGF_MAP_COMMAND
 // (save a snapshot now, reset the map, export it) arrive on the Asio thread, which refuses commands that
 // are disabled, unauthenticated or replayed at once; the rest wait in a bounded queue and are served by the
 // worker between scans for at most services.budget_ms_per_scan each time (a box query in chunks over
@@ -74,6 +74,9 @@ class MapServices {
   void refuseCommand(const ogf::map_command_t& command, CommandRefusal why, const std::string& message);
   void refuseQuery(const ogf::map_query_t& query, const std::string& message);
   void countRefused();
+  static std::string replyChannel(const std::string& channel);
+  // The command for the log: its name, an export's format and file, the requester; sanitised.
+  static std::string describe(const ogf::map_command_t& command);
   void answer(const ogf::map_query_t& query);
   void stepBox();
   void carryOut(const ogf::map_command_t& command);
