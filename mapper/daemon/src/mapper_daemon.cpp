@@ -48,7 +48,6 @@ MapperDaemon::MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, transpor
                            pipeline::ScanMapper mapper, std::optional<correction::ScanPoseCorrection> correction,
                            std::optional<CommandKey> key)
     : options_(options),
-      lcm_(lcm),
       static_map_from_sensor_(options.static_pose.bodyFromSensor() * options.map.fusion.extrinsic.bodyFromSensor()),
       mapper_(std::move(mapper)),
       correction_(std::move(correction)),

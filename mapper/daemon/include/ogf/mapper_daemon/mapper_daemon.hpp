@@ -76,6 +76,8 @@ class MapperDaemon {
   // Keyframes, map services and snapshots, between two scans (shared_.mu not held); true when service
   // work still waits.
   bool betweenScans(bool keyframe_requested);
+  // A measured scan's path: journalled, the regions it reaches brought in, folded into the filter, its
+  // deltas cut, far regions paged out, the deltas published, the status' counters updated.
   void mapScan(const ScanPtr& scan);
   void resetMap();
   // The map's figures in the status (shared_.mu held); refreshMapFigures takes the lock.
@@ -84,7 +86,6 @@ class MapperDaemon {
   bool staticPose() const { return options_.pose_source == PoseSource::kStatic; }
 
   MapperOptions options_;
-  lcm::LCM& lcm_;
 
   // With pose_source static: the sensor in the map frame, static_pose after the extrinsic.
   Eigen::Isometry3d static_map_from_sensor_;
@@ -101,7 +102,7 @@ class MapperDaemon {
   MapServices services_;
   StatusReport status_;
   std::thread worker_;
-  // After everything its keyframe sender's callbacks use (persistence_, shared_, lcm_), so it stops first.
+  // After everything its keyframe sender's callbacks use (persistence_, shared_), so it stops first.
   MapPublisher publisher_;
   bool started_ = false;
   bool stopped_ = false;
