@@ -284,39 +284,8 @@ ConfigKey servicesPathKey(std::string path, std::string meaning, std::filesystem
           std::move(note)};
 }
 
-// The map services (OGF_MAP_QUERY, OGF_MAP_COMMAND): who may command the mapper, where exports go, and how
-// much of the mapping thread queries and commands may take (docs/reliability.md, "Map services").
-void declareServices(std::vector<ConfigKey>& k) {
-  k.push_back(boolKey("services.commands_enabled",
-                      "`save`, `reset` and `export` are carried out only when true, and then each needs a MAC made "
-                      "with `services.key_file` (`ogf-map-query --key`)",
-                      kMapper, [](auto& o) -> auto& { return o.services.commands_enabled; }));
-  k.push_back(servicesPathKey("services.key_file",
-                      "the commands' key: 64 hex digits in a regular file of the mapper's user, mode 0600 "
-                      "(`ogf-map-query keygen FILE` makes one); the mapper refuses to start with any other",
-                      &ServicesOptions::key_file, ""));
-  k.push_back(servicesPathKey("services.export_dir",
-                      "exports are written only here, by plain file name, never replacing a file; never the state "
-                      "directory itself",
-                      &ServicesOptions::export_dir, "`\"\"` (`<state_dir>/exports`)"));
-  k.push_back(integerKey("services.export_min_free_bytes", "bytes",
-                         "an export that would leave less free space on its file system is refused", kMapper, 0,
-                         std::numeric_limits<long long>::max(),
-                         [](auto& o) -> auto& { return o.services.export_min_free_bytes; }));
-  k.push_back(integerKey("services.max_query_cells", "cells",
-                         "a box query over more cells is refused before any of the map is read or paged in", kMapper,
-                         1, 100'000'000, [](auto& o) -> auto& { return o.services.max_query_cells; }));
-  k.push_back(numberKey("services.budget_ms_per_scan", "ms",
-                        "service work on the mapping thread between two scans; the queries and commands beyond it "
-                        "wait for the next scan",
-                        kMapper, positive, [](auto& o) -> auto& { return o.services.budget_ms_per_scan; }));
-  k.push_back(integerKey("services.box_chunk_cells", "cells",
-                         "cells of a box query summarised in one step (a larger box is answered over several scans)",
-                         kMapper, 1000, 100'000'000, [](auto& o) -> auto& { return o.services.box_chunk_cells; }));
-}
-
-std::vector<ConfigKey> declare() {
-  std::vector<ConfigKey> k;
+// The LCM bus and the channels the mapper listens and speaks on.
+void declareBus(std::vector<ConfigKey>& k) {
   k.push_back(textKey("lcm_url", "the LCM bus; empty: `$LCM_DEFAULT_URL`, else `udpm://239.255.76.67:7667?ttl=0`",
                       kMapper, 0, [](auto& o) -> auto& { return o.lcm_url; }));
   k.push_back(textKey("channels.scan", "scans in (`ogf.lidar_scan_t`)", kMapper, kChannelLength,
@@ -335,6 +304,10 @@ std::vector<ConfigKey> declare() {
                       [](auto& o) -> auto& { return o.query_channel; }));
   k.push_back(textKey("channels.command", "map commands in; answers on `<channel>_REPLY`", kMapper,
                       kServiceChannelLength, [](auto& o) -> auto& { return o.command_channel; }));
+}
+
+// Which clock the odometry is on and where the body's pose comes from.
+void declarePoseSource(std::vector<ConfigKey>& k) {
   k.push_back(choiceKey<ScanTimeBase>(
       "time_base",
       "the clock of the odometry's `utime`: `device` (the scan's device time), `host` (its receive time) or "
@@ -353,6 +326,10 @@ std::vector<ConfigKey> declare() {
                       "(rad) or `quaternion` [w, x, y, z]",
                       kOffline, [](auto& o) -> auto& { return o.static_pose; }));
   k.back().default_note = "identity";
+}
+
+// Where and how often the map is kept on disk.
+void declarePersistence(std::vector<ConfigKey>& k) {
   k.push_back({"state_dir", "text", "",
                "snapshots and the journal; when empty, `$STATE_DIRECTORY` (systemd's `StateDirectory=`) if set, "
                "else the map lives in memory only (`--state-dir`, `--in-memory`)",
@@ -375,21 +352,27 @@ std::vector<ConfigKey> declare() {
                         "reaches them; the same map, bit for bit; 0: all in memory "
                         "([docs/mapping.md](docs/mapping.md#the-daemon-ogf-mapper))",
                         kMapper, nonNegative, [](auto& o) -> auto& { return o.page_out_distance_m; }));
+}
+
+// How often the whole map and the status go out unasked.
+void declarePublishing(std::vector<ConfigKey>& k) {
   k.push_back(numberKey("keyframe_interval_s", "s", "how often the whole map is sent unasked", kMapper, positive,
                         [](auto& o) -> auto& { return o.keyframe_interval_s; }));
   k.push_back(numberKey("status_interval_s", "s", "how often the status is published", kMapper, positive,
                         [](auto& o) -> auto& { return o.status_interval_s; }));
-  {
-    ConfigKey resolution = numberKey("map.resolution", "m", "cell edge", kAll, positive,
-                                     [](auto& o) -> auto& { return o.map.fusion.measurement.resolution_m; });
-    // Fusion and filter share the cell size.
-    resolution.read = [inner = resolution.read](const YAML::Node& n, MapperOptions& o, const Locate& where) {
-      auto st = inner(n, o, where);
-      if (st) o.map.setResolution(o.map.fusion.measurement.resolution_m);
-      return st;
-    };
-    k.push_back(std::move(resolution));
-  }
+}
+
+// The map section: the cell size, the measurements' range and the sensor's mounting.
+void declareMap(std::vector<ConfigKey>& k) {
+  ConfigKey resolution = numberKey("map.resolution", "m", "cell edge", kAll, positive,
+                                   [](auto& o) -> auto& { return o.map.fusion.measurement.resolution_m; });
+  // Fusion and filter share the cell size.
+  resolution.read = [inner = resolution.read](const YAML::Node& n, MapperOptions& o, const Locate& where) {
+    auto st = inner(n, o, where);
+    if (st) o.map.setResolution(o.map.fusion.measurement.resolution_m);
+    return st;
+  };
+  k.push_back(std::move(resolution));
   k.push_back(numberKey("map.min_range", "m", "returns closer are ignored", kAll, nonNegative,
                         [](auto& o) -> auto& { return o.map.fusion.measurement.min_range_m; }));
   k.push_back(numberKey("map.max_range", "m", "rays longer are cut here and mark free cells only", kAll, positive,
@@ -403,6 +386,10 @@ std::vector<ConfigKey> declare() {
                       "`quaternion` [w, x, y, z]",
                       kAll, [](auto& o) -> auto& { return o.map.fusion.extrinsic; }));
   k.back().default_note = "identity";
+}
+
+// The filter section: the OGF's kernel, thresholds and speed-ups.
+void declareFilter(std::vector<ConfigKey>& k) {
   k.push_back(derivedNumberKey("filter.sigma", "m",
                                "how far a measurement's evidence spreads, the kernel's σ "
                                "([docs/mapping.md](docs/mapping.md))",
@@ -447,6 +434,10 @@ std::vector<ConfigKey> declare() {
                          "from about 2.05× to 2.6× real time on a 2-CPU machine "
                          "([docs/performance.md](docs/performance.md#where-the-time-goes-in-a-scan))",
                          kAll, 1, 256, [](auto& o) -> auto& { return o.map.filter.threads; }));
+}
+
+// The fusion section: how scans wait for odometry and which poses and times are believed.
+void declareFusion(std::vector<ConfigKey>& k) {
   k.push_back(numberKey("fusion.max_pose_wait_s", "s", "how long a scan waits for odometry", kMapper, nonNegative,
                         [](auto& o) -> auto& { return o.map.fusion.pending.max_pose_wait_s; }));
   k.push_back(integerKey("fusion.pose_buffer_capacity", "", "odometry poses kept (offline: the whole file)", kMapper,
@@ -471,15 +462,17 @@ std::vector<ConfigKey> declare() {
   k.push_back(integerKey("fusion.clock_jump_messages", "",
                          "refused messages in a row that agree: the clock jumped, follow it", kMapper, 1, 1000,
                          [](auto& o) -> auto& { return o.map.fusion.time_sanity.follow_after; }));
-  {
-    std::vector<std::pair<std::string, slam::CorrectionMode>> modes;
-    for (const auto m : {slam::CorrectionMode::kNone, slam::CorrectionMode::kScanMatch, slam::CorrectionMode::kRbpf})
-      modes.emplace_back(std::string(slam::toString(m)), m);
-    k.push_back(choiceKey<slam::CorrectionMode>(
-        "pose_correction.mode",
-        "`scan-match` or `rbpf` correct drifting odometry with the lidar before mapping ([docs/slam.md](docs/slam.md))",
-        kOffline, modes, [](auto& o) -> auto& { return o.pose_correction.corrector.mode; }));
-  }
+}
+
+// The pose_correction section: correcting drifting odometry with the lidar.
+void declarePoseCorrection(std::vector<ConfigKey>& k) {
+  std::vector<std::pair<std::string, slam::CorrectionMode>> modes;
+  for (const auto m : {slam::CorrectionMode::kNone, slam::CorrectionMode::kScanMatch, slam::CorrectionMode::kRbpf})
+    modes.emplace_back(std::string(slam::toString(m)), m);
+  k.push_back(choiceKey<slam::CorrectionMode>(
+      "pose_correction.mode",
+      "`scan-match` or `rbpf` correct drifting odometry with the lidar before mapping ([docs/slam.md](docs/slam.md))",
+      kOffline, modes, [](auto& o) -> auto& { return o.pose_correction.corrector.mode; }));
   k.push_back(integerKey("pose_correction.particles", "", "particles of `rbpf`", kOffline, 1, 10'000,
                          [](auto& o) -> auto& { return o.pose_correction.corrector.slam.particles; }));
   k.push_back(numberKey("pose_correction.band_z_min", "m", "bottom of the body-frame height band cut into the planar scan",
@@ -489,6 +482,50 @@ std::vector<ConfigKey> declare() {
   k.push_back(integerKey("pose_correction.seed", "", "seed of `rbpf`'s random draws", kOffline, 0,
                          std::numeric_limits<long long>::max(),
                          [](auto& o) -> auto& { return o.pose_correction.corrector.slam.seed; }));
+}
+
+// The map services (OGF_MAP_QUERY, OGF_MAP_COMMAND): who may command the mapper, where exports go, and how
+// much of the mapping thread queries and commands may take (docs/reliability.md, "Map services").
+void declareServices(std::vector<ConfigKey>& k) {
+  k.push_back(boolKey("services.commands_enabled",
+                      "`save`, `reset` and `export` are carried out only when true, and then each needs a MAC made "
+                      "with `services.key_file` (`ogf-map-query --key`)",
+                      kMapper, [](auto& o) -> auto& { return o.services.commands_enabled; }));
+  k.push_back(servicesPathKey("services.key_file",
+                      "the commands' key: 64 hex digits in a regular file of the mapper's user, mode 0600 "
+                      "(`ogf-map-query keygen FILE` makes one); the mapper refuses to start with any other",
+                      &ServicesOptions::key_file, ""));
+  k.push_back(servicesPathKey("services.export_dir",
+                      "exports are written only here, by plain file name, never replacing a file; never the state "
+                      "directory itself",
+                      &ServicesOptions::export_dir, "`\"\"` (`<state_dir>/exports`)"));
+  k.push_back(integerKey("services.export_min_free_bytes", "bytes",
+                         "an export that would leave less free space on its file system is refused", kMapper, 0,
+                         std::numeric_limits<long long>::max(),
+                         [](auto& o) -> auto& { return o.services.export_min_free_bytes; }));
+  k.push_back(integerKey("services.max_query_cells", "cells",
+                         "a box query over more cells is refused before any of the map is read or paged in", kMapper,
+                         1, 100'000'000, [](auto& o) -> auto& { return o.services.max_query_cells; }));
+  k.push_back(numberKey("services.budget_ms_per_scan", "ms",
+                        "service work on the mapping thread between two scans; the queries and commands beyond it "
+                        "wait for the next scan",
+                        kMapper, positive, [](auto& o) -> auto& { return o.services.budget_ms_per_scan; }));
+  k.push_back(integerKey("services.box_chunk_cells", "cells",
+                         "cells of a box query summarised in one step (a larger box is answered over several scans)",
+                         kMapper, 1000, 100'000'000, [](auto& o) -> auto& { return o.services.box_chunk_cells; }));
+}
+
+// Every key, section after section, in the order --print-config prints them.
+std::vector<ConfigKey> declare() {
+  std::vector<ConfigKey> k;
+  declareBus(k);
+  declarePoseSource(k);
+  declarePersistence(k);
+  declarePublishing(k);
+  declareMap(k);
+  declareFilter(k);
+  declareFusion(k);
+  declarePoseCorrection(k);
   declareServices(k);
   return k;
 }

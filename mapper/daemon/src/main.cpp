@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
+#include <string>
 
 #include "ogf/common/command_line.hpp"
 #include "ogf/mapper_daemon/mapper_daemon.hpp"
@@ -17,10 +19,12 @@
 #include "ogf/transport/lcm_url.hpp"
 #include "ogf/transport/logging.hpp"
 
-int main(int argc, char** argv) {
-  using ogf::mapper_daemon::MapperOptions;
-  CLI::App app{"ogf-mapper: fuses lidar scans with the robot's odometry through the Occupancy Grid Filter "
-               "(Sun et al. 2018) and streams the map on LCM."};
+namespace {
+
+using ogf::mapper_daemon::MapperOptions;
+
+// The command line: the configuration file and the flags that override its values.
+struct Flags {
   std::string config_path;
   std::string url, state_dir, time_base, log_level = "info";
   std::optional<double> resolution, max_range, min_range, snapshot_s, keyframe_s, drop_fraction;
@@ -29,105 +33,153 @@ int main(int argc, char** argv) {
   bool in_memory = false;
   bool is_static = false;
   std::optional<std::string> print_config;
-  app.add_option("--config", config_path, "YAML configuration file (see --print-config)")->check(CLI::ExistingFile);
-  app.add_option("--lcm-url", url, "LCM URL (default: the file's lcm_url, $LCM_DEFAULT_URL, LCM's default)");
-  app.add_option("--state-dir", state_dir,
+};
+
+void declareFlags(CLI::App& app, Flags& f) {
+  app.add_option("--config", f.config_path, "YAML configuration file (see --print-config)")->check(CLI::ExistingFile);
+  app.add_option("--lcm-url", f.url, "LCM URL (default: the file's lcm_url, $LCM_DEFAULT_URL, LCM's default)");
+  app.add_option("--state-dir", f.state_dir,
                  "Directory for snapshots and the journal (default: the file's state_dir, else $STATE_DIRECTORY)");
-  app.add_flag("--in-memory", in_memory, "Keep the map in memory only, ignoring any state directory");
-  app.add_option("--resolution", resolution, "Cell size, metres")->check(ogf::cli::positive());
-  app.add_option("--min-range", min_range, "Returns closer than this are ignored, metres")->check(ogf::cli::nonNegative());
-  app.add_option("--max-range", max_range, "Returns beyond are cut here (free cells only), metres")->check(ogf::cli::positive());
-  app.add_option("--threads", threads, "Filter update threads (the map is identical for any count)")->check(ogf::cli::positive());
-  app.add_option("--time-base", time_base, "Scan clock the odometry shares: auto (device with PPS locked, else host), device or host")
+  app.add_flag("--in-memory", f.in_memory, "Keep the map in memory only, ignoring any state directory");
+  app.add_option("--resolution", f.resolution, "Cell size, metres")->check(ogf::cli::positive());
+  app.add_option("--min-range", f.min_range, "Returns closer than this are ignored, metres")->check(ogf::cli::nonNegative());
+  app.add_option("--max-range", f.max_range, "Returns beyond are cut here (free cells only), metres")->check(ogf::cli::positive());
+  app.add_option("--threads", f.threads, "Filter update threads (the map is identical for any count)")->check(ogf::cli::positive());
+  app.add_option("--time-base", f.time_base, "Scan clock the odometry shares: auto (device with PPS locked, else host), device or host")
       ->check(CLI::IsMember({"auto", "device", "host"}));
-  app.add_option("--snapshot-interval", snapshot_s, "Seconds between snapshots")->check(ogf::cli::positive());
-  app.add_option("--keyframe-interval", keyframe_s, "Seconds between unsolicited keyframes")->check(ogf::cli::positive());
-  app.add_flag("--static", is_static,
+  app.add_option("--snapshot-interval", f.snapshot_s, "Seconds between snapshots")->check(ogf::cli::positive());
+  app.add_option("--keyframe-interval", f.keyframe_s, "Seconds between unsolicited keyframes")->check(ogf::cli::positive());
+  app.add_flag("--static", f.is_static,
                "The sensor does not move (an infrastructure lidar, a bench): every scan is mapped at the file's "
                "static_pose (default: the origin), no odometry needed (pose_source: static)");
-  app.add_option("--scan-channel", scan_ch, "Scan channel (default VELODYNE_SCAN)");
-  app.add_option("--pose-channel", pose_ch, "Odometry channel (default POSE)");
-  app.add_option("--delta-channel", delta_ch, "Delta channel (default OGF_MAP_DELTA)");
-  app.add_option("--request-channel", request_ch, "Keyframe request channel (default OGF_MAP_REQUEST)");
-  app.add_option("--status-channel", status_ch, "Status channel (default OGF_MAPPER_STATUS)");
-  app.add_option("--test-drop-deltas", drop_fraction, "Testing: drop this fraction of delta updates (gap injection)")
+  app.add_option("--scan-channel", f.scan_ch, "Scan channel (default VELODYNE_SCAN)");
+  app.add_option("--pose-channel", f.pose_ch, "Odometry channel (default POSE)");
+  app.add_option("--delta-channel", f.delta_ch, "Delta channel (default OGF_MAP_DELTA)");
+  app.add_option("--request-channel", f.request_ch, "Keyframe request channel (default OGF_MAP_REQUEST)");
+  app.add_option("--status-channel", f.status_ch, "Status channel (default OGF_MAPPER_STATUS)");
+  app.add_option("--test-drop-deltas", f.drop_fraction, "Testing: drop this fraction of delta updates (gap injection)")
       ->check(ogf::cli::between(0.0, 0.99));
-  app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
-  app.add_option("--print-config", print_config,
+  app.add_option("--log-level", f.log_level, "trace, debug, info, warn, error")->capture_default_str();
+  app.add_option("--print-config", f.print_config,
                  "Print the configuration (every key with its value: the defaults, then --config's and the flags') "
                  "as YAML and exit; --print-config=markdown prints the table of keys instead")
       ->expected(0, 1)
       ->check(CLI::IsMember({"", "yaml", "markdown"}));
-  OGF_PARSE_COMMAND_LINE(app, argc, argv);
+}
 
-  if (print_config && *print_config == "markdown") {
-    std::cout << ogf::mapper_daemon::mapperConfigMarkdown();
-    return 0;
-  }
-  if (!ogf::transport::setupLoggingAt("ogf-mapper", "--log-level", log_level)) return ogf::cli::kExitUsage;
+// The flags given override the file's values.
+void applyFlags(const Flags& f, MapperOptions& options) {
+  if (!f.url.empty()) options.lcm_url = f.url;
+  if (!f.state_dir.empty()) options.state_dir = f.state_dir;
+  if (f.is_static) options.pose_source = ogf::mapper_daemon::PoseSource::kStatic;
+  if (f.resolution) options.map.setResolution(*f.resolution);
+  if (f.min_range) options.map.fusion.measurement.min_range_m = *f.min_range;
+  if (f.max_range) options.map.fusion.measurement.max_range_m = *f.max_range;
+  if (f.threads) options.map.filter.threads = *f.threads;
+  if (!f.time_base.empty())
+    options.time_base = f.time_base == "host"     ? ogf::mapper_daemon::ScanTimeBase::kHost
+                        : f.time_base == "device" ? ogf::mapper_daemon::ScanTimeBase::kDevice
+                                                  : ogf::mapper_daemon::ScanTimeBase::kAuto;
+  if (f.snapshot_s) options.snapshot_interval_s = *f.snapshot_s;
+  if (f.keyframe_s) options.keyframe_interval_s = *f.keyframe_s;
+  if (f.scan_ch) options.scan_channel = *f.scan_ch;
+  if (f.pose_ch) options.pose_channel = *f.pose_ch;
+  if (f.delta_ch) options.delta_channel = *f.delta_ch;
+  if (f.request_ch) options.request_channel = *f.request_ch;
+  if (f.status_ch) options.status_channel = *f.status_ch;
+  if (f.drop_fraction) options.test_drop_delta_fraction = *f.drop_fraction;
+}
 
-  MapperOptions options;
-  if (!config_path.empty()) {
-    if (auto st = ogf::mapper_daemon::loadMapperOptions(config_path, options); !st) {
+// The configuration: the defaults, then the file's values, then the flags'; false (said) when invalid.
+bool readOptions(const Flags& f, MapperOptions& options) {
+  if (!f.config_path.empty()) {
+    if (auto st = ogf::mapper_daemon::loadMapperOptions(f.config_path, options); !st) {
       spdlog::critical("configuration: {}", st.error().message);
-      return ogf::cli::kExitUsage;
+      return false;
     }
   }
-  if (!url.empty()) options.lcm_url = url;
-  if (!state_dir.empty()) options.state_dir = state_dir;
-  if (is_static) options.pose_source = ogf::mapper_daemon::PoseSource::kStatic;
-  if (resolution) options.map.setResolution(*resolution);
-  if (min_range) options.map.fusion.measurement.min_range_m = *min_range;
-  if (max_range) options.map.fusion.measurement.max_range_m = *max_range;
-  if (threads) options.map.filter.threads = *threads;
-  if (!time_base.empty())
-    options.time_base = time_base == "host"     ? ogf::mapper_daemon::ScanTimeBase::kHost
-                        : time_base == "device" ? ogf::mapper_daemon::ScanTimeBase::kDevice
-                                                : ogf::mapper_daemon::ScanTimeBase::kAuto;
-  if (snapshot_s) options.snapshot_interval_s = *snapshot_s;
-  if (keyframe_s) options.keyframe_interval_s = *keyframe_s;
-  if (scan_ch) options.scan_channel = *scan_ch;
-  if (pose_ch) options.pose_channel = *pose_ch;
-  if (delta_ch) options.delta_channel = *delta_ch;
-  if (request_ch) options.request_channel = *request_ch;
-  if (status_ch) options.status_channel = *status_ch;
-  if (drop_fraction) options.test_drop_delta_fraction = *drop_fraction;
+  applyFlags(f, options);
   if (auto st = options.validate(); !st) {
     spdlog::critical("configuration: {}", st.error().message);
-    return ogf::cli::kExitUsage;
+    return false;
   }
-  if (print_config) {
-    // Before $STATE_DIRECTORY is looked up, so the output reads back to this configuration anywhere.
-    std::cout << ogf::mapper_daemon::mapperConfigYaml(options);
-    return 0;
-  }
+  return true;
+}
+
+// The state directory: the configuration's, else $STATE_DIRECTORY; none with --in-memory (said either way).
+void chooseStateDirectory(const Flags& f, MapperOptions& options) {
   if (options.state_dir.empty()) {
     if (const char* sd = std::getenv("STATE_DIRECTORY"); sd != nullptr && *sd != '\0') options.state_dir = sd;
   }
-  if (in_memory) options.state_dir.clear();
-  if (options.state_dir.empty() && in_memory) {
+  if (f.in_memory) options.state_dir.clear();
+  if (options.state_dir.empty() && f.in_memory) {
     spdlog::info("--in-memory: the map lives in memory only and is lost when ogf-mapper stops");
   } else if (options.state_dir.empty()) {
     spdlog::warn("no state directory (--state-dir, state_dir in the configuration, or $STATE_DIRECTORY): the map "
                  "lives in memory only and is lost when ogf-mapper stops");
   }
+}
 
-  // One mapper per state directory, for this process's whole life (the kernel releases it at exit).
-  std::optional<ogf::persistence::DirectoryLock> lock;
-  if (!options.state_dir.empty()) {
-    auto l = ogf::persistence::DirectoryLock::acquire(options.state_dir);
-    if (l.in_use) {
-      spdlog::critical("state directory: {}", l.message);
-      return ogf::cli::kExitFailure;
-    }
-    if (!l.lock) spdlog::warn("state directory: {}", l.message);
-    lock = std::move(l.lock);
+// One mapper per state directory, for this process's whole life (the kernel releases it at exit); false
+// (said) when another mapper holds it.
+bool lockStateDirectory(const MapperOptions& options, std::optional<ogf::persistence::DirectoryLock>& lock) {
+  if (options.state_dir.empty()) return true;
+  auto l = ogf::persistence::DirectoryLock::acquire(options.state_dir);
+  if (l.in_use) {
+    spdlog::critical("state directory: {}", l.message);
+    return false;
   }
+  if (!l.lock) spdlog::warn("state directory: {}", l.message);
+  lock = std::move(l.lock);
+  return true;
+}
 
-  const std::string resolved = ogf::transport::withReceiveBuffer(ogf::transport::resolveLcmUrl(options.lcm_url));
-  lcm::LCM lcm(resolved);
+// What the mapper maps, said once it runs, and systemd told it is ready.
+void announce(const MapperOptions& options, const std::string& bus, ogf::transport::DaemonLoop& loop) {
+  if (options.pose_source == ogf::mapper_daemon::PoseSource::kStatic) {
+    const Eigen::Isometry3d body = options.static_pose.bodyFromSensor();
+    const Eigen::Quaterniond q(body.linear());
+    spdlog::info("mapping {} with a static pose on {} at {} m; deltas on {}; the body at ({}, {}, {}) m, quaternion "
+                 "(w {:.4f}, x {:.4f}, y {:.4f}, z {:.4f}) in the map frame; {} is not used",
+                 options.scan_channel, bus, options.map.filter.resolution, options.delta_channel,
+                 body.translation().x(), body.translation().y(), body.translation().z(), q.w(), q.x(), q.y(), q.z(),
+                 options.pose_channel);
+    loop.ready("mapping with a static pose");
+  } else {
+    spdlog::info("mapping {} + {} on {} at {} m; deltas on {}", options.scan_channel, options.pose_channel, bus,
+                 options.map.filter.resolution, options.delta_channel);
+    loop.ready("mapping");
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"ogf-mapper: fuses lidar scans with the robot's odometry through the Occupancy Grid Filter "
+               "(Sun et al. 2018) and streams the map on LCM."};
+  Flags flags;
+  declareFlags(app, flags);
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
+  if (flags.print_config && *flags.print_config == "markdown") {
+    std::cout << ogf::mapper_daemon::mapperConfigMarkdown();
+    return 0;
+  }
+  if (!ogf::transport::setupLoggingAt("ogf-mapper", "--log-level", flags.log_level)) return ogf::cli::kExitUsage;
+  MapperOptions options;
+  if (!readOptions(flags, options)) return ogf::cli::kExitUsage;
+  if (flags.print_config) {
+    // Before $STATE_DIRECTORY is looked up, so the output reads back to this configuration anywhere.
+    std::cout << ogf::mapper_daemon::mapperConfigYaml(options);
+    return 0;
+  }
+  chooseStateDirectory(flags, options);
+  std::optional<ogf::persistence::DirectoryLock> lock;
+  if (!lockStateDirectory(options, lock)) return ogf::cli::kExitFailure;
+
+  const std::string bus = ogf::transport::withReceiveBuffer(ogf::transport::resolveLcmUrl(options.lcm_url));
+  lcm::LCM lcm(bus);
   if (!lcm.good()) {
-    spdlog::critical("cannot join the LCM bus {} (udpm needs a multicast route)", resolved);
+    spdlog::critical("cannot join the LCM bus {} (udpm needs a multicast route)", bus);
     return ogf::cli::kExitFailure;
   }
   ogf::transport::DaemonLoop loop;
@@ -141,19 +193,6 @@ int main(int argc, char** argv) {
   loop.onShutdown([&d] { d.stop(); });
   loop.setHealthCheck([&d] { return d.healthy(); });
   d.start();
-  if (options.pose_source == ogf::mapper_daemon::PoseSource::kStatic) {
-    const Eigen::Isometry3d body = options.static_pose.bodyFromSensor();
-    const Eigen::Quaterniond q(body.linear());
-    spdlog::info("mapping {} with a static pose on {} at {} m; deltas on {}; the body at ({}, {}, {}) m, quaternion "
-                 "(w {:.4f}, x {:.4f}, y {:.4f}, z {:.4f}) in the map frame; {} is not used",
-                 options.scan_channel, resolved, options.map.filter.resolution, options.delta_channel,
-                 body.translation().x(), body.translation().y(), body.translation().z(), q.w(), q.x(), q.y(), q.z(),
-                 options.pose_channel);
-    loop.ready("mapping with a static pose");
-  } else {
-    spdlog::info("mapping {} + {} on {} at {} m; deltas on {}", options.scan_channel, options.pose_channel, resolved,
-                 options.map.filter.resolution, options.delta_channel);
-    loop.ready("mapping");
-  }
+  announce(options, bus, loop);
   return loop.run();
 }

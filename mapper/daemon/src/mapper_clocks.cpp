@@ -3,11 +3,12 @@
 #include <spdlog/spdlog.h>
 
 #include "ogf/adapters/message_adapters.hpp"
-#include "ogf/mapper_daemon/mapper_daemon.hpp"
+#include "ogf/mapper_daemon/daemon_time.hpp"
+#include "ogf/mapper_daemon/scan_intake.hpp"
 
 namespace ogf::mapper_daemon {
 
-void MapperDaemon::watchClocks(const ogf::lidar_scan_t& scan) {
+void ScanIntake::watchClocks(const ogf::lidar_scan_t& scan) {
   const fusion::ScanClock clock = adapters::scanClockOf(scan, options_.time_base);
   const fusion::ScanClock other = clock == fusion::ScanClock::kDevice ? fusion::ScanClock::kHost : fusion::ScanClock::kDevice;
   fusion::ClockSample sample{clock, adapters::scanStartOn(scan, clock), adapters::scanStartOn(scan, other), std::nullopt};
@@ -25,7 +26,7 @@ void MapperDaemon::watchClocks(const ogf::lidar_scan_t& scan) {
   }
 }
 
-void MapperDaemon::fillClockStatus(ogf::mapper_status_t& s) const {
+void ScanIntake::fillClockStatus(ogf::mapper_status_t& s) const {
   switch (clocks_.state()) {
     case fusion::ClockState::kUnknown: s.clocks = ogf::mapper_status_t::CLOCKS_UNKNOWN; break;
     case fusion::ClockState::kAgree: s.clocks = ogf::mapper_status_t::CLOCKS_AGREE; break;

@@ -4,7 +4,8 @@
 // With pose_source static, what arrives on the pose channel is counted and said once, never used.
 #include <spdlog/spdlog.h>
 
-#include "ogf/mapper_daemon/mapper_daemon.hpp"
+#include "ogf/mapper_daemon/daemon_time.hpp"
+#include "ogf/mapper_daemon/scan_intake.hpp"
 #include "ogf/transport/lcm_url.hpp"
 
 namespace ogf::mapper_daemon {
@@ -14,7 +15,7 @@ double seconds(std::int64_t us) { return static_cast<double>(us) * 1e-6; }
 
 }  // namespace
 
-void MapperDaemon::watchInputs() {
+void ScanIntake::watchInputs() {
   const std::int64_t now = steadyUtime();
   const auto change = inputs_.observe(now);
   if (!change) return;
@@ -84,7 +85,7 @@ void MapperDaemon::watchInputs() {
   }
 }
 
-void MapperDaemon::fillInputStatus(ogf::mapper_status_t& s) const {
+void ScanIntake::fillInputStatus(ogf::mapper_status_t& s) const {
   switch (inputs_.state()) {
     case fusion::InputState::kNone:
       s.inputs = ogf::mapper_status_t::INPUTS_NONE;
@@ -110,7 +111,7 @@ void MapperDaemon::fillInputStatus(ogf::mapper_status_t& s) const {
   s.poses_ignored = poses_ignored_;
 }
 
-void MapperDaemon::poseIgnored() {
+void ScanIntake::poseIgnored() {
   if (++poses_ignored_ == 1)
     spdlog::warn(
         "inputs: messages arrive on {} but the pose is static (pose_source: static): they are ignored and "
