@@ -89,9 +89,13 @@ class Problem:
 
 
 def tracked_files(root: str) -> list[str]:
-    """The tree's files, relative to root: git's list when root is a checkout, else a walk."""
+    """The tree's files, relative to root: in a checkout those git tracks or would (not ignored), else a walk."""
     try:
-        out = subprocess.run(["git", "-C", root, "ls-files", "-z"], capture_output=True, check=True)
+        out = subprocess.run(
+            ["git", "-C", root, "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
+            capture_output=True,
+            check=True,
+        )
         files = [f for f in out.stdout.decode().split("\0") if f]
         if files:
             return [f for f in files if os.path.exists(os.path.join(root, f))]
