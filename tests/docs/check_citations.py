@@ -89,7 +89,7 @@ class Problem:
 
 
 def tracked_files(root: str) -> list[str]:
-    """The tree's files, relative to root: in a checkout those git tracks or would (not ignored), else a walk."""
+    """The tree's files, relative to root: in a checkout, those git tracks or does not ignore; else a walk."""
     try:
         out = subprocess.run(
             ["git", "-C", root, "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
