@@ -72,9 +72,11 @@ EXTERNAL = re.compile(
 
 # Placeholders that stand for any file in usage text and examples.
 PLACEHOLDER = re.compile(
-    r"^(?:FILE|DIR|NAME|PATH|OUT|IN|OUTPUT|INPUT|file|a|b|x|y|foo|bar|my-[\w-]+|your[\w-]*|example[\w-]*)\.[\w.]+$"
+    r"^(?:FILE|DIR|NAME|PATH|OUT|IN|OUTPUT|INPUT|file|a|b|x|y|foo|bar|my-[\w-]+|your[\w-]*|example[\w-]*)"
+    r"\.[\w.]+$"
 )
-# A name the text itself says is generated at build time (`preset_texts.cpp is generated into the build tree`).
+# A name the text itself says is generated at build time ("preset_texts.cpp is generated into the build
+# tree").
 GENERATED_AFTER = re.compile(r"^\s*(?:is|are)?\s*generated\b")
 
 
@@ -129,7 +131,7 @@ def c_like_comments(text: str):
                 yield line + k, part
             line += text.count("\n", i, end)
             i = end + 2
-        elif ch == "R" and text.startswith('R"', i) and (i == 0 or not (text[i - 1].isalnum() or text[i - 1] == "_")):
+        elif text.startswith('R"', i) and (i == 0 or not (text[i - 1].isalnum() or text[i - 1] == "_")):
             open_paren = text.find("(", i + 2)
             delim = text[i + 2 : open_paren]
             end = text.find(")" + delim + '"', open_paren)
@@ -146,7 +148,7 @@ def c_like_comments(text: str):
 
 
 def hash_comments(text: str):
-    """(line, comment text) for every # comment: a # at the start of a line or after a blank, outside quotes."""
+    """(line, comment text) for every # comment: a # starting a line or after a blank, outside quotes."""
     for number, line in enumerate(text.split("\n"), start=1):
         quote = None
         for k, ch in enumerate(line):
@@ -273,7 +275,7 @@ def check_text(tree: Tree, citing: str, number: int, text: str, problems: list[P
 
 
 def sentence_start(text: str) -> str:
-    """The text since the last sentence boundary (a full stop, question or exclamation mark before a blank)."""
+    """The text since the last sentence boundary (a full stop, question or exclamation mark, then a blank)."""
     ends = [m.end() for m in re.finditer(r"[.!?]\s", text)]
     return text[ends[-1] :] if ends else text
 
@@ -289,13 +291,15 @@ def check_document(tree: Tree, citing: str, number: int, token: str, before: str
     quoted = QUOTED_HEADING.match(after)
     titles = [HEADING_NUMBER.sub("", h) for h in tree.headings(doc)]  # "3. Packets" is cited as "Packets"
     if quoted and not any(t.startswith(quoted.group(1)) for t in titles):
-        problems.append(Problem(citing, number, f'cites {token}, "{quoted.group(1)}"; {doc} has no such heading'))
+        message = f'cites {token}, "{quoted.group(1)}"; {doc} has no such heading'
+        problems.append(Problem(citing, number, message))
     cited = SECTIONS.match(after)
     if not cited:
         return
     for section in SECTION_ONE.findall(cited.group(0)):
         if section not in tree.sections(doc):
-            problems.append(Problem(citing, number, f"cites {token} §{section}; {doc} has no section {section}"))
+            message = f"cites {token} §{section}; {doc} has no section {section}"
+            problems.append(Problem(citing, number, message))
 
 
 def check_markdown_links(tree: Tree, citing: str, number: int, line: str, problems: list[Problem]) -> None:
@@ -307,7 +311,8 @@ def check_markdown_links(tree: Tree, citing: str, number: int, line: str, proble
         if not tree.exists(resolved):
             problems.append(Problem(citing, number, f"links to {m.group(1)}, which is not in the tree"))
         elif anchor and resolved.endswith(".md") and anchor not in tree.anchors(resolved):
-            problems.append(Problem(citing, number, f"links to {m.group(1)}; {resolved} has no heading #{anchor}"))
+            message = f"links to {m.group(1)}; {resolved} has no heading #{anchor}"
+            problems.append(Problem(citing, number, message))
 
 
 def check_file(tree: Tree, rel: str, problems: list[Problem]) -> None:
@@ -353,7 +358,8 @@ def check_tree(root: str) -> list[Problem]:
 
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n", 1)[0])
-    parser.add_argument("--root", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+    here = os.path.dirname(os.path.abspath(__file__))
+    parser.add_argument("--root", default=os.path.join(here, "..", ".."))
     args = parser.parse_args(argv)
     problems = check_tree(os.path.abspath(args.root))
     for p in problems:

@@ -78,7 +78,8 @@ class CheckerReportsWhatIsMissing(unittest.TestCase):
 
     def test_broken_markdown_link_and_anchor_are_reported(self):
         found = self.problems_for(
-            "README.md", "[guide](docs/guide.md#32-blocks), [gone](docs/gone.md), [bad](docs/guide.md#4-time)\n"
+            "README.md",
+            "[guide](docs/guide.md#32-blocks), [gone](docs/gone.md), [bad](docs/guide.md#4-time)\n",
         )
         self.assertEqual(
             found,
@@ -90,7 +91,8 @@ class CheckerReportsWhatIsMissing(unittest.TestCase):
 
     def test_existing_files_sections_and_other_projects_files_pass(self):
         text = (
-            "// docs/guide.md §3 and §3.2; real_header.hpp, ogf/lib/real_header.hpp, lib/src/real_source.cpp;\n"
+            "// docs/guide.md §3 and §3.2; real_header.hpp, ogf/lib/real_header.hpp,\n"
+            "// lib/src/real_source.cpp;\n"
             "// 2.304 us per firing (ros rawdata.h:75-79; vd packet_decoder.cpp:188); data in\n"
             "// ../shared/data/real/capture.pcap; writes DIR/sim.yaml and FILE.md.\n"
             'const char* s = "not a comment: gone.md";\n'
