@@ -133,7 +133,7 @@ rays=$(gbval "$work/fusion_rays.csv" "BM_CastRandomRays/resolution_mm:200" cells
 echo "| measurement set of a VLP-16 scan at 0.2 m, room / street: ms | $(fmt "$room" %.1f) / $(fmt "$street" %.1f) | scan period 100 ms | street $(ratio "$street" 100) of it |"
 echo "| ray casting at 0.2 m: M cells/s | $(fmt "$(awk -v v="$rays" 'BEGIN { if (v != "") print v / 1e6 }')" %.0f) | | |"
 d=$work/decoding.csv
-live=754   # VLP-16 data packets per second, single return (velodyne.md)
+live=754   # VLP-16 data packets per second, single return (docs/wire-format.md §4.4)
 for c in 0 2; do
   name=VLP-16; [ "$c" = 2 ] && name=HDL-32E
   dec=$(gbval "$d" "BM_PacketDecoder/capture(0=vlp16,1=dual,2=hdl32e):$c" packets/s)

@@ -90,7 +90,7 @@ TEST(RealCaptures, Vlp16StrongestGivesOneScanPerAzimuthWrap) {
   OGF_REQUIRE_SHARED_FILE(path, kVlp16Strongest);
   const auto d = decodeCapture(path, allReturns());
   EXPECT_EQ(d.read_error, "");
-  // 51 wraps of the azimuth give 52 scans (SOURCES.md §1), the first and last partial.
+  // 51 wraps of the azimuth give 52 scans (docs/test-data.md §2.1), the first and last partial.
   ASSERT_EQ(d.scans.size(), 52u);
   EXPECT_EQ(d.counters.data_packets, 1902);
   EXPECT_EQ(d.counters.position_packets, 367);

@@ -171,7 +171,7 @@ void fill(ogf::mapper_status_t& m, std::size_t, Rng&) {
   m.poses_ignored = 13;
 }
 
-// Largest array each type is specified to carry (messages/limits.hpp); fixed-size types use 0.
+// Largest array each type is specified to carry (ogf/messages/limits.hpp); fixed-size types use 0.
 template <class T> std::size_t maximalLength();
 template <> std::size_t maximalLength<ogf::velodyne_packets_t>() { return 1000; }  // ~1.2 MB of payload
 template <> std::size_t maximalLength<ogf::lidar_scan_t>() { return ogf::messages::kMaxScanPoints; }

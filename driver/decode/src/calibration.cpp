@@ -30,7 +30,7 @@ Calibration fromDegrees(const double* vertical_deg, const double* rotation_deg, 
   return c;
 }
 
-// velodyne.md §4.2.
+// The nominal VLP-16 elevations and beam-origin heights (docs/wire-format.md §6.1 and §8.3).
 constexpr std::array<double, 16> kVlp16Vertical{-15, 1, -13, 3, -11, 5, -9, 7, -7, 9, -5, 11, -3, 13, -1, 15};
 constexpr std::array<double, 16> kVlp16VertOffset{0.0112, -0.0007, 0.0097, -0.0022, 0.0081, -0.0037,
                                                   0.0066, -0.0051, 0.0051, -0.0066, 0.0037, -0.0081,

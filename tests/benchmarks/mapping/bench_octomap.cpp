@@ -1,9 +1,9 @@
-// ogf-bench-octomap: the OGF against OctoMap on the same scans, in one run (anchors-mapping.md §2.4 and
-// §4.4). Each scan is a list of rays from one sensor origin; both mappers get exactly those rays at the
-// same resolution and max range: the OGF through pipeline::ScanMapper (measurement set + banded filter
-// update, one thread), OctoMap through OcTree::insertPointCloud (Debian's liboctomap, built without
-// OpenMP, so also one thread). Prints per resolution: time per scan (mean, p50, p99), the real-time factor
-// against a 10 Hz sensor (100 ms per scan; times are thread CPU time), memory after the last scan and cell counts.
+// ogf-bench-octomap: the OGF and OctoMap on the same scans, in one run (docs/performance.md, "The programs").
+// Each scan is a list of rays from one sensor origin; both mappers get exactly those rays at the same
+// resolution and max range: the OGF through pipeline::ScanMapper (measurement set + banded filter update, one
+// thread), OctoMap through OcTree::insertPointCloud (Debian's liboctomap, built without OpenMP, so also one
+// thread). Prints per resolution: time per scan (mean, p50, p99), the real-time factor against a 10 Hz sensor
+// (100 ms per scan; times are thread CPU time), memory after the last scan and cell counts.
 //
 // Scans: by default synthetic full VLP-16 scans (16 rings at -15°..+15°, 1800 azimuths, 2 cm range
 // noise) driven 1 m apart down the simulator's "street" world (ogf::sim presets); or the scans of a

@@ -1,5 +1,5 @@
-// The tapered, banded prior is positive definite where the plainly truncated kernel is not (ogf.md §4:
-// σ = 1 cell, R = 1…3), and the configuration refuses a taper support that would break definiteness.
+// The tapered, banded prior is positive definite where the plainly truncated kernel is not (σ = 1 cell,
+// R = 1…3; docs/filter.md §5.1), and the configuration refuses a taper support that would break definiteness.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>

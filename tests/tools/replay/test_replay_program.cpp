@@ -124,7 +124,7 @@ TEST(ReplayProgram, EveryPacketOfARos2BagArrivesOnTheDataPort) {
   const auto r = run("--rosbag2 " + bag.string() + " --fast --data-port " + std::to_string(data.port()));
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   ASSERT_EQ(r.rc, 0) << r.out;
-  EXPECT_EQ(number(r.out, "data"), 603) << r.out;  // SOURCES.md: 603 data packets in 4 VelodyneScan messages
+  EXPECT_EQ(number(r.out, "data"), 603) << r.out;  // 603 data packets in 4 messages, docs/test-data.md §2.3
   EXPECT_EQ(number(r.out, "position"), 0) << r.out;
   EXPECT_EQ(data.count(), 603) << r.out;
   EXPECT_EQ(data.dataSized(), 603);

@@ -1,5 +1,5 @@
-// VLP-16 data packets: bytes at the offsets of velodyne.md §4.1, the firing schedule of §4.3, the dual
-// layout of §4.4, and simulated ranges that match the geometry.
+// VLP-16 data packets: bytes at the offsets of docs/wire-format.md §3.1, the firing schedule of §4.1, the
+// dual layout of §5.1, and simulated ranges that match the geometry.
 #include <gtest/gtest.h>
 
 #include <cmath>

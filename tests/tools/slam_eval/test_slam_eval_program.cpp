@@ -119,7 +119,7 @@ TEST(SlamEvalProgram, ScoresTheIntelRawOdometry) {
   const auto run = runProgram(
       {kSlamEval, "--result", log_path.string(), "--relations", relations_path.string()}, dir.path());
   EXPECT_EQ(run.exit_code, 0) << run.output;
-  // SOURCES.md: raw odometry alone, intel 7.37 ± 14.35 m.
+  // Raw odometry alone scores Intel 7.37 ± 14.35 m (docs/test-data.md §3.1).
   EXPECT_EQ(run.stdout_text.substr(0, run.stdout_text.find('\n')), "trans 7.3702 ± 14.3515 m max 70.0215");
   EXPECT_NE(run.stdout_text.find("relations 2984 matched, 0 unmatched of 2984"), std::string::npos);
 }

@@ -1,6 +1,6 @@
 // On the real benchmark logs: a FLASER record's second triple is raw odometry, so scoring the input logs
-// themselves must give the "Raw odometry alone" figures of ../shared/data/slam/SOURCES.md (computed there
-// with metricEvaluator's definition) to the printed precision, with every relation stamp matched.
+// themselves must give the raw-odometry figures of docs/test-data.md §3.1 (computed with metricEvaluator's
+// definition, §3.4) to the printed precision, with every relation stamp matched.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -66,7 +66,7 @@ int main(int argc, char** argv) {
   app.add_option("--rpm", config.sensor.rpm, "Rotation rate, 300..1200 (600 or 1200 typical)")
       ->capture_default_str()
       ->check(ogf::cli::between(300.0, 1200.0));
-  app.add_option("--model", model_name, "Sensor: vlp16 (the VLP-16 of velodyne.md) or hdl32e")
+  app.add_option("--model", model_name, "Sensor: vlp16 (the VLP-16 of docs/wire-format.md) or hdl32e")
       ->capture_default_str()
       ->check(CLI::IsMember({"vlp16", "hdl32e"}));
   app.add_option("--return-mode", return_mode, "strongest|last|dual")

@@ -1,5 +1,5 @@
 // ogf-slam-eval: scores a SLAM result log on the Freiburg 2-D SLAM benchmark (Kümmerle et al. 2009, the
-// metricEvaluator definition in ../shared/data/slam/SOURCES.md, section 4). The trajectory is the robot pose
+// metricEvaluator definition, docs/test-data.md §3.4). The trajectory is the robot pose
 // of every laser record (FLASER's second triple, ROBOTLASER1's robot_pose) at its ipc_timestamp; each
 // relation's two stamps take the nearest pose within --tolerance. This file owns the command line, the
 // files and the exit code; the metric is in ogf::slam_io.

@@ -1,7 +1,7 @@
 // Drives an LCM instance from a Boost.Asio io_context: LCM's file descriptor (one byte per queued message,
 // for every provider) is watched with a stream_descriptor, and all queued messages are dispatched on the
 // io_context thread. There is no upstream Asio example; this is the select() pattern of
-// examples/c/listener-async.c moved onto Asio.
+// LCM's examples/c/listener-async.c moved onto Asio.
 #pragma once
 
 #include <boost/asio/io_context.hpp>

@@ -54,7 +54,7 @@ TEST(NebulaBag, DecodesToExactlyTheScansOfItsDerivedPcap) {
   ASSERT_TRUE(counts) << counts.error().message;
   stream->finish();
   EXPECT_EQ(counts->messages, 4);
-  EXPECT_EQ(counts->packets, 603);  // SOURCES.md: 603 data packets
+  EXPECT_EQ(counts->packets, 603);  // docs/test-data.md §2.3: 603 data packets
   EXPECT_EQ(counts->skipped, 0);
   EXPECT_EQ(counts->gaps.gaps(), 0);
 

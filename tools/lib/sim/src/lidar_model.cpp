@@ -6,7 +6,7 @@ namespace {
 
 constexpr std::int64_t kHdl32FiringNs = 1152;   // per laser (driver model.hpp, app. note 63-9277)
 constexpr std::int64_t kHdl32BlockNs = 46080;   // 32 firings and the recharge
-constexpr std::uint8_t kHdl32ProductId = 0x21;  // velodyne.md §4.1
+constexpr std::uint8_t kHdl32ProductId = 0x21;  // docs/wire-format.md §3.6
 
 LidarModel makeVlp16() {
   LidarModel m;

@@ -1,5 +1,5 @@
 // The VLP-16 data packet encoder: 12 blocks of (flag, azimuth, 32 × (distance, reflectivity)), then the
-// TOH stamp, the return-mode byte and the product id (velodyne.md §4.1).
+// TOH stamp, the return-mode byte and the product id (docs/wire-format.md §3.1).
 #include "ogf/sim/vlp16_packet.hpp"
 
 #include "ogf/sim/byte_writer.hpp"

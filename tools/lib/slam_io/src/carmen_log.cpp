@@ -1,5 +1,5 @@
 // Reading CARMEN log records (ODOM, FLASER, ROBOTLASER1) and writing the benchmark's result records. The
-// field layouts are the logs' own header comments (../shared/data/slam/SOURCES.md, section 3).
+// field layouts are the logs' own header comments (docs/test-data.md §3.2).
 #include "ogf/slam_io/carmen_log.hpp"
 
 #include <array>
@@ -67,7 +67,7 @@ std::optional<Stamp> parseStamp(const Fields& f, std::size_t first) {
   return Stamp{*ipc, std::string(f[first]), std::string(f[first + 1]), *logger};
 }
 
-// FLASER's angles (GMapping's CARMEN reader, SOURCES.md section 3): 180 degrees from -90 degrees; 1 and 0.5
+// FLASER's angles (GMapping's CARMEN reader; docs/test-data.md §3.2): 180 degrees from -90 degrees; 1 and 0.5
 // degree steps for 180 and 360 beams, 180/(n-1) degrees otherwise (181, 361, ...).
 double flaserResolution(std::size_t n) {
   if (n == 180) return 1.0 * kDegree;

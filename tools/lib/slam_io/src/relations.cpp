@@ -1,5 +1,5 @@
 // The benchmark's relations file and metricEvaluator's metric (Kümmerle et al. 2009; the Freiburg tool as
-// described in ../shared/data/slam/SOURCES.md, section 4).
+// described in docs/test-data.md §3.3 and §3.4).
 #include "ogf/slam_io/relations.hpp"
 
 #include <algorithm>

@@ -42,7 +42,7 @@ int sequenceOfChannel(Model model, int channel);
 // Laser id of a channel: channel mod 16 on the VLP-16 and Hi-Res, the channel on 32-laser models.
 int laserOfChannel(Model model, int channel);
 
-// Nominal time between two data packets (the firing cycle fixes it, not the RPM; velodyne.md §4.3).
+// Nominal time between two data packets (the firing cycle fixes it, not the RPM; docs/wire-format.md §4.4).
 double packetPeriodUs(Model model, ReturnMode mode);
 
 std::string_view modelName(Model model);

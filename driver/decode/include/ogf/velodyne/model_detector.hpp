@@ -1,7 +1,7 @@
 // Decides the sensor model of a data stream. Configuration always wins. Otherwise byte 1205 decides,
-// except 0x21: the HDL-32E reports it, and so does early (2014) VLP-16 firmware (SOURCES.md §1), so the
-// packet period measured from the timestamps decides (VLP-16 1327.1 us single / 663.6 us dual, HDL-32E
-// 553.0 / 276.5 us; velodyne.md §4.3).
+// except 0x21: the HDL-32E reports it, and so does early (2014) VLP-16 firmware (VeloView's VLP-16 test
+// capture, docs/test-data.md §2.1), so the packet period measured from the timestamps decides (VLP-16
+// 1327.1 us single / 663.6 us dual, HDL-32E 553.0 / 276.5 us; docs/wire-format.md §3.6 and §4.4).
 #pragma once
 
 #include <cstdint>

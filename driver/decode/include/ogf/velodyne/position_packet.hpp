@@ -1,5 +1,5 @@
 // The 512-byte position (telemetry) packet on port 8308: top-of-hour timestamp, PPS state and the NMEA
-// sentence from the GPS receiver (VLP-16 manual Tables 9-3/9-4; velodyne.md §4.5).
+// sentence from the GPS receiver (VLP-16 manual Tables 9-3/9-4; docs/wire-format.md §7).
 #pragma once
 
 #include <array>

@@ -1,7 +1,7 @@
 // Turns decoded packets into scans: cuts at the configured azimuth at the firing that crosses it (inside
 // a packet, so no scan holds more than 360 degrees), detects lost packets from device-time gaps (packets
-// carry no sequence number; velodyne.md §4.6) and ends a scan at a long gap. Buffers are reserved once,
-// so steady-state assembly does not allocate.
+// carry no sequence number; docs/wire-format.md §4.4) and ends a scan at a long gap. Buffers are reserved
+// once, so steady-state assembly does not allocate.
 //
 // A pause in the stream (no packet for `pause_us` of host receive time: the sensor stopped, its cable was
 // out, a replay paused) is never bridged by emitting the scan held open before it with the first packet

@@ -1,5 +1,5 @@
 // The Velodyne 1206-byte data packet and 512-byte position packet as they arrive in a UDP payload
-// (VLP-16 manual §9, Tables 9-2 to 9-4; docs velodyne.md §4.1 and §4.5), shared by the VLP-16, Puck
+// (VLP-16 manual §9, Tables 9-2 to 9-4; docs/wire-format.md §3 and §7), shared by the VLP-16, Puck
 // Hi-Res, VLP-32C and HDL-32E. The structs hold bytes only, so they have no padding, no alignment needs
 // and no host byte order; multi-byte fields are read with the little-endian helpers below.
 #pragma once

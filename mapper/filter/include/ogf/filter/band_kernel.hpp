@@ -1,6 +1,7 @@
 // The inner loop of the banded OGF: eq. (5) applied to the stored entries of one measurement's stencil
-// (ogf.md §2 and §4). Given the cell's scalar update (probit_update.hpp) and the records of the stencil
-// cells in the 3×3×3 neighbourhood of blocks (found by a BandLocate), it reads the column Σ[:, i] and applies
+// (docs/filter.md §3.1 and §6.2). Given the cell's scalar update (probit_update.hpp) and the records of the
+// stencil cells in the 3×3×3 neighbourhood of blocks (found by a BandLocate), it reads the column Σ[:, i]
+// and applies
 //   m_s  += gain·Σ_si,   Σ_ss −= shrink·Σ_si²,   Σ_st −= shrink·Σ_si·Σ_ti  for every stored pair (s, t).
 //
 // Two implementations with the same arithmetic in the same order, so they give the same floats bit for bit:

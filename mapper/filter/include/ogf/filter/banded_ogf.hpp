@@ -1,6 +1,6 @@
 // The product Occupancy Grid Filter: eq. (5) with the covariance kept only between cells within the stencil
-// radius R (ogf.md §4), on hashed blocks allocated on demand, so one measurement costs a constant amount of
-// work whatever the size of the map. Prior Σ0 = kernel × Wendland taper. Banded storage keeps mean,
+// radius R (docs/filter.md §6), on hashed blocks allocated on demand, so one measurement costs a constant
+// amount of work whatever the size of the map. Prior Σ0 = kernel × Wendland taper. Banded storage keeps mean,
 // variance and the forward half of the covariances as floats; compact storage a float mean and a 16-bit
 // variance, the covariances rebuilt from the prior (FilterConfig::covariance).
 //

@@ -1,6 +1,6 @@
-// Hashed blocks of cells allocated on demand (ogf.md §4): a block is B×B×B cells in 3-D (B×B×1 in 2-D),
-// each cell stored contiguously as floats (mean, variance, then one covariance per forward stencil slot), so
-// a measurement touches about one cache line per stencil cell in at most 8 neighbouring blocks.
+// Hashed blocks of cells allocated on demand (docs/filter.md §6.3): a block is B×B×B cells in 3-D (B×B×1 in
+// 2-D), each cell stored contiguously as floats (mean, variance, then one covariance per forward stencil
+// slot), so a measurement touches about one cache line per stencil cell in at most 8 neighbouring blocks.
 #pragma once
 
 #include <ogf/core/cell_key.hpp>

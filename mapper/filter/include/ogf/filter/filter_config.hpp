@@ -12,7 +12,7 @@
 
 namespace ogf::filter {
 
-// Side of a storage block in cells (ogf.md §4: B = 8). Blocks are B×B×B in 3-D and B×B×1 in 2-D.
+// Side of a storage block in cells (docs/filter.md §6.3: B = 8). Blocks are B×B×B in 3-D and B×B×1 in 2-D.
 inline constexpr int kBlockSide = 8;
 
 // Which measurements of a cell that rays have ended in reach the filter (Sun et al. Sec. VI-B: "a cell
@@ -30,7 +30,7 @@ enum class OccupiedPriority : int {
   kMap = 1,
 };
 
-// How the covariance between neighbouring cells is kept (ogf.md §4).
+// How the covariance between neighbouring cells is kept (docs/filter.md §6.3 and §6.4).
 enum class CovarianceStorage : int {
   // Every cell stores its covariances to the forward half of its stencil (56 bytes a cell at the default
   // stencil): eq. (5) applied exactly inside the band.
@@ -58,7 +58,7 @@ struct FilterConfig {
   double occupiedThreshold = 0.65;         // r_o of eq. (3)
   double freeThreshold = 0.35;             // r_f of eq. (3)
   // An update whose change to the measured cell's mean and variance is below this is skipped
-  // (ogf.md §4, the counterpart of OctoMap's clamping). 0 applies every update.
+  // (docs/filter.md §7.2). 0 applies every update.
   double skipTolerance = 1e-4;
   // A measurement that agrees with a confidently classified cell, y·m/√(1+s) > clampZ, is skipped without
   // evaluating λ: the OGF's OctoMap-style clamping. The probit update converges only logarithmically, so

@@ -1,6 +1,7 @@
 // The standard normal pdf, cdf and the inverse Mills ratio λ(z) = φ(z)/Φ(z) that drives the OGF update,
 // eq. (5), and the EP moments, eq. (7). λ is computed stably for every z: a map that has seen a cell many
-// times pushes z far from 0 in both directions (ogf.md §2), where φ(z)/Φ(z) by naive division breaks down.
+// times pushes z far from 0 in both directions (docs/filter.md §4.1), where φ(z)/Φ(z) by naive division
+// breaks down.
 #pragma once
 
 namespace ogf::filter {

@@ -1,4 +1,4 @@
-// The prior covariance of the map, Σ0 = K ∘ T (ogf.md §4): the paper's Gaussian kernel (Sec. VI,
+// The prior covariance of the map, Σ0 = K ∘ T (docs/filter.md §5.2): the paper's Gaussian kernel (Sec. VI,
 // k(x, x') = φ(‖x − x'‖; 0, σ²)) times a compactly supported positive-definite Wendland taper, cut at the
 // stencil radius. The Schur product of two positive-definite matrices is positive definite, so the banded
 // prior stays a valid covariance where the plainly truncated kernel does not.

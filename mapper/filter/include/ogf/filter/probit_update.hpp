@@ -1,4 +1,4 @@
-// The scalar part of one OGF measurement update, eq. (5), in the form ogf.md §2 computes it. For a
+// The scalar part of one OGF measurement update, eq. (5), in the form docs/filter.md §3.1 derives. For a
 // measurement y ∈ {-1, +1} on a cell with mean μ and variance s:
 //   z = y·μ/√(1+s),  λ = φ(z)/Φ(z),
 //   m ← m + Σ[:, i] · meanGain,            meanGain = y·λ/√(1+s)

@@ -1,8 +1,8 @@
-// Which cell offsets the banded filter keeps covariances for: the Euclidean ball |o| ≤ R of ogf.md §4,
-// optionally joined with the Manhattan ball |o|₁ ≤ L. The default L = 2 adds the six axial neighbours at
-// distance 2 to the √2 ball in 3-D (24 neighbours, 56 bytes per cell): the two cells on either side of a
-// measured cell are the pair whose covariance the update fills in most (c_{i−1}·c_{i+1}), and keeping it
-// brings d(banded, dense) from 0.7 % to 0.26 % on random 3-D scenes (tests/mapper/filter).
+// Which cell offsets the banded filter keeps covariances for (docs/filter.md §6.1): the Euclidean
+// ball |o| ≤ R, optionally joined with the Manhattan ball |o|₁ ≤ L. The default L = 2 adds the six axial
+// neighbours at distance 2 to the √2 ball in 3-D (24 neighbours, 56 bytes per cell): the two cells on either
+// side of a measured cell are the pair whose covariance the update fills in most (c_{i−1}·c_{i+1}), and
+// keeping it brings d(banded, dense) from 0.7 % to 0.26 % on random 3-D scenes (tests/mapper/filter).
 #pragma once
 
 #include <ogf/core/cell_key.hpp>

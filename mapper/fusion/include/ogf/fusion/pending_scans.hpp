@@ -1,15 +1,15 @@
-// The scans that wait for the odometry covering them, and the policy that bounds the wait (architecture:
-// "no pose covering a scan's time → wait a bounded time, then drop the scan and count it; never
-// extrapolate silently"). Pure: the caller passes the time in. Bounded in scans and in points: when a new
-// scan does not fit, the oldest whole scans are dropped, so memory never grows without bound. Each drop is
-// counted under its cause: the mapper fell behind only when the poses cover the dropped scan (it could
-// have been mapped); a scan still waiting for its poses counts as dropped for want of a pose, so missing
-// odometry is never blamed on the queue. A scan leaves by popReady() once the PoseBuffer covers its whole
-// span, in arrival order, or by popOldest() when the pose is fixed (no odometry to wait for);
-// it is dropped when it has waited longer than max_pose_wait_s, when its span starts before the oldest
+// The scans that wait for the odometry covering them, and the policy that bounds the wait
+// (docs/architecture.md, "Frames and time": no pose covering a scan's time → wait a bounded time, then drop
+// the scan and count it; never extrapolate silently). Pure: the caller passes the time in. Bounded in scans
+// and in points: when a new scan does not fit, the oldest whole scans are dropped, so memory never grows
+// without bound. Each drop is counted under its cause: the mapper fell behind only when the poses cover the
+// dropped scan (it could have been mapped); a scan still waiting for its poses counts as dropped for want of
+// a pose, so missing odometry is never blamed on the queue. A scan leaves by popReady() once the PoseBuffer
+// covers its whole span, in arrival order, or by popOldest() when the pose is fixed (no odometry to wait
+// for); it is dropped when it has waited longer than max_pose_wait_s, when its span starts before the oldest
 // pose kept (it can never be covered), or when it spans a split of the trajectory (an odometry jump beyond
-// max_pose_jump: never interpolated across). Payload is whatever the daemon needs to map the scan later
-// (a shared_ptr to the decoded message, an index); it is moved in and out.
+// max_pose_jump: never interpolated across). Payload is whatever the daemon needs to map the scan later (a
+// shared_ptr to the decoded message, an index); it is moved in and out.
 #pragma once
 
 #include <ogf/fusion/fusion_config.hpp>

@@ -1,8 +1,9 @@
 // Grid-based FastSLAM with the improved proposal and selective resampling (Grisetti, Stachniss, Burgard,
 // "Improved Techniques for Grid Mapping with Rao-Blackwellized Particle Filters", IEEE T-RO 2007), as the
-// lecture in ../shared/docs/papers/grid-based-fastslam-lecture.txt presents it. Each particle holds a pose,
-// a weight, a trajectory (shared tree) and a copy-on-write grid. For every scan after the robot moved
-// linear_update_m or angular_update_rad, per particle:
+// lecture "Robot Mapping: Grid-Based FastSLAM" (G. D. Tipaldi, L. Spinello, W. Burgard, University of
+// Freiburg) presents it. Each particle holds a pose, a weight, a trajectory (shared tree) and a
+// copy-on-write grid. For every scan after the robot moved linear_update_m or angular_update_rad, per
+// particle:
 //   1. odometry prediction g = p(x | x_{t−1}, u); with two-step sampling (Stachniss et al. 2007) the scan
 //      matcher starts from a draw of g, otherwise from g's mean;
 //   2. x* = argmax log p(z | x, m) + log g(x) (scan_matcher.hpp);

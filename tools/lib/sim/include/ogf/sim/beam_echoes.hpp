@@ -22,7 +22,7 @@ struct BeamEchoes {
   std::size_t count = 0;
 
   // The farthest echo (the "last" return) and the strongest one; with `excluding_last`, the strongest
-  // other than the last (the dual-return rule when the strongest is also the last, velodyne.md §4.4).
+  // other than the last (the dual-return rule when the strongest is also the last, docs/wire-format.md §5.1).
   const Echo* last() const { return count == 0 ? nullptr : &echoes[count - 1]; }
   const Echo* strongest(bool excluding_last = false) const;
 };

@@ -1,6 +1,6 @@
 // Writes a simulated Velodyne capture (VLP-16 or HDL-32E) to PCAP: data packets at the real packet
-// period, a position packet (GPRMC, PPS locked) after every 14th data packet (the manual's "about 14 to
-// 1", velodyne.md §4.5).
+// period, a position packet (GPRMC, PPS locked) after every 14th data packet (a sensor sends about one
+// per 14 data packets, docs/wire-format.md §7.1).
 // Each frame's pcap stamp is the absolute time of its TOH stamp, so host time and device time agree.
 #pragma once
 

@@ -1,7 +1,7 @@
 // The sensor models the simulator can be: laser angles and origins, product byte and firing schedule.
-// The VLP-16 (the default) from velodyne.md §4; the HDL-32E with the figures the driver's model table
-// uses (driver/decode/include/ogf/velodyne/model.hpp: 1.152 µs per laser, 46.08 µs per block, HDL-32E
-// application note 63-9277) and its nominal vertical angles (driver/decode/src/calibration.cpp).
+// The VLP-16 (the default) from docs/wire-format.md §4 and §6; the HDL-32E with the figures the driver's
+// model table uses (driver/decode/include/ogf/velodyne/model.hpp: 1.152 µs per laser, 46.08 µs per block,
+// docs/wire-format.md §4.3) and its nominal vertical angles (driver/decode/src/calibration.cpp).
 // Both write the same 1206-byte packet layout (12 blocks × 32 channels).
 #pragma once
 

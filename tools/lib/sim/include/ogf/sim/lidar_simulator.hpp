@@ -1,6 +1,6 @@
 // The simulated Velodyne (a VLP-16, or an HDL-32E): spins at the configured rpm on the moving body and
-// fills data packets. Every channel of every block is fired at its own time (velodyne.md §4.3 for the
-// VLP-16; lidar_model.hpp) from the pose the body has at that
+// fills data packets. Every channel of every block is fired at its own time (docs/wire-format.md §4.1 for
+// the VLP-16; lidar_model.hpp) from the pose the body has at that
 // instant, so the capture carries the motion distortion a real one does. A packet is a function of its
 // index alone (the noise stream is seeded per packet), so captures are reproducible for a --seed.
 #pragma once

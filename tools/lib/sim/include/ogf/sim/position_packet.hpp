@@ -1,5 +1,5 @@
 // The VLP-16 position (telemetry) packet: 512 bytes to port 8308 carrying the TOH stamp, the PPS status
-// and the forwarded NMEA sentence (velodyne.md §4.5, VLP-16 manual Table 9-3).
+// and the forwarded NMEA sentence (docs/wire-format.md §7.1, VLP-16 manual Table 9-3).
 #pragma once
 
 #include <array>

@@ -1,5 +1,5 @@
 // The VLP-16 as the simulator models it: laser angles and origins, the firing schedule and the packet
-// period. Every figure comes from docs velodyne.md §4 (and the VLP-16 manual sections it cites).
+// period. Every figure comes from docs/wire-format.md §3 to §6 (and the manual sections it cites).
 #pragma once
 
 #include <array>
@@ -9,7 +9,7 @@
 
 namespace ogf::sim::vlp16 {
 
-// Return mode, with its byte at payload offset 1204 (velodyne.md §4.1, manual Table 9-2).
+// Return mode, with its byte at payload offset 1204 (docs/wire-format.md §3.6, manual Table 9-2).
 enum class ReturnMode : std::uint8_t { Strongest = 0x37, Last = 0x38, Dual = 0x39 };
 std::optional<ReturnMode> parseReturnMode(std::string_view name);  // "strongest", "last", "dual"
 std::string_view toString(ReturnMode mode);

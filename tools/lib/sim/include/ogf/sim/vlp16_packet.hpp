@@ -1,4 +1,4 @@
-// A VLP-16 data packet as values, and its 1206-byte little-endian wire encoding (velodyne.md §4.1).
+// A VLP-16 data packet as values, and its 1206-byte little-endian wire encoding (docs/wire-format.md §3.1).
 #pragma once
 
 #include <array>

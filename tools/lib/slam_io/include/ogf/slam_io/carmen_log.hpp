@@ -1,7 +1,7 @@
 // CARMEN log records as the Freiburg 2-D SLAM benchmark stores them (ODOM, FLASER, ROBOTLASER1), read
 // from a stream, and the result log a SLAM run writes back: every laser record with the corrected robot
 // pose in both pose triples and the record's original ipc_timestamp, the form the benchmark's evaluator
-// reads (../shared/data/slam/SOURCES.md, sections 3 and 4).
+// reads (docs/test-data.md §3.2 and §3.4).
 #pragma once
 
 #include <cstddef>

@@ -1,6 +1,6 @@
 // The robot trajectory a CARMEN log's laser records carry (FLASER's second triple, ROBOTLASER1's
 // robot_pose, each at its ipc_timestamp): what metricEvaluator reads from a SLAM result log, and the raw
-// odometry when applied to an input log (SOURCES.md, section 4).
+// odometry when applied to an input log (docs/test-data.md §3.4).
 #pragma once
 
 #include <iosfwd>

@@ -1,6 +1,6 @@
 // The benchmark's ground-truth relations (Kümmerle et al. 2009): "t1 t2 x y z roll pitch yaw", the motion
 // from the robot pose at laser stamp t1 to the one at t2 in the frame of the first (T1^-1 * T2), metres
-// and radians; and the metric over them (../shared/data/slam/SOURCES.md, section 4).
+// and radians (docs/test-data.md §3.3); and the metric over them (§3.4).
 #pragma once
 
 #include <cstddef>
