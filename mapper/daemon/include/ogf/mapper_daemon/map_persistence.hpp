@@ -1,6 +1,6 @@
 // ogf-mapper's map on disk: the state directory (snapshot, journal) and the pager (regions paged out to
 // the directory's pages/). It restores the map at the start (map_restore.cpp), journals each scan before
-// the map changes, pages far regions out and back in (map_paging.cpp), and schedules and writes snapshots
+// the map changes, pages far regions out and back in (map_persistence.cpp), and schedules and writes snapshots
 // (snapshot_schedule.cpp). A persistence failure is logged once, reported in the status, and mapping goes
 // on in memory; after an I/O failure the directory is tried again at each snapshot.
 #pragma once
