@@ -22,7 +22,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <mutex>
 #include <random>
 #include <thread>
 
@@ -30,7 +29,7 @@
 #include "ogf/velodyne/position_packet.hpp"
 #include "ogf/velodyne/wire_format.hpp"
 #include "support/daemon_process.hpp"
-#include "support/lcm_thread.hpp"
+#include "support/message_log.hpp"
 #include "support/multicast.hpp"
 #include "support/shared_data.hpp"
 
@@ -76,28 +75,6 @@ class Sender {
 struct Expected {
   std::int64_t extra_position = 0, bad_size = 0, bad_block_flag = 0, bad_other = 0, foreign = 0;
   std::int64_t bad_time_of_hour = 0, unknown_return_mode = 0, unknown_model = 0, bad_position = 0, nmea_refused = 0;
-};
-
-// The scans ogf-driver publishes, in order.
-class ScanLog {
- public:
-  explicit ScanLog(const std::string& url) : bus_(url) {
-    bus_.lcm().subscribe("BAD_SCAN", &ScanLog::onScan, this)->setQueueCapacity(10000);
-    bus_.start(std::chrono::milliseconds(50));
-  }
-  std::vector<ogf::lidar_scan_t> scans() const {
-    std::lock_guard lk(mu_);
-    return scans_;
-  }
-
- private:
-  void onScan(const lcm::ReceiveBuffer*, const std::string&, const ogf::lidar_scan_t* s) {
-    std::lock_guard lk(mu_);
-    scans_.push_back(*s);
-  }
-  mutable std::mutex mu_;
-  std::vector<ogf::lidar_scan_t> scans_;
-  ogf::testing::LcmThread bus_;  // last: its thread stops before the state above is gone
 };
 
 Bytes randomBytes(std::mt19937& rng, std::size_t n) {
@@ -335,7 +312,7 @@ TEST(DriverBadInput, EveryBadDatagramIsCountedAndTheValidScansStillComeOut) {
   OGF_REQUIRE_SHARED_FILE(capture, kCapture);
   if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
   const std::string url = ogf::testing::loopbackUdpmUrl(52);
-  ScanLog scans(url);
+  ogf::testing::MessageLog<ogf::lidar_scan_t> scans(url, "BAD_SCAN");  // in the order published
   const int data_port = 30000 + static_cast<int>(::getpid() % 20000) + 52;
   const int position_port = data_port + 1000;
   const fs::path log = fs::temp_directory_path() / ("ogf-badinput-driver-" + std::to_string(::getpid()) + ".log");
@@ -362,7 +339,7 @@ TEST(DriverBadInput, EveryBadDatagramIsCountedAndTheValidScansStillComeOut) {
   ASSERT_TRUE(driver.stop());  // SIGTERM publishes the scan in progress
   std::this_thread::sleep_for(500ms);
 
-  const auto got = scans.scans();
+  const auto got = scans.messages();
   const std::int64_t points = expectTheCleanDecode(got, expected.scans);
   std::printf("[ figures  ] driver bad input: %lld valid data + %lld position packets, bad_size %lld, "
               "bad_block_flag %lld, bad_other %lld, foreign_sender %lld counted; %zu scans (%lld points) "

@@ -17,7 +17,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <mutex>
 #include <optional>
 #include <random>
 #include <regex>
@@ -29,7 +28,7 @@
 
 #include "support/child_process.hpp"
 #include "support/daemon_process.hpp"
-#include "support/lcm_thread.hpp"
+#include "support/message_log.hpp"
 #include "ogf/fusion/pose_buffer.hpp"
 #include "ogf/pipeline/scan_mapper.hpp"
 #include "scan_feeder.hpp"
@@ -253,32 +252,10 @@ TEST_F(MapperDaemonTest, KillNineWhileRegionsArePagedOutAndInResumesExactlyTheAc
 
 }  // namespace
 
-// The corrected poses on POSE_CORRECTED, received on their own thread.
-class CorrectedPoseListener {
- public:
-  explicit CorrectedPoseListener(const std::string& url) : bus_(url) {
-    bus_.lcm().subscribe("POSE_CORRECTED", &CorrectedPoseListener::onPose, this);
-    bus_.start(std::chrono::milliseconds(50));
-  }
-  std::vector<ogf::odometry_t> poses() const {
-    std::lock_guard lk(mu_);
-    return poses_;
-  }
-
- private:
-  void onPose(const lcm::ReceiveBuffer*, const std::string&, const ogf::odometry_t* p) {
-    std::lock_guard lk(mu_);
-    poses_.push_back(*p);
-  }
-  mutable std::mutex mu_;
-  std::vector<ogf::odometry_t> poses_;
-  ogf::testing::LcmThread bus_;  // last: its thread stops before the state above is gone
-};
-
 TEST_F(MapperDaemonTest, ScanMatchingCorrectsDriftingOdometryAndPublishesTheCorrectedPoses) {
   const std::string url = ogf::testing::loopbackUdpmUrl(33);
   std::ofstream(dir_ / "mapper.yaml") << "status_interval_s: 0.1\npose_correction: {mode: scan-match}\n";
-  CorrectedPoseListener corrected(url);
+  ogf::testing::MessageLog<ogf::odometry_t> corrected(url, "POSE_CORRECTED");
   Mapper mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--in-memory", "--config", (dir_ / "mapper.yaml").string(),
                  "--log-level", "warn"},
                 (dir_ / "mapper.log").string(), url, kMapperStatusChannel);
@@ -308,7 +285,7 @@ TEST_F(MapperDaemonTest, ScanMatchingCorrectsDriftingOdometryAndPublishesTheCorr
   const auto done = mapper.waitForStatus([](const ogf::mapper_status_t& s) { return s.scans_mapped == kScans; }, 60s);
   ASSERT_TRUE(done) << mapper.log();
   std::this_thread::sleep_for(300ms);
-  const auto poses = corrected.poses();
+  const auto poses = corrected.messages();
   ASSERT_EQ(static_cast<int>(poses.size()), kScans) << "one corrected pose per mapped scan";
   // The last corrected pose against the truth at its time, and the odometry's error there.
   const auto& last = poses.back();
