@@ -31,6 +31,7 @@
 #include "scan_feeder.hpp"
 #include "support/daemon_process.hpp"
 #include "support/multicast.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
@@ -181,9 +182,7 @@ class MapperBadInput : public ::testing::Test {
  protected:
   void SetUp() override {
     if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-    dir_ = fs::temp_directory_path() / ("ogf-badinput-mapper-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ogf::testing::emptyTestDirectory("ogf-badinput-mapper");
     std::ofstream(dir_ / "mapper.yaml") << "status_interval_s: 0.1\nfusion:\n  max_pending_points: "
                                         << kMaxPendingPoints << "\n";
   }

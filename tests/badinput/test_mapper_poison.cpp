@@ -25,6 +25,7 @@
 #include "support/child_process.hpp"
 #include "support/daemon_process.hpp"
 #include "support/multicast.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
@@ -55,10 +56,7 @@ class MapperPoison : public ::testing::Test {
  protected:
   void SetUp() override {
     if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-    dir_ = fs::temp_directory_path() / ("ogf-poison-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ogf::testing::emptyTestDirectory("ogf-poison");
     std::ofstream(dir_ / "mapper.yaml") << "status_interval_s: 0.1\nsnapshot_interval_s: 1000\nstate_dir: "
                                         << (dir_ / "state").string() << "\n";
     url_ = ogf::testing::loopbackUdpmUrl(61);

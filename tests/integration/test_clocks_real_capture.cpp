@@ -20,6 +20,7 @@
 #include "support/host_odometry.hpp"
 #include "support/multicast.hpp"
 #include "support/shared_data.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
@@ -41,9 +42,7 @@ int countOf(const std::string& text, const std::string& what) {
 TEST(ClocksOnTheRealCapture, DefaultMapsEveryScanAndDeviceTimeBaseSaysWhyNone) {
   OGF_REQUIRE_SHARED_FILE(pcap, "data/real/vlp-16-test-90deg-1-50-frames.pcap");
   if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-  const fs::path dir = fs::temp_directory_path() / ("ogf-clocks-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = ogf::testing::emptyTestDirectory("ogf-clocks");
   std::ofstream(dir / "mapper.yaml") << "status_interval_s: 0.1\n";
   // Without a GPS lock the driver places each packet's counter in the host's hour, so the capture's own
   // counters would put its device clock anywhere within ±30 min of the host's depending on the time of

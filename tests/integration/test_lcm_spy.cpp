@@ -27,6 +27,7 @@
 #include "support/daemon_process.hpp"
 #include "support/message_counter.hpp"
 #include "support/multicast.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
@@ -86,9 +87,7 @@ TEST(LcmSpy, SeesEveryChannelOfTheDaemonsAtItsTrueRate) {
   if (!fs::exists("/usr/share/java/lcm.jar")) GTEST_SKIP() << "liblcm-java is not installed";
   if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
 
-  const fs::path dir = fs::temp_directory_path() / ("ogf-lcm-spy-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = ogf::testing::emptyTestDirectory("ogf-lcm-spy");
   const auto now_us = std::chrono::duration_cast<std::chrono::microseconds>(
                           std::chrono::system_clock::now().time_since_epoch())
                           .count();

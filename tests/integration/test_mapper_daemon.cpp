@@ -33,6 +33,7 @@
 #include "ogf/pipeline/scan_mapper.hpp"
 #include "scan_feeder.hpp"
 #include "support/multicast.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
@@ -54,10 +55,7 @@ class MapperDaemonTest : public ::testing::Test {
  protected:
   void SetUp() override {
     if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-    dir_ = fs::temp_directory_path() / ("ogf-mapper-it-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ogf::testing::emptyTestDirectory("ogf-mapper-it");
     std::ofstream(dir_ / "mapper.yaml") << "status_interval_s: 0.1\n";
   }
   void TearDown() override { fs::remove_all(dir_); }

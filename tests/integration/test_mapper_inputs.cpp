@@ -24,6 +24,7 @@
 #include "support/child_process.hpp"
 #include "support/daemon_process.hpp"
 #include "support/multicast.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
@@ -63,10 +64,7 @@ class MapperInputsTest : public ::testing::Test {
   void SetUp() override {
     if (auto why = ogf::testing::ensureLoopbackMulticast())
       GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-    dir_ = fs::temp_directory_path() / ("ogf-mapper-inputs-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ogf::testing::emptyTestDirectory("ogf-mapper-inputs");
   }
   void TearDown() override {
     if (!HasFailure()) fs::remove_all(dir_);

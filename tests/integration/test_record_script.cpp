@@ -16,6 +16,7 @@
 #include "support/host_odometry.hpp"
 #include "support/multicast.hpp"
 #include "support/shared_data.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
@@ -37,9 +38,7 @@ long long recorded(const std::string& output, const std::string& channel) {
 TEST(RecordScript, RecordingDuringAReplayHoldsEveryPublishedMessage) {
   OGF_REQUIRE_SHARED_FILE(pcap, "data/real/vlp-16-test-90deg-1-50-frames.pcap");
   if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-  const fs::path dir = fs::temp_directory_path() / ("ogf-record-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = ogf::testing::emptyTestDirectory("ogf-record");
   const std::string url = ogf::testing::loopbackUdpmUrl(230);
   const std::string data_port = std::to_string(40000 + (::getpid() % 20000) + 231);
   const std::string position_port = std::to_string(40000 + (::getpid() % 20000) + 232);

@@ -23,6 +23,7 @@
 #include "support/multicast.hpp"
 #include "support/shared_data.hpp"
 #include "support/static_odometry.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
@@ -51,10 +52,7 @@ class ReplayRecipes : public ::testing::Test {
     if (!pcap) GTEST_SKIP() << "shared data absent under " << ogf::testing::sharedDir();
     if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
     pcap_ = *pcap;
-    dir_ = fs::temp_directory_path() / ("ogf-replay-recipes-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ogf::testing::emptyTestDirectory("ogf-replay-recipes");
     // A sensor on a tripod: the body at the origin from a second before the capture to a second after it,
     // on the capture's clock (2014).
     const auto span = ogf::testing::captureTimeSpan(pcap_);

@@ -25,6 +25,7 @@
 #include "support/message_counter.hpp"
 #include "support/multicast.hpp"
 #include "support/shared_data.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
@@ -50,9 +51,7 @@ std::int64_t wallUtime() {
 TEST(SensorPause, TheScanHeldAtAPauseIsPublishedWithItsOwnTimeAndTheMapperRefusesNone) {
   OGF_REQUIRE_SHARED_FILE(pcap, "data/real/vlp-16-test-90deg-1-50-frames.pcap");
   if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-  const fs::path dir = fs::temp_directory_path() / ("ogf-sensor-pause-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = ogf::testing::emptyTestDirectory("ogf-sensor-pause");
   // Data packet 1000 of 1902: mid-capture, inside a scan (about 37 packets a turn).
   const fs::path capture = dir / "paused.pcap";
   const auto error = ogf::testing::copyWithPause(pcap, capture, 1000, kPauseUs);

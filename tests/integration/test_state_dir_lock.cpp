@@ -13,6 +13,7 @@
 #include "support/child_process.hpp"
 #include "support/daemon_process.hpp"
 #include "support/multicast.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
@@ -25,9 +26,7 @@ const std::string kBin = OGF_BIN_DIR;
 
 TEST(StateDirectoryLock, SecondMapperRefusedKillNineReleases) {
   if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-  const fs::path dir = fs::temp_directory_path() / ("ogf-lock-it-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = ogf::testing::emptyTestDirectory("ogf-lock-it");
   std::ofstream(dir / "mapper.yaml") << "status_interval_s: 0.1\n";
   const std::string url = ogf::testing::loopbackUdpmUrl(224);
   const fs::path state = dir / "state";

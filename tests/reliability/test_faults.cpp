@@ -39,6 +39,7 @@
 #include "support/child_process.hpp"
 #include "support/daemon_process.hpp"
 #include "support/multicast.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
@@ -85,10 +86,7 @@ class FaultTest : public ::testing::Test {
  protected:
   void SetUp() override {
     if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-    dir_ = fs::temp_directory_path() / ("ogf-faults-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ogf::testing::emptyTestDirectory("ogf-faults");
     // A deep queue: a burst of scans waits for the mapper instead of being dropped, so update k is scan k-1.
     std::ofstream(dir_ / "mapper.yaml") << "status_interval_s: 0.1\nfusion:\n  max_pending_scans: 64\n";
   }

@@ -30,6 +30,7 @@
 #include "support/lcm_thread.hpp"
 #include "support/message_log.hpp"
 #include "support/multicast.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
@@ -74,10 +75,7 @@ class ServicesTest : public ::testing::Test {
  protected:
   void SetUp() override {
     if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-    dir_ = fs::temp_directory_path() / ("ogf-services-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ogf::testing::emptyTestDirectory("ogf-services");
     key_path_ = dir_ / "command.key";
     ASSERT_TRUE(ogf::mapper_daemon::createCommandKey(key_path_).ok());
     auto k = ogf::mapper_daemon::loadCommandKey(key_path_);

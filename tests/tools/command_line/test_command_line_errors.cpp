@@ -16,6 +16,7 @@
 #include "support/child_process.hpp"
 #include "support/daemon_process.hpp"
 #include "support/multicast.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
@@ -28,10 +29,7 @@ const std::string kBin = OGF_BIN_DIR;
 class CommandLineErrors : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("ogf-cli-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ogf::testing::emptyTestDirectory("ogf-cli");
   }
   void TearDown() override { fs::remove_all(dir_); }
 
