@@ -1,7 +1,7 @@
 // The shared daemon helper itself (daemon_process.hpp), on a real ogf-mapper over udpm on loopback and on
 // programs that are no daemon: a status is waited for and a clean stop is seen as one, while a program that
-// sends no status, one that does not start and one that dies of SIGTERM instead of exiting 0 each fail the
-// check with the reason.
+// sends no status, one that exits first, one that does not start and one that dies of SIGTERM instead of
+// exiting 0 each fail the check with the reason.
 #include "support/daemon_process.hpp"
 
 #include <gtest/gtest.h>
@@ -50,6 +50,15 @@ TEST(DaemonProcess, AProgramThatSendsNoStatusFailsTheWaitAndOneKilledBySigtermFa
   EXPECT_NE(std::string(stopped.message()).find("exited with -15 after SIGTERM"), std::string::npos)
       << stopped.message();
   fs::remove(logPath("sleep.log"));
+}
+
+TEST(DaemonProcess, AProgramThatExitsBeforeAnyStatusFailsTheWaitWithItsExitStatus) {
+  const std::string url = ogf::testing::loopbackUdpmUrl(93);
+  Mapper exits({"/bin/false"}, logPath("false.log"), url, ogf::testing::kMapperStatusChannel);
+  const auto waited = exits.reportsStatus(15s);
+  EXPECT_FALSE(waited);
+  EXPECT_NE(std::string(waited.message()).find("(it exited with 1)"), std::string::npos) << waited.message();
+  fs::remove(logPath("false.log"));
 }
 
 TEST(DaemonProcess, AProgramThatDoesNotStartFailsTheWaitAndAKilledOneIsGone) {
