@@ -18,7 +18,6 @@
 #include <ogf/odometry_t.hpp>
 
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -26,19 +25,19 @@
 #include <random>
 #include <thread>
 
-#include "support/latest_message.hpp"
 #include "lcm_bytes.hpp"
 #include "offline_checksum.hpp"
 #include "support/process_memory.hpp"
 #include "scan_feeder.hpp"
-#include "support/child_process.hpp"
+#include "support/daemon_process.hpp"
 #include "support/multicast.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
-using ogf::testing::ChildProcess;
+using Mapper = ogf::testing::DaemonProcess<ogf::mapper_status_t>;
 using ogf::testing::encodeMessage;
 using ogf::testing::withCount;
 using Bytes = std::vector<std::uint8_t>;
@@ -183,9 +182,7 @@ class MapperBadInput : public ::testing::Test {
  protected:
   void SetUp() override {
     if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-    dir_ = fs::temp_directory_path() / ("ogf-badinput-mapper-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ogf::testing::emptyTestDirectory("ogf-badinput-mapper");
     std::ofstream(dir_ / "mapper.yaml") << "status_interval_s: 0.1\nfusion:\n  max_pending_points: "
                                         << kMaxPendingPoints << "\n";
   }
@@ -195,12 +192,10 @@ class MapperBadInput : public ::testing::Test {
 
 TEST_F(MapperBadInput, MalformedScansAndPosesAreCountedAndRefusedAndTheMapIsThatOfTheValidScans) {
   const std::string url = ogf::testing::loopbackUdpmUrl(51);
-  ogf::testing::LatestMessage<ogf::mapper_status_t> status(url, "OGF_MAPPER_STATUS");
-  ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--in-memory", "--config",
-                       (dir_ / "mapper.yaml").string(), "--log-level", "warn"},
-                      (dir_ / "mapper.log").string());
-  ASSERT_TRUE(mapper.started());
-  ASSERT_TRUE(status.waitFor([](const auto&) { return true; }, 15s)) << mapper.log();
+  Mapper mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--in-memory", "--config", (dir_ / "mapper.yaml").string(),
+                 "--log-level", "warn"},
+                (dir_ / "mapper.log").string(), url, ogf::testing::kMapperStatusChannel);
+  ASSERT_TRUE(mapper.reportsStatus(15s));
   lcm::LCM lcm(url);
   ASSERT_TRUE(lcm.good());
   const auto publishSteps = [&](int from, int to) {
@@ -213,10 +208,10 @@ TEST_F(MapperBadInput, MalformedScansAndPosesAreCountedAndRefusedAndTheMapIsThat
   };
 
   publishSteps(0, 5);
-  const auto before = status.waitFor([](const ogf::mapper_status_t& s) { return s.scans_mapped == 5; }, 30s);
+  const auto before = mapper.waitForStatus([](const ogf::mapper_status_t& s) { return s.scans_mapped == 5; }, 30s);
   ASSERT_TRUE(before) << mapper.log();
-  const auto hwm_before = ogf::testing::peakResidentKiB(mapper.pid());
-  ASSERT_TRUE(hwm_before) << "cannot read /proc/" << mapper.pid() << "/status";
+  const auto hwm_before = ogf::testing::peakResidentKiB(mapper.process().pid());
+  ASSERT_TRUE(hwm_before) << "cannot read /proc/" << mapper.process().pid() << "/status";
 
   std::mt19937 rng(20261121);
   const auto bad_scans = badScans(rng);
@@ -243,29 +238,29 @@ TEST_F(MapperBadInput, MalformedScansAndPosesAreCountedAndRefusedAndTheMapIsThat
   const auto n_scans = static_cast<std::int64_t>(bad_scans.size());
   const auto n_poses = static_cast<std::int64_t>(bad_poses.size());
   const auto n_requests = static_cast<std::int64_t>(bad_requests.size());
-  const auto counted = status.waitFor(
+  const auto counted = mapper.waitForStatus(
       [&](const ogf::mapper_status_t& s) {
         return s.scans_rejected - before->scans_rejected == n_scans &&
                s.poses_rejected - before->poses_rejected == n_poses &&
                s.requests_rejected - before->requests_rejected == n_requests && s.scans_dropped_behind == 1;
       },
       30s);
-  const auto last = status.latest();
+  const auto last = mapper.latestStatus();
   ASSERT_TRUE(last);
   EXPECT_TRUE(counted) << "scans_rejected " << last->scans_rejected << " (sent " << n_scans << "), poses_rejected "
                        << last->poses_rejected << " (sent " << n_poses << "), requests_rejected "
                        << last->requests_rejected << " (sent " << n_requests << "), scans_dropped_behind "
                        << last->scans_dropped_behind << "\n"
                        << mapper.log();
-  EXPECT_FALSE(mapper.wait(0ms).has_value()) << "the mapper exited:\n" << mapper.log();
-  const auto hwm_after = ogf::testing::peakResidentKiB(mapper.pid());
+  EXPECT_TRUE(mapper.running()) << "the mapper exited:\n" << mapper.log();
+  const auto hwm_after = ogf::testing::peakResidentKiB(mapper.process().pid());
   ASSERT_TRUE(hwm_after);
   // The claims alone would have allocated 24 bytes x 2^31 points; the genuine big scan is 0.5 MB. 64 MiB is
   // far above the noise of a growing map and far below any allocation for a claimed count.
   EXPECT_LT(*hwm_after - *hwm_before, 64 * 1024) << "VmHWM grew from " << *hwm_before << " to " << *hwm_after << " kB";
 
   publishSteps(5, 10);
-  const auto after = status.waitFor([](const ogf::mapper_status_t& s) { return s.scans_mapped == 10; }, 30s);
+  const auto after = mapper.waitForStatus([](const ogf::mapper_status_t& s) { return s.scans_mapped == 10; }, 30s);
   ASSERT_TRUE(after) << mapper.log();
   EXPECT_EQ(after->scans_in, 10 + n_scans + 1);
   EXPECT_EQ(after->scans_late, 0);
@@ -279,7 +274,7 @@ TEST_F(MapperBadInput, MalformedScansAndPosesAreCountedAndRefusedAndTheMapIsThat
   ogf::map_request_t request{};
   request.requester = "bad-input-test";
   lcm.publish("OGF_MAP_REQUEST", &request);
-  const auto answered = status.waitFor(
+  const auto answered = mapper.waitForStatus(
       [&](const ogf::mapper_status_t& s) { return s.requests_in == n_requests + 1 && s.keyframes_sent > after->keyframes_sent; },
       30s);
   EXPECT_TRUE(answered) << mapper.log();
@@ -290,8 +285,7 @@ TEST_F(MapperBadInput, MalformedScansAndPosesAreCountedAndRefusedAndTheMapIsThat
               kMaxPendingPoints + 1000,
               static_cast<long long>(*hwm_before), static_cast<long long>(*hwm_after),
               static_cast<unsigned long long>(after->filter_checksum));
-  mapper.signal(SIGTERM);
-  EXPECT_EQ(mapper.wait(20s), 0) << mapper.log();
+  EXPECT_TRUE(mapper.stop());
 }
 
 }  // namespace

@@ -12,7 +12,6 @@
 #include <ogf/mapper_status_t.hpp>
 #include <ogf/odometry_t.hpp>
 
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -24,14 +23,16 @@
 #include "ogf/persistence/state_directory.hpp"
 #include "scan_feeder.hpp"
 #include "support/child_process.hpp"
-#include "support/latest_message.hpp"
+#include "support/daemon_process.hpp"
 #include "support/multicast.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 using ogf::testing::ChildProcess;
+using Mapper = ogf::testing::DaemonProcess<ogf::mapper_status_t>;
 using ogf::testing::FeedStep;
 using ogf::testing::feedStep;
 
@@ -55,32 +56,25 @@ class MapperPoison : public ::testing::Test {
  protected:
   void SetUp() override {
     if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-    dir_ = fs::temp_directory_path() / ("ogf-poison-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ogf::testing::emptyTestDirectory("ogf-poison");
     std::ofstream(dir_ / "mapper.yaml") << "status_interval_s: 0.1\nsnapshot_interval_s: 1000\nstate_dir: "
                                         << (dir_ / "state").string() << "\n";
     url_ = ogf::testing::loopbackUdpmUrl(61);
-    status_.emplace(url_, "OGF_MAPPER_STATUS");
     lcm_.emplace(url_);
   }
   void TearDown() override {
     mapper_.reset();
     client_.reset();
-    status_.reset();
     fs::remove_all(dir_);
   }
 
   // (Re)starts the mapper on the state directory and waits for its first status.
   void startMapper() {
     mapper_.reset();
-    status_->reset();
     mapper_.emplace(std::vector<std::string>{kBin + "/ogf-mapper", "--lcm-url", url_, "--config",
                                              (dir_ / "mapper.yaml").string(), "--log-level", "warn"},
-                    (dir_ / "mapper.log").string());
-    ASSERT_TRUE(mapper_->started());
-    ASSERT_TRUE(status_->waitFor([](const auto&) { return true; }, 15s)) << mapper_->log();
+                    (dir_ / "mapper.log").string(), url_, ogf::testing::kMapperStatusChannel);
+    ASSERT_TRUE(mapper_->reportsStatus(15s));
   }
   void startClient() {
     client_.emplace(std::vector<std::string>{kBin + "/ogf-map-client", "--lcm-url", url_, "--idle-exit", "3",
@@ -102,10 +96,10 @@ class MapperPoison : public ::testing::Test {
     publish(steps);
   }
   ogf::mapper_status_t waitMapped(std::int64_t delta_seq) {
-    const auto s = status_->waitFor([&](const ogf::mapper_status_t& m) { return m.delta_seq == delta_seq; }, 30s);
+    const auto s = mapper_->waitForStatus([&](const ogf::mapper_status_t& m) { return m.delta_seq == delta_seq; }, 30s);
     EXPECT_TRUE(s) << "never reached update " << delta_seq << "\n" << mapper_->log();
     std::this_thread::sleep_for(300ms);  // a status after the last update, with every counter in it
-    return status_->latest().value_or(ogf::mapper_status_t{});
+    return mapper_->latestStatus().value_or(ogf::mapper_status_t{});
   }
   // Asks for a keyframe, as a client that just started would, and checks the client ends with the map.
   void expectClientConsistent(const ogf::mapper_status_t& last) {
@@ -153,15 +147,14 @@ class MapperPoison : public ::testing::Test {
     stopMapper();
   }
   void stopMapper() {
-    mapper_->signal(SIGTERM);
-    EXPECT_EQ(mapper_->wait(20s), 0) << mapper_->log();
+    EXPECT_TRUE(mapper_->stop());
   }
 
   fs::path dir_;
   std::string url_;
-  std::optional<ogf::testing::LatestMessage<ogf::mapper_status_t>> status_;
   std::optional<lcm::LCM> lcm_;
-  std::optional<ChildProcess> mapper_, client_;
+  std::optional<Mapper> mapper_;
+  std::optional<ChildProcess> client_;
 };
 
 TEST_F(MapperPoison, OnePoseDatedInTheYear2100IsRefusedAndTheDriveGoesOn) {
@@ -230,8 +223,7 @@ TEST_F(MapperPoison, SixteenBytesFlippedInTheMiddleOfTheJournalLoseOnlyThatRecor
   startMapper();
   publish(drive(0, 10));
   waitMapped(10);
-  mapper_->signal(SIGKILL);  // the journal holds all ten records (no snapshot yet)
-  mapper_->wait(10s);
+  ASSERT_TRUE(mapper_->kill());  // the journal holds all ten records (no snapshot yet)
   const fs::path journal = dir_ / "state" / "journal.ogfj";
   const auto clean = ogf::persistence::readJournal(journal);
   ASSERT_TRUE(clean.ok()) << clean.error().message;
@@ -252,7 +244,7 @@ TEST_F(MapperPoison, SixteenBytesFlippedInTheMiddleOfTheJournalLoseOnlyThatRecor
     }
   }
   startMapper();
-  const auto restored = status_->waitFor([](const ogf::mapper_status_t& m) { return m.delta_seq == 10; }, 15s);
+  const auto restored = mapper_->waitForStatus([](const ogf::mapper_status_t& m) { return m.delta_seq == 10; }, 15s);
   ASSERT_TRUE(restored) << mapper_->log();
   EXPECT_FALSE(restored->persistence_ok);
   EXPECT_NE(restored->persistence_error.find("journal.ogfj: offset " + std::to_string(start)), std::string::npos)
@@ -287,7 +279,7 @@ TEST_F(MapperPoison, ASnapshotCutToHalfFallsBackToThePreviousOneAndTheJournals) 
   const fs::path snapshot = dir_ / "state" / "snapshot.ogfs";
   fs::resize_file(snapshot, fs::file_size(snapshot) / 2);
   startMapper();
-  const auto restored = status_->waitFor([](const ogf::mapper_status_t& m) { return m.delta_seq == 10; }, 15s);
+  const auto restored = mapper_->waitForStatus([](const ogf::mapper_status_t& m) { return m.delta_seq == 10; }, 15s);
   ASSERT_TRUE(restored) << mapper_->log();
   EXPECT_FALSE(restored->persistence_ok);
   EXPECT_NE(restored->persistence_error.find("snapshot.ogfs"), std::string::npos) << restored->persistence_error;
@@ -320,7 +312,7 @@ TEST_F(MapperPoison, ADamagedPageLosesOnlyItsRegionSaysWhichAndMappingGoesOn) {
     f.put(static_cast<char>(0xA5));
   }
   startMapper();
-  const auto restored = status_->waitFor([](const ogf::mapper_status_t& m) { return m.delta_seq == 5; }, 15s);
+  const auto restored = mapper_->waitForStatus([](const ogf::mapper_status_t& m) { return m.delta_seq == 5; }, 15s);
   ASSERT_TRUE(restored) << mapper_->log();
   EXPECT_FALSE(restored->persistence_ok);
   EXPECT_NE(restored->persistence_error.find(pages.front().filename().string()), std::string::npos)
@@ -340,7 +332,7 @@ TEST_F(MapperPoison, PagesThatCannotBeListedStartANewMapAndLeaveTheSavedOneAlone
   std::ofstream(dir_ / "state" / "pages") << "not a directory";
   const auto before = fs::file_size(dir_ / "state" / "snapshot.ogfs");
   startMapper();
-  const auto s = status_->latest();
+  const auto s = mapper_->latestStatus();
   ASSERT_TRUE(s);
   EXPECT_EQ(s->delta_seq, 0) << "a new map";
   EXPECT_FALSE(s->persistence_ok);

@@ -5,7 +5,6 @@
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
-#include <signal.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -17,6 +16,7 @@
 
 #include "capture_decoding.hpp"
 #include "support/child_process.hpp"
+#include "support/daemon_process.hpp"
 #include "ogf/driver_status_t.hpp"
 #include "ogf/lidar_scan_t.hpp"
 #include "ogf/transport/subscriber.hpp"
@@ -66,8 +66,7 @@ void sendToLoopback(int sock, int port, const std::uint8_t* data, std::size_t n)
 
 // Stops the driver with SIGTERM, expects a clean exit and returns its last status.
 ogf::driver_status_t stopAndLastStatus(ChildProcess& driver, Bus& bus) {
-  driver.signal(SIGTERM);
-  EXPECT_EQ(driver.wait(std::chrono::seconds(10)), 0) << driver.log();
+  EXPECT_TRUE(ogf::testing::stopWithSigterm(driver, std::chrono::seconds(10)));
   bus.drain(std::chrono::milliseconds(300));
   return bus.statuses.back();
 }
@@ -320,21 +319,16 @@ std::optional<long long> rmemMax() {
 // Starts the driver on UDP asking for `bytes` of receive buffer, returns its first status and its log.
 std::pair<ogf::driver_status_t, std::string> statusAskingForBuffer(long long bytes, int slot) {
   const std::string url = ogf::testing::loopbackUdpmUrl(slot);
-  Bus bus(url);
-  auto on_error = [](const std::string&, std::size_t, std::string_view) {};
-  ogf::transport::Subscriber<ogf::driver_status_t> status(
-      bus.lcm, "RCVBUF_TEST_STATUS", [&](const auto& m, const auto&, const auto&) { bus.statuses.push_back(m); },
-      on_error);
   const int data_port = 36000 + static_cast<int>(::getpid() % 20000) + 2 * slot;
-  ChildProcess driver({OGF_DRIVER_BINARY, "--bind-address", "127.0.0.1", "--data-port", std::to_string(data_port),
-                       "--position-port", std::to_string(data_port + 1), "--lcm-url", url, "--status-channel",
-                       "RCVBUF_TEST_STATUS", "--receive-buffer", std::to_string(bytes)},
-                      tempPath("ogf-driver-rcvbuf-" + std::to_string(slot) + ".log"));
-  bus.pump([&] { return !bus.statuses.empty(); }, std::chrono::seconds(15));
-  driver.signal(SIGTERM);
-  EXPECT_EQ(driver.wait(std::chrono::seconds(10)), 0) << driver.log();
-  EXPECT_FALSE(bus.statuses.empty()) << driver.log();
-  return {bus.statuses.empty() ? ogf::driver_status_t{} : bus.statuses.front(), driver.log()};
+  ogf::testing::DaemonProcess<ogf::driver_status_t> driver(
+      {OGF_DRIVER_BINARY, "--bind-address", "127.0.0.1", "--data-port", std::to_string(data_port), "--position-port",
+       std::to_string(data_port + 1), "--lcm-url", url, "--status-channel", "RCVBUF_TEST_STATUS", "--receive-buffer",
+       std::to_string(bytes)},
+      tempPath("ogf-driver-rcvbuf-" + std::to_string(slot) + ".log"), url, "RCVBUF_TEST_STATUS");
+  const auto first = driver.waitForStatus([](const ogf::driver_status_t&) { return true; }, std::chrono::seconds(15));
+  EXPECT_TRUE(driver.stop(std::chrono::seconds(10)));
+  EXPECT_TRUE(first) << driver.log();
+  return {first.value_or(ogf::driver_status_t{}), driver.log()};
 }
 
 }  // namespace

@@ -10,17 +10,17 @@
 #include <ogf/mapper_status_t.hpp>
 
 #include <chrono>
-#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <thread>
 
 #include "support/child_process.hpp"
+#include "support/daemon_process.hpp"
 #include "support/device_clock_shift.hpp"
 #include "support/host_odometry.hpp"
-#include "support/latest_message.hpp"
 #include "support/multicast.hpp"
 #include "support/shared_data.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
@@ -28,7 +28,8 @@ using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 using ogf::testing::ChildProcess;
 using ogf::testing::HostOdometry;
-using ogf::testing::LatestMessage;
+using Driver = ogf::testing::DaemonProcess<ogf::driver_status_t>;
+using Mapper = ogf::testing::DaemonProcess<ogf::mapper_status_t>;
 
 const std::string kBin = OGF_BIN_DIR;
 
@@ -41,9 +42,7 @@ int countOf(const std::string& text, const std::string& what) {
 TEST(ClocksOnTheRealCapture, DefaultMapsEveryScanAndDeviceTimeBaseSaysWhyNone) {
   OGF_REQUIRE_SHARED_FILE(pcap, "data/real/vlp-16-test-90deg-1-50-frames.pcap");
   if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-  const fs::path dir = fs::temp_directory_path() / ("ogf-clocks-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = ogf::testing::emptyTestDirectory("ogf-clocks");
   std::ofstream(dir / "mapper.yaml") << "status_interval_s: 0.1\n";
   // Without a GPS lock the driver places each packet's counter in the host's hour, so the capture's own
   // counters would put its device clock anywhere within ±30 min of the host's depending on the time of
@@ -62,21 +61,18 @@ TEST(ClocksOnTheRealCapture, DefaultMapsEveryScanAndDeviceTimeBaseSaysWhyNone) {
   const std::string data_port = std::to_string(40000 + (::getpid() % 20000) + 222);
   const std::string position_port = std::to_string(40000 + (::getpid() % 20000) + 223);
 
-  LatestMessage<ogf::mapper_status_t> auto_status(url, "OGF_MAPPER_STATUS");
-  LatestMessage<ogf::mapper_status_t> device_status(url, "DEVICE_MAPPER_STATUS");
-  LatestMessage<ogf::driver_status_t> driver_status(url, "VELODYNE_STATUS");
-  ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--in-memory", "--config", (dir / "mapper.yaml").string()},
-                      (dir / "mapper.log").string());
-  ChildProcess device_mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--in-memory", "--config",
-                              (dir / "mapper.yaml").string(), "--time-base", "device", "--status-channel",
-                              "DEVICE_MAPPER_STATUS", "--delta-channel", "DEVICE_MAP_DELTA"},
-                             (dir / "device-mapper.log").string());
-  ChildProcess driver({kBin + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port", data_port,
-                       "--position-port", position_port, "--log-level", "warn"},
-                      (dir / "driver.log").string());
-  ASSERT_TRUE(mapper.started() && device_mapper.started() && driver.started());
-  ASSERT_TRUE(auto_status.waitFor([](const auto&) { return true; }, 15s)) << mapper.log();
-  ASSERT_TRUE(device_status.waitFor([](const auto&) { return true; }, 15s)) << device_mapper.log();
+  Mapper mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--in-memory", "--config", (dir / "mapper.yaml").string()},
+                (dir / "mapper.log").string(), url, ogf::testing::kMapperStatusChannel);
+  Mapper device_mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--in-memory", "--config",
+                        (dir / "mapper.yaml").string(), "--time-base", "device", "--status-channel",
+                        "DEVICE_MAPPER_STATUS", "--delta-channel", "DEVICE_MAP_DELTA"},
+                       (dir / "device-mapper.log").string(), url, "DEVICE_MAPPER_STATUS");
+  Driver driver({kBin + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port", data_port,
+                 "--position-port", position_port, "--log-level", "warn"},
+                (dir / "driver.log").string(), url, ogf::testing::kDriverStatusChannel);
+  ASSERT_TRUE(driver.started());
+  ASSERT_TRUE(mapper.reportsStatus(15s));
+  ASSERT_TRUE(device_mapper.reportsStatus(15s));
   {
     HostOdometry odometry(url);
     std::this_thread::sleep_for(200ms);
@@ -87,15 +83,14 @@ TEST(ClocksOnTheRealCapture, DefaultMapsEveryScanAndDeviceTimeBaseSaysWhyNone) {
     ASSERT_TRUE(rc.has_value()) << replay.log();
     ASSERT_EQ(*rc, 0) << replay.log();
     std::this_thread::sleep_for(300ms);
-    driver.signal(SIGTERM);
-    ASSERT_EQ(driver.wait(20s), 0) << driver.log();
+    ASSERT_TRUE(driver.stop());
     std::this_thread::sleep_for(300ms);
-    const auto ds = driver_status.latest();
+    const auto ds = driver.latestStatus();
     ASSERT_TRUE(ds.has_value());
     ASSERT_GE(ds->scans_published, 40);
     const auto published = ds->scans_published;
     // The default mapper: every scan placed on the host clock.
-    const auto done = auto_status.waitFor(
+    const auto done = mapper.waitForStatus(
         [&](const ogf::mapper_status_t& s) {
           return s.scans_in == published && s.scans_mapped + s.scans_dropped_no_pose + s.scans_dropped_behind +
                                                      s.scans_late + s.scans_rejected == published;
@@ -110,7 +105,7 @@ TEST(ClocksOnTheRealCapture, DefaultMapsEveryScanAndDeviceTimeBaseSaysWhyNone) {
     // Scans wait for poses up to max_pose_wait_s; at this capture's 19 scans/s the 10-scan queue fills
     // first, so some leave it as "behind" rather than "no pose", and the time checks may refuse a device
     // time this far from the host's: none is mapped either way.
-    const auto none = device_status.waitFor(
+    const auto none = device_mapper.waitForStatus(
         [&](const ogf::mapper_status_t& s) {
           return s.scans_in == published &&
                  s.scans_dropped_no_pose + s.scans_dropped_behind + s.scans_refused_time == published;
@@ -123,10 +118,8 @@ TEST(ClocksOnTheRealCapture, DefaultMapsEveryScanAndDeviceTimeBaseSaysWhyNone) {
     // 20 minutes less the time from the shift to the replay's start (the waits above: seconds).
     EXPECT_NEAR(static_cast<double>(std::llabs(none->clock_offset_us)), static_cast<double>(kAheadUs), 60e6);
   }
-  mapper.signal(SIGTERM);
-  device_mapper.signal(SIGTERM);
-  EXPECT_EQ(mapper.wait(20s), 0) << mapper.log();
-  EXPECT_EQ(device_mapper.wait(20s), 0) << device_mapper.log();
+  EXPECT_TRUE(mapper.stop());
+  EXPECT_TRUE(device_mapper.stop());
   const std::string log = device_mapper.log();
   EXPECT_EQ(countOf(log, "different clocks"), 1) << log;
   EXPECT_NE(log.find("set time_base: host"), std::string::npos) << log;

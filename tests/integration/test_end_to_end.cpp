@@ -33,6 +33,7 @@
 #include <thread>
 
 #include "support/child_process.hpp"
+#include "support/daemon_process.hpp"
 #include "support/lcm_thread.hpp"
 #include "support/multicast.hpp"
 
@@ -41,6 +42,8 @@ namespace {
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 using ogf::testing::ChildProcess;
+using Driver = ogf::testing::DaemonProcess<ogf::driver_status_t>;
+using Mapper = ogf::testing::DaemonProcess<ogf::mapper_status_t>;
 
 const std::string kBin = OGF_BIN_DIR;
 
@@ -57,34 +60,15 @@ double worldSeconds() {
   return s != nullptr ? std::atof(s) : 3.0;
 }
 
-// Everything the test listens to on the bus, on its own thread.
+// The scans and the map deltas on the bus, for the latency from a scan to its delta, on its own thread.
 class BusProbe {
  public:
   explicit BusProbe(const std::string& url) : bus_(url) {
-    bus_.lcm().subscribe("VELODYNE_STATUS", &BusProbe::onDriver, this)->setQueueCapacity(10000);
-    bus_.lcm().subscribe("OGF_MAPPER_STATUS", &BusProbe::onMapper, this)->setQueueCapacity(10000);
     bus_.lcm().subscribe("VELODYNE_SCAN", &BusProbe::onScan, this)->setQueueCapacity(10000);
     bus_.lcm().subscribe("OGF_MAP_DELTA", &BusProbe::onDelta, this)->setQueueCapacity(10000);
     bus_.start(std::chrono::milliseconds(50));
   }
   bool good() { return bus_.lcm().good(); }
-  std::optional<ogf::driver_status_t> driver() const {
-    std::lock_guard lk(mu_);
-    return driver_;
-  }
-  std::optional<ogf::mapper_status_t> mapper() const {
-    std::lock_guard lk(mu_);
-    return mapper_;
-  }
-  template <class Pred>
-  std::optional<ogf::mapper_status_t> waitMapper(Pred pred, std::chrono::milliseconds limit) const {
-    const auto deadline = std::chrono::steady_clock::now() + limit;
-    while (std::chrono::steady_clock::now() < deadline) {
-      if (auto s = mapper(); s && pred(*s)) return s;
-      std::this_thread::sleep_for(20ms);
-    }
-    return std::nullopt;
-  }
   // Latencies (µs) of the scans seen on both channels.
   std::vector<std::int64_t> latencies() const {
     std::lock_guard lk(mu_);
@@ -98,14 +82,6 @@ class BusProbe {
   }
 
  private:
-  void onDriver(const lcm::ReceiveBuffer*, const std::string&, const ogf::driver_status_t* s) {
-    std::lock_guard lk(mu_);
-    driver_ = *s;
-  }
-  void onMapper(const lcm::ReceiveBuffer*, const std::string&, const ogf::mapper_status_t* s) {
-    std::lock_guard lk(mu_);
-    mapper_ = *s;
-  }
   void onScan(const lcm::ReceiveBuffer*, const std::string&, const ogf::lidar_scan_t* s) {
     std::lock_guard lk(mu_);
     scan_end_[s->utime] = s->host_utime_end;
@@ -117,8 +93,6 @@ class BusProbe {
   }
 
   mutable std::mutex mu_;
-  std::optional<ogf::driver_status_t> driver_;
-  std::optional<ogf::mapper_status_t> mapper_;
   std::map<std::int64_t, std::int64_t> scan_end_;       // scan utime -> host_utime_end
   std::map<std::int64_t, std::int64_t> delta_arrival_;  // delta utime (= its scan's utime) -> recv_utime
   ogf::testing::LcmThread bus_;  // last: its thread stops before the state above is gone
@@ -145,16 +119,9 @@ std::string readFile(const fs::path& p) {
   return s.str();
 }
 
+// The exit status of a program run to its end (-1000 when it did not end within `limit`).
 int runToEnd(const std::vector<std::string>& argv, const fs::path& log, std::chrono::seconds limit) {
-  ChildProcess p(argv, log.string());
-  if (!p.started()) return -1000;
-  const auto rc = p.wait(limit);
-  if (!rc) {
-    p.signal(SIGKILL);
-    p.wait(5s);
-    return -1001;
-  }
-  return *rc;
+  return ogf::testing::runAndCapture(argv, log.string(), limit).rc;
 }
 
 class EndToEnd : public ::testing::Test {
@@ -211,14 +178,14 @@ class EndToEnd : public ::testing::Test {
     const std::string position_port = std::to_string(40000 + (::getpid() % 20000) + slot);
     BusProbe probe(url);
     ASSERT_TRUE(probe.good());
-    ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir / "state").string(), "--config",
-                         (root_ / "mapper.yaml").string(), "--log-level", "warn"},
-                        (dir / "mapper.log").string());
-    ChildProcess driver({kBin + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port", data_port,
-                         "--position-port", position_port, "--log-level", "warn"},
-                        (dir / "driver.log").string());
-    ASSERT_TRUE(mapper.started() && driver.started());
-    ASSERT_TRUE(probe.waitMapper([](const auto&) { return true; }, 15s)) << mapper.log();
+    Mapper mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir / "state").string(), "--config",
+                   (root_ / "mapper.yaml").string(), "--log-level", "warn"},
+                  (dir / "mapper.log").string(), url, ogf::testing::kMapperStatusChannel);
+    Driver driver({kBin + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port", data_port,
+                   "--position-port", position_port, "--log-level", "warn"},
+                  (dir / "driver.log").string(), url, ogf::testing::kDriverStatusChannel);
+    ASSERT_TRUE(driver.started());
+    ASSERT_TRUE(mapper.reportsStatus(15s));
     // Runs until stopped: a scan that changes no published cell publishes no delta, so silence on the delta
     // channel does not mean the mapper is done; its status says that.
     ChildProcess client({kBin + "/ogf-map-client", "--lcm-url", url, "--duration", "300", "--log-level", "warn"},
@@ -231,20 +198,19 @@ class EndToEnd : public ::testing::Test {
     ASSERT_EQ(replay_rc, 0) << readFile(dir / "replay.log");
     std::this_thread::sleep_for(300ms);
     // SIGTERM: the driver publishes the scan in progress and a last status.
-    driver.signal(SIGTERM);
-    ASSERT_EQ(driver.wait(20s), 0) << driver.log();
+    ASSERT_TRUE(driver.stop());
     std::this_thread::sleep_for(300ms);
-    const auto ds = probe.driver();
+    const auto ds = driver.latestStatus();
     ASSERT_TRUE(ds.has_value());
     run.driver = *ds;
-    const auto done = probe.waitMapper(
+    const auto done = mapper.waitForStatus(
         [&](const ogf::mapper_status_t& s) {
           return s.scans_in >= run.driver.scans_published &&
                  s.scans_mapped + s.scans_dropped_behind + s.scans_dropped_no_pose + s.scans_late + s.scans_rejected >=
                      s.scans_in;
         },
         30s);
-    const auto last = probe.mapper();
+    const auto last = mapper.latestStatus();
     ASSERT_TRUE(last.has_value());
     run.mapper = done ? *done : *last;
     std::this_thread::sleep_for(500ms);  // the last delta's way to the client
@@ -252,8 +218,7 @@ class EndToEnd : public ::testing::Test {
     const auto client_rc = client.wait(30s);
     ASSERT_TRUE(client_rc.has_value()) << client.log();
     run.client_line = lastLine(client.log());
-    mapper.signal(SIGTERM);
-    ASSERT_EQ(mapper.wait(30s), 0) << mapper.log();
+    ASSERT_TRUE(mapper.stop(30s));
     run.latencies = probe.latencies();
     const int eval_rc = runToEnd({kBin + "/ogf-eval", "--map", (dir / "state" / "snapshot.ogfs").string(), "--truth",
                                   (root_ / "sim").string(), "--no-octomap", "--log-level", "warn"},

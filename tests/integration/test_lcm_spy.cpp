@@ -24,15 +24,18 @@
 #include <thread>
 
 #include "support/child_process.hpp"
-#include "support/latest_message.hpp"
+#include "support/daemon_process.hpp"
 #include "support/message_counter.hpp"
 #include "support/multicast.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 using ogf::testing::ChildProcess;
+using Driver = ogf::testing::DaemonProcess<ogf::driver_status_t>;
+using Mapper = ogf::testing::DaemonProcess<ogf::mapper_status_t>;
 
 const std::string kBin = OGF_BIN_DIR;
 const std::string kScripts = OGF_SCRIPTS_DIR;
@@ -84,9 +87,7 @@ TEST(LcmSpy, SeesEveryChannelOfTheDaemonsAtItsTrueRate) {
   if (!fs::exists("/usr/share/java/lcm.jar")) GTEST_SKIP() << "liblcm-java is not installed";
   if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
 
-  const fs::path dir = fs::temp_directory_path() / ("ogf-lcm-spy-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = ogf::testing::emptyTestDirectory("ogf-lcm-spy");
   const auto now_us = std::chrono::duration_cast<std::chrono::microseconds>(
                           std::chrono::system_clock::now().time_since_epoch())
                           .count();
@@ -109,8 +110,6 @@ TEST(LcmSpy, SeesEveryChannelOfTheDaemonsAtItsTrueRate) {
   const std::string spy_url = url.substr(0, url.find('?')) + "?ttl=0";
   const std::string data_port = std::to_string(40000 + (::getpid() % 20000) + 241);
   const std::string position_port = std::to_string(40000 + (::getpid() % 20000) + 242);
-  ogf::testing::LatestMessage<ogf::driver_status_t> driver_status(url, "VELODYNE_STATUS");
-  ogf::testing::LatestMessage<ogf::mapper_status_t> mapper_status(url, "OGF_MAPPER_STATUS");
   ogf::testing::MessageCounter<ogf::velodyne_packets_t> packets(url, "VELODYNE_PACKETS");
   ogf::testing::MessageCounter<ogf::map_delta_t> deltas(url, "OGF_MAP_DELTA");
   ogf::testing::MessageCounter<ogf::mapper_status_t> mapper_statuses(url, "OGF_MAPPER_STATUS");
@@ -122,14 +121,14 @@ TEST(LcmSpy, SeesEveryChannelOfTheDaemonsAtItsTrueRate) {
     std::this_thread::sleep_for(50ms);
   ASSERT_NE(spy.log().find("ogf-spy: listening"), std::string::npos) << spy.log();
 
-  ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir / "state").string(), "--config",
-                       (dir / "mapper.yaml").string(), "--log-level", "warn"},
-                      (dir / "mapper.log").string());
-  ChildProcess driver({kBin + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port", data_port,
-                       "--position-port", position_port, "--log-level", "warn"},
-                      (dir / "driver.log").string());
-  ASSERT_TRUE(driver_status.waitFor([](const auto&) { return true; }, 15s)) << driver.log();
-  ASSERT_TRUE(mapper_status.waitFor([](const auto&) { return true; }, 15s)) << mapper.log();
+  Mapper mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir / "state").string(), "--config",
+                 (dir / "mapper.yaml").string(), "--log-level", "warn"},
+                (dir / "mapper.log").string(), url, ogf::testing::kMapperStatusChannel);
+  Driver driver({kBin + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port", data_port,
+                 "--position-port", position_port, "--log-level", "warn"},
+                (dir / "driver.log").string(), url, ogf::testing::kDriverStatusChannel);
+  ASSERT_TRUE(driver.reportsStatus(15s));
+  ASSERT_TRUE(mapper.reportsStatus(15s));
   {
     ChildProcess replay({kBin + "/ogf-replay", "--pcap", (dir / "sim" / "capture.pcap").string(), "--dest",
                          "127.0.0.1", "--data-port", data_port, "--position-port", position_port, "--speed", "1",
@@ -138,16 +137,14 @@ TEST(LcmSpy, SeesEveryChannelOfTheDaemonsAtItsTrueRate) {
     ASSERT_EQ(replay.wait(60s), 0) << replay.log();
   }
   std::this_thread::sleep_for(300ms);
-  driver.signal(SIGTERM);
-  ASSERT_EQ(driver.wait(20s), 0) << driver.log();
+  ASSERT_TRUE(driver.stop());
   std::this_thread::sleep_for(300ms);
-  const auto published = driver_status.latest();
+  const auto published = driver.latestStatus();
   ASSERT_TRUE(published.has_value());
   const std::int64_t scans = published->scans_published;
-  ASSERT_TRUE(mapper_status.waitFor([&](const ogf::mapper_status_t& s) { return s.scans_in >= scans; }, 30s));
+  ASSERT_TRUE(mapper.waitForStatus([&](const ogf::mapper_status_t& s) { return s.scans_in >= scans; }, 30s));
   std::this_thread::sleep_for(1500ms);  // the deltas of the last scan, and a status after it
-  mapper.signal(SIGTERM);
-  ASSERT_EQ(mapper.wait(30s), 0) << mapper.log();
+  ASSERT_TRUE(mapper.stop(30s));
   std::this_thread::sleep_for(500ms);
   spy.signal(SIGTERM);  // the spy prints its totals and exits
   ASSERT_TRUE(spy.wait(20s).has_value()) << spy.log();

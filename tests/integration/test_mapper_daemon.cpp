@@ -12,13 +12,11 @@
 #include <ogf/mapper_status_t.hpp>
 #include <ogf/odometry_t.hpp>
 
-#include <csignal>
 #include <cstdlib>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <mutex>
 #include <optional>
 #include <random>
 #include <regex>
@@ -29,55 +27,23 @@
 #include <vector>
 
 #include "support/child_process.hpp"
-#include "support/lcm_thread.hpp"
+#include "support/daemon_process.hpp"
+#include "support/message_log.hpp"
 #include "ogf/fusion/pose_buffer.hpp"
 #include "ogf/pipeline/scan_mapper.hpp"
 #include "scan_feeder.hpp"
 #include "support/multicast.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 using ogf::testing::ChildProcess;
+using Mapper = ogf::testing::DaemonProcess<ogf::mapper_status_t>;
+using ogf::testing::kMapperStatusChannel;
 
 const std::string kBin = OGF_BIN_DIR;
-
-// The latest OGF_MAPPER_STATUS, received on its own thread.
-class StatusListener {
- public:
-  explicit StatusListener(const std::string& url) : bus_(url) {
-    bus_.lcm().subscribe("OGF_MAPPER_STATUS", &StatusListener::onStatus, this);
-    bus_.start(std::chrono::milliseconds(50));
-  }
-  void reset() {
-    std::lock_guard lk(mu_);
-    latest_.reset();
-  }
-  std::optional<ogf::mapper_status_t> latest() const {
-    std::lock_guard lk(mu_);
-    return latest_;
-  }
-  // Waits for a status satisfying `pred`.
-  template <class Pred>
-  std::optional<ogf::mapper_status_t> waitFor(Pred pred, std::chrono::milliseconds limit) const {
-    const auto deadline = std::chrono::steady_clock::now() + limit;
-    while (std::chrono::steady_clock::now() < deadline) {
-      if (auto s = latest(); s && pred(*s)) return s;
-      std::this_thread::sleep_for(20ms);
-    }
-    return std::nullopt;
-  }
-
- private:
-  void onStatus(const lcm::ReceiveBuffer*, const std::string&, const ogf::mapper_status_t* s) {
-    std::lock_guard lk(mu_);
-    latest_ = *s;
-  }
-  mutable std::mutex mu_;
-  std::optional<ogf::mapper_status_t> latest_;
-  ogf::testing::LcmThread bus_;  // last: its thread stops before the state above is gone
-};
 
 // A feed step on the bus: its odometry, then its scan.
 void publishStep(lcm::LCM& lcm, const ogf::testing::FeedStep& step) {
@@ -89,10 +55,7 @@ class MapperDaemonTest : public ::testing::Test {
  protected:
   void SetUp() override {
     if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-    dir_ = fs::temp_directory_path() / ("ogf-mapper-it-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ogf::testing::emptyTestDirectory("ogf-mapper-it");
     std::ofstream(dir_ / "mapper.yaml") << "status_interval_s: 0.1\n";
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -117,13 +80,11 @@ std::string field(const std::string& line, const std::string& key) {
 // that drops 3 % of its delta updates.
 void clientRebuildsTheDaemonsMap(const fs::path& dir, int channel, int scans, const std::vector<std::string>& where) {
   const std::string url = ogf::testing::loopbackUdpmUrl(channel);
-  StatusListener status(url);
   std::vector<std::string> args{kBin + "/ogf-mapper", "--lcm-url", url, "--config", (dir / "mapper.yaml").string(),
                                 "--test-drop-deltas", "0.03", "--keyframe-interval", "1000", "--log-level", "warn"};
   args.insert(args.end(), where.begin(), where.end());
-  ChildProcess mapper(args, (dir / "mapper.log").string());
-  ASSERT_TRUE(mapper.started());
-  ASSERT_TRUE(status.waitFor([](const auto&) { return true; }, 10s)) << mapper.log();
+  Mapper mapper(args, (dir / "mapper.log").string(), url, kMapperStatusChannel);
+  ASSERT_TRUE(mapper.reportsStatus(10s));
   ChildProcess client({kBin + "/ogf-map-client", "--lcm-url", url, "--idle-exit", "3", "--duration", "300",
                        "--log-level", "warn"},
                       (dir / "client.log").string());
@@ -135,12 +96,12 @@ void clientRebuildsTheDaemonsMap(const fs::path& dir, int channel, int scans, co
     // Pace like a fast replay; wait whenever the daemon has 3 or more scans in hand.
     std::this_thread::sleep_for(2ms);
     for (int w = 0; w < 200; ++w) {
-      const auto s = status.latest();
+      const auto s = mapper.latestStatus();
       if (!s || s->scans_in - s->scans_mapped - s->scans_dropped_behind - s->scans_dropped_no_pose < 3) break;
       std::this_thread::sleep_for(5ms);
     }
   }
-  const auto done = status.waitFor(
+  const auto done = mapper.waitForStatus(
       [scans](const ogf::mapper_status_t& s) {
         return s.scans_in == scans && s.scans_mapped + s.scans_dropped_behind + s.scans_dropped_no_pose == scans;
       },
@@ -166,8 +127,7 @@ void clientRebuildsTheDaemonsMap(const fs::path& dir, int channel, int scans, co
   EXPECT_GT(std::stoll(field(line, "gaps")), 0) << "the injection should have made gaps";
   EXPECT_GE(std::stoll(field(line, "keyframes")), 1);
   EXPECT_EQ(field(line, "malformed"), "0");
-  mapper.signal(SIGTERM);
-  EXPECT_EQ(mapper.wait(20s), 0) << mapper.log();
+  EXPECT_TRUE(mapper.stop());
 }
 
 TEST_F(MapperDaemonTest, ClientRebuildsTheDaemonsMapOver1000ScansWithGapsInjected) {
@@ -191,7 +151,6 @@ TEST_F(MapperDaemonTest, ClientRebuildsTheDaemonsMapWhileRegionsArePagedOutAndIn
 void killNineAtRandomInstants(const fs::path& dir, int channel, const std::string& config) {
   const int rounds = std::getenv("OGF_KILL_ROUNDS") ? std::atoi(std::getenv("OGF_KILL_ROUNDS")) : 5;
   const std::string url = ogf::testing::loopbackUdpmUrl(channel);
-  StatusListener status(url);
   lcm::LCM lcm(url);
 
   // The reference: the same scans through the same pipeline, uninterrupted; checksum after each update.
@@ -224,19 +183,18 @@ void killNineAtRandomInstants(const fs::path& dir, int channel, const std::strin
   std::ofstream(dir / "mapper.yaml", std::ios::app)
       << "fusion:\n  max_pending_scans: " << kMaxScansPerRound << "\n" << config;
 
-  // The first status of a restarted daemon, not one the killed daemon sent just before the kill that
-  // arrives after status.reset(): its counters run from its start, and no scan is sent before this status.
+  // The first status of a restarted daemon, never one the killed daemon sent just before the kill: its
+  // counters run from its start, and no scan is sent before this status.
   const auto fromThisDaemon = [](const ogf::mapper_status_t& s) { return s.scans_in == 0; };
 
   std::mt19937 rng(20261121);
   std::int64_t acknowledged = 0;
   int next_scan = 0;
   for (int round = 0; round < rounds; ++round) {
-    status.reset();
-    ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir / "state").string(), "--config",
-                         (dir / "mapper.yaml").string(), "--snapshot-interval", "0.4", "--log-level", "warn"},
-                        (dir / ("mapper-" + std::to_string(round) + ".log")).string());
-    const auto first = status.waitFor(fromThisDaemon, 10s);
+    Mapper mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir / "state").string(), "--config",
+                   (dir / "mapper.yaml").string(), "--snapshot-interval", "0.4", "--log-level", "warn"},
+                  (dir / ("mapper-" + std::to_string(round) + ".log")).string(), url, kMapperStatusChannel);
+    const auto first = mapper.waitForStatus(fromThisDaemon, 10s);
     ASSERT_TRUE(first) << mapper.log();
     const std::int64_t restored = first->delta_seq;
     SCOPED_TRACE("round " + std::to_string(round) + " restored seq " + std::to_string(restored));
@@ -257,26 +215,23 @@ void killNineAtRandomInstants(const fs::path& dir, int channel, const std::strin
       std::this_thread::sleep_for(15ms);
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(std::uniform_int_distribution<int>(0, 150)(rng)));
-    if (const auto s = status.latest()) {
+    if (const auto s = mapper.latestStatus()) {
       acknowledged = s->delta_seq;
       EXPECT_EQ(s->scans_dropped_behind + s->scans_dropped_no_pose + s->scans_late, 0)
           << "the daemon left out a scan, so the next restart cannot match the reference";
     }
-    mapper.signal(SIGKILL);
-    ASSERT_TRUE(mapper.wait(10s).has_value());
+    ASSERT_TRUE(mapper.kill());
   }
   // And a clean stop keeps everything: the final snapshot then a restart at the same seq.
-  status.reset();
   {
-    ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir / "state").string(), "--config",
-                         (dir / "mapper.yaml").string(), "--log-level", "warn"},
-                        (dir / "mapper-final.log").string());
-    const auto s = status.waitFor(fromThisDaemon, 10s);
-    ASSERT_TRUE(s);
+    Mapper mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir / "state").string(), "--config",
+                   (dir / "mapper.yaml").string(), "--log-level", "warn"},
+                  (dir / "mapper-final.log").string(), url, kMapperStatusChannel);
+    const auto s = mapper.waitForStatus(fromThisDaemon, 10s);
+    ASSERT_TRUE(s) << mapper.log();
     extendReference(static_cast<int>(s->delta_seq));
     EXPECT_EQ(static_cast<std::uint64_t>(s->filter_checksum), ref_checksum[static_cast<std::size_t>(s->delta_seq)]);
-    mapper.signal(SIGTERM);
-    EXPECT_EQ(mapper.wait(20s), 0) << mapper.log();
+    EXPECT_TRUE(mapper.stop());
   }
 }
 
@@ -295,38 +250,14 @@ TEST_F(MapperDaemonTest, KillNineWhileRegionsArePagedOutAndInResumesExactlyTheAc
 
 }  // namespace
 
-// The corrected poses on POSE_CORRECTED, received on their own thread.
-class CorrectedPoseListener {
- public:
-  explicit CorrectedPoseListener(const std::string& url) : bus_(url) {
-    bus_.lcm().subscribe("POSE_CORRECTED", &CorrectedPoseListener::onPose, this);
-    bus_.start(std::chrono::milliseconds(50));
-  }
-  std::vector<ogf::odometry_t> poses() const {
-    std::lock_guard lk(mu_);
-    return poses_;
-  }
-
- private:
-  void onPose(const lcm::ReceiveBuffer*, const std::string&, const ogf::odometry_t* p) {
-    std::lock_guard lk(mu_);
-    poses_.push_back(*p);
-  }
-  mutable std::mutex mu_;
-  std::vector<ogf::odometry_t> poses_;
-  ogf::testing::LcmThread bus_;  // last: its thread stops before the state above is gone
-};
-
 TEST_F(MapperDaemonTest, ScanMatchingCorrectsDriftingOdometryAndPublishesTheCorrectedPoses) {
   const std::string url = ogf::testing::loopbackUdpmUrl(33);
   std::ofstream(dir_ / "mapper.yaml") << "status_interval_s: 0.1\npose_correction: {mode: scan-match}\n";
-  StatusListener status(url);
-  CorrectedPoseListener corrected(url);
-  ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--in-memory", "--config", (dir_ / "mapper.yaml").string(),
-                       "--log-level", "warn"},
-                      (dir_ / "mapper.log").string());
-  ASSERT_TRUE(mapper.started());
-  ASSERT_TRUE(status.waitFor([](const auto&) { return true; }, 10s)) << mapper.log();
+  ogf::testing::MessageLog<ogf::odometry_t> corrected(url, "POSE_CORRECTED");
+  Mapper mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--in-memory", "--config", (dir_ / "mapper.yaml").string(),
+                 "--log-level", "warn"},
+                (dir_ / "mapper.log").string(), url, kMapperStatusChannel);
+  ASSERT_TRUE(mapper.reportsStatus(10s));
 
   // Odometry that over-reads x by 0.05 m per second (the robot itself moves at about 0.08 m/s), while the scans come from the true poses.
   constexpr int kScans = 60;
@@ -344,15 +275,15 @@ TEST_F(MapperDaemonTest, ScanMatchingCorrectsDriftingOdometryAndPublishesTheCorr
     publishStep(lcm, step);
     std::this_thread::sleep_for(20ms);
     for (int w = 0; w < 400; ++w) {
-      const auto s = status.latest();
+      const auto s = mapper.latestStatus();
       if (!s || s->scans_in - s->scans_mapped - s->scans_dropped_behind - s->scans_dropped_no_pose < 2) break;
       std::this_thread::sleep_for(5ms);
     }
   }
-  const auto done = status.waitFor([](const ogf::mapper_status_t& s) { return s.scans_mapped == kScans; }, 60s);
+  const auto done = mapper.waitForStatus([](const ogf::mapper_status_t& s) { return s.scans_mapped == kScans; }, 60s);
   ASSERT_TRUE(done) << mapper.log();
   std::this_thread::sleep_for(300ms);
-  const auto poses = corrected.poses();
+  const auto poses = corrected.messages();
   ASSERT_EQ(static_cast<int>(poses.size()), kScans) << "one corrected pose per mapped scan";
   // The last corrected pose against the truth at its time, and the odometry's error there.
   const auto& last = poses.back();
@@ -364,8 +295,7 @@ TEST_F(MapperDaemonTest, ScanMatchingCorrectsDriftingOdometryAndPublishesTheCorr
   EXPECT_LT(corrected_error, 0.3 * odometry_error) << "odometry error " << odometry_error << " m";
   EXPECT_EQ(last.frame_id, "map");
   std::printf("corrected error %.3f m, odometry error %.3f m\n", corrected_error, odometry_error);
-  mapper.signal(SIGTERM);
-  EXPECT_EQ(mapper.wait(20s), 0) << mapper.log();
+  EXPECT_TRUE(mapper.stop());
 }
 
 // ogf-map-query against the running daemon: a box over the room and cells on a wall and in the air are
@@ -381,12 +311,10 @@ TEST_F(MapperDaemonTest, MapServicesAnswerQueriesAndCommandsWhileTheDaemonMaps) 
   }
   std::ofstream(dir_ / "mapper.yaml", std::ios::app)
       << "services: {commands_enabled: true, key_file: " << key << ", export_min_free_bytes: 0}\n";
-  StatusListener status(url);
-  ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir_ / "state").string(), "--config",
-                       (dir_ / "mapper.yaml").string(), "--log-level", "warn"},
-                      (dir_ / "mapper.log").string());
-  ASSERT_TRUE(mapper.started());
-  ASSERT_TRUE(status.waitFor([](const auto&) { return true; }, 10s)) << mapper.log();
+  Mapper mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir_ / "state").string(), "--config",
+                 (dir_ / "mapper.yaml").string(), "--log-level", "warn"},
+                (dir_ / "mapper.log").string(), url, kMapperStatusChannel);
+  ASSERT_TRUE(mapper.reportsStatus(10s));
   lcm::LCM lcm(url);
   const auto feed = [&](int from, int to) {
     for (int i = from; i < to; ++i) {
@@ -394,7 +322,7 @@ TEST_F(MapperDaemonTest, MapServicesAnswerQueriesAndCommandsWhileTheDaemonMaps) 
       std::this_thread::sleep_for(20ms);
     }
     // The last scan may wait for odometry beyond its end and be dropped; the others are mapped.
-    return status.waitFor(
+    return mapper.waitForStatus(
         [&](const ogf::mapper_status_t& s) {
           return s.scans_in == to && s.scans_mapped + s.scans_dropped_no_pose + s.scans_dropped_behind == to &&
                  s.scans_mapped >= to - 2;
@@ -402,7 +330,8 @@ TEST_F(MapperDaemonTest, MapServicesAnswerQueriesAndCommandsWhileTheDaemonMaps) 
         30s);
   };
   const auto fed = feed(0, 30);
-  ASSERT_TRUE(fed) << mapper.log() << (status.latest() ? " mapped " + std::to_string(status.latest()->scans_mapped) : "");
+  ASSERT_TRUE(fed) << mapper.log()
+                   << (mapper.latestStatus() ? " mapped " + std::to_string(mapper.latestStatus()->scans_mapped) : "");
   int n = 0;
   const auto query = [&](std::vector<std::string> args) {
     args.insert(args.begin(), {kBin + "/ogf-map-query", "--lcm-url", url});
@@ -430,7 +359,7 @@ TEST_F(MapperDaemonTest, MapServicesAnswerQueriesAndCommandsWhileTheDaemonMaps) 
   EXPECT_NE(out.find("exceed the limit"), std::string::npos) << out;
   const char junk[] = "not a map_query_t at all";
   lcm.publish("OGF_MAP_QUERY", junk, sizeof junk);
-  EXPECT_TRUE(status.waitFor([](const ogf::mapper_status_t& s) { return s.service_requests_refused >= 2; }, 10s))
+  EXPECT_TRUE(mapper.waitForStatus([](const ogf::mapper_status_t& s) { return s.service_requests_refused >= 2; }, 10s))
       << mapper.log();
   std::tie(rc, out) = query({"--key", key, "export", "ply", (dir_ / "map.ply").string()});
   EXPECT_EQ(rc, 1) << out;
@@ -456,6 +385,5 @@ TEST_F(MapperDaemonTest, MapServicesAnswerQueriesAndCommandsWhileTheDaemonMaps) 
   std::tie(rc, out) = query({"box", "-5", "-4", "0", "5", "4", "2"});
   ASSERT_EQ(rc, 0) << out;
   EXPECT_EQ(out.find("occupied 0 free 0"), std::string::npos) << out;
-  mapper.signal(SIGTERM);
-  EXPECT_EQ(mapper.wait(20s), 0) << mapper.log();
+  EXPECT_TRUE(mapper.stop());
 }

@@ -12,7 +12,6 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <lcm/lcm-cpp.hpp>
@@ -23,8 +22,9 @@
 
 #include "scan_feeder.hpp"
 #include "support/child_process.hpp"
-#include "support/latest_message.hpp"
+#include "support/daemon_process.hpp"
 #include "support/multicast.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
@@ -32,6 +32,7 @@ using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 using ogf::testing::ChildProcess;
 using Status = ogf::mapper_status_t;
+using Mapper = ogf::testing::DaemonProcess<Status>;
 
 const std::string kBin = OGF_BIN_DIR;
 
@@ -63,24 +64,20 @@ class MapperInputsTest : public ::testing::Test {
   void SetUp() override {
     if (auto why = ogf::testing::ensureLoopbackMulticast())
       GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-    dir_ = fs::temp_directory_path() / ("ogf-mapper-inputs-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ogf::testing::emptyTestDirectory("ogf-mapper-inputs");
   }
   void TearDown() override {
     if (!HasFailure()) fs::remove_all(dir_);
   }
   // ogf-mapper with `config` (YAML) and `flags`, logging at info.
-  std::unique_ptr<ChildProcess> startMapper(const std::string& url, const std::string& config,
-                                            std::vector<std::string> flags,
-                                            const std::string& log = "mapper.log") {
+  std::unique_ptr<Mapper> startMapper(const std::string& url, const std::string& config,
+                                      std::vector<std::string> flags, const std::string& log = "mapper.log") {
     std::ofstream(dir_ / "mapper.yaml") << "status_interval_s: 0.1\n" << config;
     std::vector<std::string> args{
         kBin + "/ogf-mapper", "--lcm-url", url, "--config", (dir_ / "mapper.yaml").string(),
         "--log-level",        "info"};
     args.insert(args.end(), flags.begin(), flags.end());
-    return std::make_unique<ChildProcess>(args, (dir_ / log).string());
+    return std::make_unique<Mapper>(args, (dir_ / log).string(), url, ogf::testing::kMapperStatusChannel);
   }
   // ogf-map-query with `args`: its exit status and output.
   std::pair<int, std::string> query(const std::string& url, std::vector<std::string> args) {
@@ -96,10 +93,9 @@ class MapperInputsTest : public ::testing::Test {
 
 TEST_F(MapperInputsTest, StaticPoseMapsEveryScanWithoutOdometryAtTheConfiguredPoseAndIgnoresPoses) {
   const std::string url = ogf::testing::loopbackUdpmUrl(81);
-  ogf::testing::LatestMessage<Status> status(url, "OGF_MAPPER_STATUS");
   // The scans see the room from (1.5, 0, 0.5): the wall at x = 5 is 3.5 m ahead of the sensor.
   auto mapper = startMapper(url, "static_pose: {translation: [1.5, 0, 0.5]}\n", {"--static", "--in-memory"});
-  ASSERT_TRUE(status.waitFor([](const Status&) { return true; }, 10s)) << mapper->log();
+  ASSERT_TRUE(mapper->reportsStatus(10s));
   EXPECT_NE(mapper->log().find("mapping VELODYNE_SCAN with a static pose on "), std::string::npos)
       << mapper->log();
 
@@ -113,12 +109,12 @@ TEST_F(MapperInputsTest, StaticPoseMapsEveryScanWithoutOdometryAtTheConfiguredPo
       for (const auto& p : ogf::testing::feedStep(0).poses) lcm.publish("POSE", &p);
     std::this_thread::sleep_for(20ms);
     for (int w = 0; w < 400; ++w) {  // at most 2 scans waiting for the mapper
-      const auto s = status.latest();
+      const auto s = mapper->latestStatus();
       if (!s || s->scans_in - s->scans_mapped - s->scans_dropped_behind < 2) break;
       std::this_thread::sleep_for(5ms);
     }
   }
-  const auto done = status.waitFor([](const Status& s) { return s.scans_mapped == kScans; }, 30s);
+  const auto done = mapper->waitForStatus([](const Status& s) { return s.scans_mapped == kScans; }, 30s);
   ASSERT_TRUE(done) << mapper->log();
   EXPECT_EQ(done->pose_source, Status::POSE_SOURCE_STATIC);
   EXPECT_EQ(done->scans_dropped_no_pose + done->scans_dropped_behind + done->scans_refused_time, 0);
@@ -132,17 +128,15 @@ TEST_F(MapperInputsTest, StaticPoseMapsEveryScanWithoutOdometryAtTheConfiguredPo
   EXPECT_TRUE(std::regex_search(out, std::regex("5\\.050 +0\\.100 +1\\.000 +\\S+ +occ"))) << out;
   EXPECT_FALSE(std::regex_search(out, std::regex("3\\.550 +0\\.100 +1\\.000 +\\S+ +occ"))) << out;
 
-  mapper->signal(SIGTERM);
-  EXPECT_EQ(mapper->wait(20s), 0);
+  EXPECT_TRUE(mapper->stop());
   EXPECT_EQ(occurrences(mapper->log(), "but the pose is static"), 1U) << mapper->log();
 }
 
 TEST_F(MapperInputsTest,
        ScansWithoutOdometryAreSaidOnceNamingThePoseChannelAndDroppedForWantOfAPoseNotBehind) {
   const std::string url = ogf::testing::loopbackUdpmUrl(82);
-  ogf::testing::LatestMessage<Status> status(url, "OGF_MAPPER_STATUS");
   auto mapper = startMapper(url, "", {"--in-memory"});
-  ASSERT_TRUE(status.waitFor([](const Status&) { return true; }, 10s)) << mapper->log();
+  ASSERT_TRUE(mapper->reportsStatus(10s));
   lcm::LCM lcm(url);
   int i = 0;
   // A burst, as a log played fast (more scans than the queue holds), then 10 Hz for 5 s; no odometry.
@@ -158,7 +152,7 @@ TEST_F(MapperInputsTest,
     scanOnly(i);
     std::this_thread::sleep_for(100ms);
   }
-  const auto waiting = status.waitFor(
+  const auto waiting = mapper->waitForStatus(
       [&](const Status& s) {
         return s.scans_in == i && s.scans_dropped_no_pose + s.scans_dropped_behind == i;
       },
@@ -183,7 +177,7 @@ TEST_F(MapperInputsTest,
     lcm.publish("VELODYNE_SCAN", &step.scan);
     std::this_thread::sleep_for(100ms);
   }
-  const auto ok = status.waitFor(
+  const auto ok = mapper->waitForStatus(
       [&](const Status& s) {
         return s.inputs == Status::INPUTS_OK && s.scans_mapped >= i - first_covered - 1;
       },
@@ -199,11 +193,10 @@ TEST_F(MapperInputsTest,
     std::this_thread::sleep_for(100ms);
   }
   const auto no_scans =
-      status.waitFor([](const Status& s) { return s.inputs == Status::INPUTS_WAITING_FOR_SCANS; }, 10s);
+      mapper->waitForStatus([](const Status& s) { return s.inputs == Status::INPUTS_WAITING_FOR_SCANS; }, 10s);
   ASSERT_TRUE(no_scans) << mapper->log();
   EXPECT_GT(no_scans->last_scan_age_s, 3.0f);
-  mapper->signal(SIGTERM);
-  EXPECT_EQ(mapper->wait(20s), 0);
+  EXPECT_TRUE(mapper->stop());
   log = mapper->log();
   EXPECT_EQ(occurrences(log, "poses arrive on POSE but no scan on VELODYNE_SCAN"), 1U) << log;
   EXPECT_EQ(occurrences(log, "scans arrive on VELODYNE_SCAN but no pose on POSE"), 1U) << log;
@@ -213,9 +206,8 @@ TEST_F(MapperInputsTest,
 // packets come again; the sensor's clock ran on meanwhile.
 TEST_F(MapperInputsTest, NoScanIsRefusedAfterAPauseLongerThanMaxTimeAheadAndAStaleScanDatedBeforeIt) {
   const std::string url = ogf::testing::loopbackUdpmUrl(83);
-  ogf::testing::LatestMessage<Status> status(url, "OGF_MAPPER_STATUS");
   auto mapper = startMapper(url, "", {"--static", "--in-memory"});
-  ASSERT_TRUE(status.waitFor([](const Status&) { return true; }, 10s)) << mapper->log();
+  ASSERT_TRUE(mapper->reportsStatus(10s));
   lcm::LCM lcm(url);
   std::int64_t seq = 0;
   const auto scanNow = [&](int points = 1500) {
@@ -231,25 +223,23 @@ TEST_F(MapperInputsTest, NoScanIsRefusedAfterAPauseLongerThanMaxTimeAheadAndASta
   lcm.publish("VELODYNE_SCAN", &stale);
   for (int k = 0; k < 20; ++k) scanNow();
   const auto done =
-      status.waitFor([&](const Status& s) { return s.scans_in == seq && s.scans_mapped == seq; }, 20s);
-  const auto s = status.latest();
+      mapper->waitForStatus([&](const Status& s) { return s.scans_in == seq && s.scans_mapped == seq; }, 20s);
+  const auto s = mapper->latestStatus();
   ASSERT_TRUE(s);
   EXPECT_TRUE(done) << "scans in " << s->scans_in << " mapped " << s->scans_mapped << " of " << seq << "\n"
                     << mapper->log();
   EXPECT_EQ(s->scans_refused_time, 0) << mapper->log();
   EXPECT_EQ(s->clock_jumps, 0) << mapper->log();
-  mapper->signal(SIGTERM);
-  EXPECT_EQ(mapper->wait(20s), 0);
+  EXPECT_TRUE(mapper->stop());
   EXPECT_EQ(mapper->log().find("refused"), std::string::npos) << mapper->log();
 }
 
 TEST_F(MapperInputsTest, TheMapIdTheLogSaysAtARestartIsTheOneMapQueriesAnswer) {
   const std::string url = ogf::testing::loopbackUdpmUrl(84);
-  ogf::testing::LatestMessage<Status> status(url, "OGF_MAPPER_STATUS");
   const std::vector<std::string> state{"--state-dir", (dir_ / "state").string()};
   {
     auto mapper = startMapper(url, "", state, "first.log");
-    ASSERT_TRUE(status.waitFor([](const Status&) { return true; }, 10s)) << mapper->log();
+    ASSERT_TRUE(mapper->reportsStatus(10s));
     lcm::LCM lcm(url);
     for (int i = 0; i < 10; ++i) {
       const auto step = ogf::testing::feedStep(i, 800);
@@ -257,13 +247,11 @@ TEST_F(MapperInputsTest, TheMapIdTheLogSaysAtARestartIsTheOneMapQueriesAnswer) {
       lcm.publish("VELODYNE_SCAN", &step.scan);
       std::this_thread::sleep_for(50ms);
     }
-    ASSERT_TRUE(status.waitFor([](const Status& s) { return s.scans_mapped >= 8; }, 20s)) << mapper->log();
-    mapper->signal(SIGTERM);
-    ASSERT_EQ(mapper->wait(20s), 0) << mapper->log();
+    ASSERT_TRUE(mapper->waitForStatus([](const Status& s) { return s.scans_mapped >= 8; }, 20s)) << mapper->log();
+    ASSERT_TRUE(mapper->stop());
   }
-  status.reset();
   auto mapper = startMapper(url, "", state, "second.log");
-  ASSERT_TRUE(status.waitFor([](const Status& s) { return s.delta_seq >= 8; }, 10s)) << mapper->log();
+  ASSERT_TRUE(mapper->waitForStatus([](const Status& s) { return s.delta_seq >= 8; }, 10s)) << mapper->log();
   std::smatch restored;
   const std::string log = mapper->log();
   ASSERT_TRUE(std::regex_search(log, restored, std::regex("restored map (-?[0-9]+) at seq"))) << log;
@@ -272,8 +260,7 @@ TEST_F(MapperInputsTest, TheMapIdTheLogSaysAtARestartIsTheOneMapQueriesAnswer) {
   std::smatch answered;
   ASSERT_TRUE(std::regex_search(out, answered, std::regex("map_id (-?[0-9]+)"))) << out;
   EXPECT_EQ(restored[1].str(), answered[1].str()) << log << out;
-  mapper->signal(SIGTERM);
-  EXPECT_EQ(mapper->wait(20s), 0);
+  EXPECT_TRUE(mapper->stop());
 }
 
 }  // namespace

@@ -12,16 +12,18 @@
 #include <thread>
 
 #include "support/child_process.hpp"
+#include "support/daemon_process.hpp"
 #include "support/host_odometry.hpp"
-#include "support/latest_message.hpp"
 #include "support/multicast.hpp"
 #include "support/shared_data.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 using ogf::testing::ChildProcess;
+using Driver = ogf::testing::DaemonProcess<ogf::driver_status_t>;
 
 const std::string kBin = OGF_BIN_DIR;
 const std::string kScripts = OGF_SCRIPTS_DIR;
@@ -36,22 +38,18 @@ long long recorded(const std::string& output, const std::string& channel) {
 TEST(RecordScript, RecordingDuringAReplayHoldsEveryPublishedMessage) {
   OGF_REQUIRE_SHARED_FILE(pcap, "data/real/vlp-16-test-90deg-1-50-frames.pcap");
   if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-  const fs::path dir = fs::temp_directory_path() / ("ogf-record-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = ogf::testing::emptyTestDirectory("ogf-record");
   const std::string url = ogf::testing::loopbackUdpmUrl(230);
   const std::string data_port = std::to_string(40000 + (::getpid() % 20000) + 231);
   const std::string position_port = std::to_string(40000 + (::getpid() % 20000) + 232);
-  ogf::testing::LatestMessage<ogf::driver_status_t> status(url, "VELODYNE_STATUS");
-
   ChildProcess recorder({"/bin/bash", kScripts + "/record.sh", "--lcm-url", url, (dir / "drive.lcmlog").string()},
                         (dir / "record.log").string());
   for (int i = 0; i < 200 && !fs::exists(dir / "drive.lcmlog"); ++i) std::this_thread::sleep_for(50ms);
   ASSERT_TRUE(fs::exists(dir / "drive.lcmlog")) << recorder.log();
-  ChildProcess driver({kBin + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port", data_port,
-                       "--position-port", position_port, "--log-level", "warn"},
-                      (dir / "driver.log").string());
-  ASSERT_TRUE(status.waitFor([](const auto&) { return true; }, 15s)) << driver.log();
+  Driver driver({kBin + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port", data_port,
+                 "--position-port", position_port, "--log-level", "warn"},
+                (dir / "driver.log").string(), url, ogf::testing::kDriverStatusChannel);
+  ASSERT_TRUE(driver.reportsStatus(15s));
   std::int64_t poses = 0;
   {
     ogf::testing::HostOdometry odometry(url);
@@ -61,13 +59,12 @@ TEST(RecordScript, RecordingDuringAReplayHoldsEveryPublishedMessage) {
     const auto rc = replay.wait(60s);
     ASSERT_EQ(rc, 0) << replay.log();
     std::this_thread::sleep_for(300ms);
-    driver.signal(SIGTERM);
-    ASSERT_EQ(driver.wait(20s), 0) << driver.log();
+    ASSERT_TRUE(driver.stop());
     std::this_thread::sleep_for(300ms);
     poses = odometry.published();
   }
   std::this_thread::sleep_for(500ms);
-  const auto final_status = status.latest();
+  const auto final_status = driver.latestStatus();
   ASSERT_TRUE(final_status.has_value());
   recorder.signal(SIGINT);
   const auto rc = recorder.wait(30s);

@@ -18,18 +18,22 @@
 #include <thread>
 
 #include "support/child_process.hpp"
+#include "support/daemon_process.hpp"
 #include "support/device_clock_shift.hpp"
-#include "support/latest_message.hpp"
 #include "support/multicast.hpp"
 #include "support/shared_data.hpp"
 #include "support/static_odometry.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 using ogf::testing::ChildProcess;
-using ogf::testing::LatestMessage;
+using Driver = ogf::testing::DaemonProcess<ogf::driver_status_t>;
+using Mapper = ogf::testing::DaemonProcess<ogf::mapper_status_t>;
+using ogf::testing::kDriverStatusChannel;
+using ogf::testing::kMapperStatusChannel;
 
 const std::string kBin = OGF_BIN_DIR;
 const std::string kScripts = OGF_SCRIPTS_DIR;
@@ -48,10 +52,7 @@ class ReplayRecipes : public ::testing::Test {
     if (!pcap) GTEST_SKIP() << "shared data absent under " << ogf::testing::sharedDir();
     if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
     pcap_ = *pcap;
-    dir_ = fs::temp_directory_path() / ("ogf-replay-recipes-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ogf::testing::emptyTestDirectory("ogf-replay-recipes");
     // A sensor on a tripod: the body at the origin from a second before the capture to a second after it,
     // on the capture's clock (2014).
     const auto span = ogf::testing::captureTimeSpan(pcap_);
@@ -73,15 +74,13 @@ class ReplayRecipes : public ::testing::Test {
 
 TEST_F(ReplayRecipes, AFixedSensorsOdometryOnTheCaptureClockIsStampedOnTheDriversClockAndEveryScanIsMapped) {
   const std::string url = ogf::testing::loopbackUdpmUrl(260);
-  LatestMessage<ogf::mapper_status_t> mapper_status(url, "OGF_MAPPER_STATUS");
-  LatestMessage<ogf::driver_status_t> driver_status(url, "VELODYNE_STATUS");
-  ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--in-memory", "--config", (dir_ / "my-mapper.yaml").string()},
-                      (dir_ / "mapper.log").string());
-  ChildProcess driver({kBin + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port", port(261),
-                       "--position-port", port(262)},
-                      (dir_ / "driver.log").string());
-  ASSERT_TRUE(mapper_status.waitFor([](const auto&) { return true; }, 15s)) << mapper.log();
-  ASSERT_TRUE(driver_status.waitFor([](const auto&) { return true; }, 15s)) << driver.log();
+  Mapper mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--in-memory", "--config", (dir_ / "my-mapper.yaml").string()},
+                (dir_ / "mapper.log").string(), url, kMapperStatusChannel);
+  Driver driver({kBin + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port", port(261),
+                 "--position-port", port(262)},
+                (dir_ / "driver.log").string(), url, kDriverStatusChannel);
+  ASSERT_TRUE(mapper.reportsStatus(15s));
+  ASSERT_TRUE(driver.reportsStatus(15s));
   const auto host_before = std::chrono::duration_cast<std::chrono::microseconds>(
                                std::chrono::system_clock::now().time_since_epoch())
                                .count();
@@ -90,19 +89,17 @@ TEST_F(ReplayRecipes, AFixedSensorsOdometryOnTheCaptureClockIsStampedOnTheDriver
                       (dir_ / "replay.log").string());
   ASSERT_EQ(replay.wait(60s), 0) << replay.log();
   std::this_thread::sleep_for(500ms);
-  driver.signal(SIGTERM);
-  ASSERT_EQ(driver.wait(20s), 0) << driver.log();
+  ASSERT_TRUE(driver.stop());
   std::this_thread::sleep_for(300ms);
-  const auto published = driver_status.latest();
+  const auto published = driver.latestStatus();
   ASSERT_TRUE(published.has_value());
   ASSERT_GE(published->scans_published, 50);
-  const auto done = mapper_status.waitFor(
+  const auto done = mapper.waitForStatus(
       [&](const ogf::mapper_status_t& s) { return s.scans_mapped == published->scans_published; }, 30s);
-  const auto seen = mapper_status.latest();
+  const auto seen = mapper.latestStatus();
   EXPECT_TRUE(done.has_value()) << "mapped " << (seen ? seen->scans_mapped : -1) << " of "
                                 << published->scans_published << "\n" << mapper.log() << replay.log();
-  mapper.signal(SIGTERM);
-  EXPECT_EQ(mapper.wait(20s), 0) << mapper.log();
+  EXPECT_TRUE(mapper.stop());
   // The replay says which clock and by how much it moved the poses: the replay's start on the host clock
   // (a second after the first pose is due) minus the capture's start, about 12 years.
   const std::string log = replay.log();
@@ -120,64 +117,58 @@ TEST_F(ReplayRecipes, ARecordingReplaysAsTheReadmeSaysIntoAMapperOfEveryScanWith
   // capture replayed onto UDP with the tripod's odometry).
   const std::string live = ogf::testing::loopbackUdpmUrl(263);
   const fs::path log = dir_ / "drive.lcmlog";
-  LatestMessage<ogf::driver_status_t> live_status(live, "VELODYNE_STATUS");
   ChildProcess recorder({"/bin/bash", kScripts + "/record.sh", "--lcm-url", live, "--channels",
                          "VELODYNE_PACKETS|VELODYNE_STATUS|POSE", log.string()},
                         (dir_ / "record.log").string());
   for (int i = 0; i < 200 && !fs::exists(log); ++i) std::this_thread::sleep_for(50ms);
   ASSERT_TRUE(fs::exists(log)) << recorder.log();
+  // The driver on the sensor's own ports, as on a robot, so the log holds them; on a loopback address of
+  // this test's own (the most specific bind gets the datagrams), so another driver on them is no matter.
+  const std::string sensor_lan = "127.0." + std::to_string(2 + ::getpid() % 250) + ".37";
+  Driver live_driver({kBin + "/ogf-driver", "--lcm-url", live, "--bind-address", sensor_lan, "--log-level", "warn"},
+                     (dir_ / "live-driver.log").string(), live, kDriverStatusChannel);
+  ASSERT_TRUE(live_driver.reportsStatus(15s));
   {
-    // The driver on the sensor's own ports, as on a robot, so the log holds them; on a loopback address of
-    // this test's own (the most specific bind gets the datagrams), so another driver on them is no matter.
-    const std::string sensor_lan = "127.0." + std::to_string(2 + ::getpid() % 250) + ".37";
-    ChildProcess driver({kBin + "/ogf-driver", "--lcm-url", live, "--bind-address", sensor_lan, "--log-level", "warn"},
-                        (dir_ / "live-driver.log").string());
-    ASSERT_TRUE(live_status.waitFor([](const auto&) { return true; }, 15s)) << driver.log();
     ChildProcess sensor({kBin + "/ogf-replay", "--pcap", pcap_.string(), "--dest", sensor_lan, "--odometry",
                          (dir_ / "static.csv").string(), "--lcm-url", live},
                         (dir_ / "sensor.log").string());
     ASSERT_EQ(sensor.wait(60s), 0) << sensor.log();
-    std::this_thread::sleep_for(500ms);
-    driver.signal(SIGTERM);
-    ASSERT_EQ(driver.wait(20s), 0) << driver.log();
   }
+  std::this_thread::sleep_for(500ms);
+  ASSERT_TRUE(live_driver.stop());
   std::this_thread::sleep_for(1500ms);  // a last status into the log
   recorder.signal(SIGINT);
   ASSERT_EQ(recorder.wait(30s), 0) << recorder.log();
   EXPECT_NE(recorder.log().find("complete"), std::string::npos) << recorder.log();
-  const auto recorded = live_status.latest();
+  const auto recorded = live_driver.latestStatus();
   ASSERT_TRUE(recorded.has_value());
   ASSERT_GE(recorded->scans_published, 50);
 
   // The README's replay: a mapper and a driver on a separate bus, the log's packets and poses played into them.
   const std::string url = ogf::testing::loopbackUdpmUrl(266);
-  LatestMessage<ogf::mapper_status_t> mapper_status(url, "OGF_MAPPER_STATUS");
-  LatestMessage<ogf::driver_status_t> driver_status(url, "VELODYNE_STATUS");
-  ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir_ / "replay-map").string(), "--config",
-                       (dir_ / "my-mapper.yaml").string()},
-                      (dir_ / "mapper.log").string());
-  ChildProcess driver({kBin + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port", port(267),
-                       "--position-port", port(268)},
-                      (dir_ / "driver.log").string());
+  Mapper mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir_ / "replay-map").string(), "--config",
+                 (dir_ / "my-mapper.yaml").string()},
+                (dir_ / "mapper.log").string(), url, kMapperStatusChannel);
+  Driver driver({kBin + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port", port(267),
+                 "--position-port", port(268)},
+                (dir_ / "driver.log").string(), url, kDriverStatusChannel);
   ChildProcess replay({kBin + "/ogf-replay", "--lcm-log", log.string(), "--odometry", log.string(), "--lcm-url", url,
                        "--data-port", port(267), "--position-port", port(268), "--start-delay", "2"},
                       (dir_ / "replay.log").string());
   ASSERT_EQ(replay.wait(60s), 0) << replay.log();
   std::this_thread::sleep_for(500ms);
-  const auto replayed = driver_status.waitFor(
+  const auto replayed = driver.waitForStatus(
       [&](const ogf::driver_status_t& s) { return s.scans_published == recorded->scans_published; }, 10s);
-  EXPECT_TRUE(replayed.has_value()) << "the replay's driver published " << driver_status.latest()->scans_published
+  EXPECT_TRUE(replayed.has_value()) << "the replay's driver published " << driver.latestStatus()->scans_published
                                     << " scans, the recording's " << recorded->scans_published << "\n" << driver.log();
-  const auto done = mapper_status.waitFor(
+  const auto done = mapper.waitForStatus(
       [&](const ogf::mapper_status_t& s) { return s.scans_mapped == recorded->scans_published; }, 30s);
-  const auto seen = mapper_status.latest();
+  const auto seen = mapper.latestStatus();
   ASSERT_TRUE(seen.has_value());
   EXPECT_TRUE(done.has_value()) << "mapped " << seen->scans_mapped << " of " << recorded->scans_published << "\n"
                                 << mapper.log() << replay.log();
-  driver.signal(SIGTERM);
-  mapper.signal(SIGTERM);
-  EXPECT_EQ(driver.wait(20s), 0) << driver.log();
-  EXPECT_EQ(mapper.wait(30s), 0) << mapper.log();
+  EXPECT_TRUE(driver.stop());
+  EXPECT_TRUE(mapper.stop(30s));
 
   // The same log offline, as the README says: the file's time_base (auto) places the packets on the host clock.
   const auto offline = ogf::testing::runAndCapture({kBin + "/ogf-map", "--lcm-log", log.string(), "--config",

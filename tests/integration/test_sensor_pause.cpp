@@ -12,7 +12,6 @@
 #include <ogf/mapper_status_t.hpp>
 
 #include <chrono>
-#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -20,18 +19,21 @@
 #include <vector>
 
 #include "support/child_process.hpp"
+#include "support/daemon_process.hpp"
 #include "support/device_clock_shift.hpp"
 #include "support/host_odometry.hpp"
-#include "support/latest_message.hpp"
 #include "support/message_counter.hpp"
 #include "support/multicast.hpp"
 #include "support/shared_data.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 using ogf::testing::ChildProcess;
+using Driver = ogf::testing::DaemonProcess<ogf::driver_status_t>;
+using Mapper = ogf::testing::DaemonProcess<ogf::mapper_status_t>;
 
 const std::string kBin = OGF_BIN_DIR;
 constexpr std::int64_t kPauseUs = 11'000'000;
@@ -49,9 +51,7 @@ std::int64_t wallUtime() {
 TEST(SensorPause, TheScanHeldAtAPauseIsPublishedWithItsOwnTimeAndTheMapperRefusesNone) {
   OGF_REQUIRE_SHARED_FILE(pcap, "data/real/vlp-16-test-90deg-1-50-frames.pcap");
   if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-  const fs::path dir = fs::temp_directory_path() / ("ogf-sensor-pause-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = ogf::testing::emptyTestDirectory("ogf-sensor-pause");
   // Data packet 1000 of 1902: mid-capture, inside a scan (about 37 packets a turn).
   const fs::path capture = dir / "paused.pcap";
   const auto error = ogf::testing::copyWithPause(pcap, capture, 1000, kPauseUs);
@@ -67,15 +67,13 @@ TEST(SensorPause, TheScanHeldAtAPauseIsPublishedWithItsOwnTimeAndTheMapperRefuse
     const std::lock_guard lk(mu);
     arrivals.push_back({wallUtime(), s});
   });
-  ogf::testing::LatestMessage<ogf::mapper_status_t> mapper_status(url, "OGF_MAPPER_STATUS");
-  ogf::testing::LatestMessage<ogf::driver_status_t> driver_status(url, "VELODYNE_STATUS");
-  ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--in-memory", "--config", (dir / "mapper.yaml").string()},
-                      (dir / "mapper.log").string());
-  ChildProcess driver({kBin + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port", data_port,
-                       "--position-port", position_port},
-                      (dir / "driver.log").string());
-  ASSERT_TRUE(mapper_status.waitFor([](const auto&) { return true; }, 15s)) << mapper.log();
-  ASSERT_TRUE(driver_status.waitFor([](const auto&) { return true; }, 15s)) << driver.log();
+  Mapper mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--in-memory", "--config", (dir / "mapper.yaml").string()},
+                (dir / "mapper.log").string(), url, ogf::testing::kMapperStatusChannel);
+  Driver driver({kBin + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port", data_port,
+                 "--position-port", position_port},
+                (dir / "driver.log").string(), url, ogf::testing::kDriverStatusChannel);
+  ASSERT_TRUE(mapper.reportsStatus(15s));
+  ASSERT_TRUE(driver.reportsStatus(15s));
   std::int64_t published = 0;
   {
     ogf::testing::HostOdometry odometry(url);
@@ -85,23 +83,21 @@ TEST(SensorPause, TheScanHeldAtAPauseIsPublishedWithItsOwnTimeAndTheMapperRefuse
                         (dir / "replay.log").string());
     ASSERT_EQ(replay.wait(60s), 0) << replay.log();
     std::this_thread::sleep_for(500ms);
-    driver.signal(SIGTERM);
-    ASSERT_EQ(driver.wait(20s), 0) << driver.log();
+    ASSERT_TRUE(driver.stop());
     std::this_thread::sleep_for(300ms);
-    const auto last = driver_status.latest();
+    const auto last = driver.latestStatus();
     ASSERT_TRUE(last.has_value());
     published = last->scans_published;
     ASSERT_GE(published, 50) << driver.log();
-    const auto done = mapper_status.waitFor([&](const ogf::mapper_status_t& s) { return s.scans_mapped == published; },
-                                            30s);
-    const auto seen = mapper_status.latest();
+    const auto done =
+        mapper.waitForStatus([&](const ogf::mapper_status_t& s) { return s.scans_mapped == published; }, 30s);
+    const auto seen = mapper.latestStatus();
     ASSERT_TRUE(seen.has_value());
     EXPECT_TRUE(done.has_value()) << "mapped " << seen->scans_mapped << " of " << published << " scans, "
                                   << seen->scans_refused_time << " refused for their time\n" << mapper.log();
     EXPECT_EQ(seen->scans_refused_time, 0) << mapper.log();
   }
-  mapper.signal(SIGTERM);
-  EXPECT_EQ(mapper.wait(20s), 0) << mapper.log();
+  EXPECT_TRUE(mapper.stop());
 
   const std::lock_guard lk(mu);
   ASSERT_EQ(static_cast<std::int64_t>(arrivals.size()), published);

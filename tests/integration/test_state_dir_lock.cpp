@@ -6,29 +6,27 @@
 
 #include <ogf/mapper_status_t.hpp>
 
-#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <thread>
 
 #include "support/child_process.hpp"
-#include "support/latest_message.hpp"
+#include "support/daemon_process.hpp"
 #include "support/multicast.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 using ogf::testing::ChildProcess;
-using ogf::testing::LatestMessage;
+using Mapper = ogf::testing::DaemonProcess<ogf::mapper_status_t>;
 
 const std::string kBin = OGF_BIN_DIR;
 
 TEST(StateDirectoryLock, SecondMapperRefusedKillNineReleases) {
   if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-  const fs::path dir = fs::temp_directory_path() / ("ogf-lock-it-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = ogf::testing::emptyTestDirectory("ogf-lock-it");
   std::ofstream(dir / "mapper.yaml") << "status_interval_s: 0.1\n";
   const std::string url = ogf::testing::loopbackUdpmUrl(224);
   const fs::path state = dir / "state";
@@ -36,26 +34,22 @@ TEST(StateDirectoryLock, SecondMapperRefusedKillNineReleases) {
     return std::vector<std::string>{kBin + "/ogf-mapper", "--lcm-url", url, "--state-dir", state.string(), "--config",
                                     (dir / "mapper.yaml").string(), "--status-channel", status_channel};
   };
-  LatestMessage<ogf::mapper_status_t> first_status(url, "FIRST_STATUS");
-  ChildProcess first(mapperArgs("FIRST_STATUS"), (dir / "first.log").string());
-  ASSERT_TRUE(first.started());
-  ASSERT_TRUE(first_status.waitFor([](const auto&) { return true; }, 15s)) << first.log();
+  Mapper first(mapperArgs("FIRST_STATUS"), (dir / "first.log").string(), url, "FIRST_STATUS");
+  ASSERT_TRUE(first.reportsStatus(15s));
 
   ChildProcess second(mapperArgs("SECOND_STATUS"), (dir / "second.log").string());
   const auto rc = second.wait(15s);
   ASSERT_TRUE(rc.has_value()) << "the second mapper must not run\n" << second.log();
   EXPECT_EQ(*rc, 1);
-  EXPECT_NE(second.log().find(state.string() + " is in use by process " + std::to_string(first.pid())), std::string::npos)
+  EXPECT_NE(second.log().find(state.string() + " is in use by process " + std::to_string(first.process().pid())),
+            std::string::npos)
       << second.log();
-  EXPECT_TRUE(first.wait(0ms) == std::nullopt) << "the first mapper runs on";
+  EXPECT_TRUE(first.running()) << "the first mapper runs on";
 
-  first.signal(SIGKILL);
-  ASSERT_TRUE(first.wait(10s).has_value());
-  LatestMessage<ogf::mapper_status_t> third_status(url, "THIRD_STATUS");
-  ChildProcess third(mapperArgs("THIRD_STATUS"), (dir / "third.log").string());
-  ASSERT_TRUE(third_status.waitFor([](const auto&) { return true; }, 15s)) << third.log();
-  third.signal(SIGTERM);
-  EXPECT_EQ(third.wait(20s), 0) << third.log();
+  ASSERT_TRUE(first.kill());
+  Mapper third(mapperArgs("THIRD_STATUS"), (dir / "third.log").string(), url, "THIRD_STATUS");
+  ASSERT_TRUE(third.reportsStatus(15s));
+  EXPECT_TRUE(third.stop());
   fs::remove_all(dir);
 }
 

@@ -1,6 +1,5 @@
 #include "programs.hpp"
 
-#include <csignal>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -12,15 +11,7 @@ namespace ogf::testing {
 std::string binDir() { return OGF_BIN_DIR; }
 
 int runToEnd(const std::vector<std::string>& argv, const std::filesystem::path& log, std::chrono::seconds limit) {
-  ChildProcess p(argv, log.string());
-  if (!p.started()) return -1000;
-  const auto rc = p.wait(limit);
-  if (!rc) {
-    p.signal(SIGKILL);
-    p.wait(std::chrono::seconds(5));
-    return -1001;
-  }
-  return *rc;
+  return runAndCapture(argv, log.string(), limit).rc;
 }
 
 std::string readText(const std::filesystem::path& path) {

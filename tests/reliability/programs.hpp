@@ -14,8 +14,8 @@ namespace ogf::testing {
 // Where the programs under test were built (OGF_BIN_DIR).
 std::string binDir();
 
-// Runs argv to its end (killed after `limit`): its exit status, -1000 when it did not start, -1001 when
-// it had to be killed.
+// Runs argv to its end (killed after `limit`): its exit status, -1000 when it did not start or had to be
+// killed.
 int runToEnd(const std::vector<std::string>& argv, const std::filesystem::path& log, std::chrono::seconds limit);
 
 std::string readText(const std::filesystem::path& path);

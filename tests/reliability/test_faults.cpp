@@ -29,7 +29,6 @@
 #include <random>
 #include <thread>
 
-#include "support/latest_message.hpp"
 #include "integration/scan_feeder.hpp"
 #include "support/message_counter.hpp"
 #include "offline_reference.hpp"
@@ -38,17 +37,19 @@
 #include "programs.hpp"
 #include "scratch_mount.hpp"
 #include "support/child_process.hpp"
+#include "support/daemon_process.hpp"
 #include "support/multicast.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 using ogf::testing::ChildProcess;
-using ogf::testing::LatestMessage;
 using ogf::testing::MessageCounter;
 using ogf::testing::OfflineReference;
-using StatusListener = std::optional<LatestMessage<ogf::mapper_status_t>>;
+using Mapper = ogf::testing::DaemonProcess<ogf::mapper_status_t>;
+using Driver = ogf::testing::DaemonProcess<ogf::driver_status_t>;
 using ogf::testing::ScratchMount;
 using ogf::testing::binDir;
 
@@ -85,10 +86,7 @@ class FaultTest : public ::testing::Test {
  protected:
   void SetUp() override {
     if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-    dir_ = fs::temp_directory_path() / ("ogf-faults-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ogf::testing::emptyTestDirectory("ogf-faults");
     // A deep queue: a burst of scans waits for the mapper instead of being dropped, so update k is scan k-1.
     std::ofstream(dir_ / "mapper.yaml") << "status_interval_s: 0.1\nfusion:\n  max_pending_scans: 64\n";
   }
@@ -96,11 +94,11 @@ class FaultTest : public ::testing::Test {
     if (!dir_.empty()) fs::remove_all(dir_);
   }
 
-  std::unique_ptr<ChildProcess> startMapper(const std::string& url, const fs::path& state, const std::string& log) {
-    return std::make_unique<ChildProcess>(
+  std::unique_ptr<Mapper> startMapper(const std::string& url, const fs::path& state, const std::string& log) {
+    return std::make_unique<Mapper>(
         std::vector<std::string>{binDir() + "/ogf-mapper", "--lcm-url", url, "--state-dir", state.string(), "--config",
                                  (dir_ / "mapper.yaml").string(), "--snapshot-interval", "0.3", "--log-level", "info"},
-        (dir_ / log).string());
+        (dir_ / log).string(), url, ogf::testing::kMapperStatusChannel);
   }
 
   // Publishes scans [from, to) with their odometry (and the poses of scan from-1, which a restarted mapper
@@ -122,8 +120,6 @@ class FaultTest : public ::testing::Test {
 TEST_F(FaultTest, MapperKilledAtRandomInstantsResumesEveryAcknowledgedUpdateAndItsFilesStayLoadable) {
   const int kills = envCount("OGF_MAPPER_KILLS", 20);
   const std::string url = ogf::testing::loopbackUdpmUrl(71);
-  StatusListener status;
-  status.emplace(url, "OGF_MAPPER_STATUS");
   lcm::LCM lcm(url);
   OfflineReference reference(kPoints);
   ASSERT_TRUE(reference.ok());
@@ -131,19 +127,17 @@ TEST_F(FaultTest, MapperKilledAtRandomInstantsResumesEveryAcknowledgedUpdateAndI
   std::int64_t acknowledged = 0;
   int survived = 0, killed_starting = 0;
   for (int round = 0; round <= kills; ++round) {
-    status.emplace(url, "OGF_MAPPER_STATUS");
     auto mapper = startMapper(url, dir_ / "state", "mapper-" + std::to_string(round) + ".log");
     if (round < kills && std::uniform_int_distribution<int>(0, 3)(rng) == 0) {
       // One round in four: killed while starting (restoring, cutting a torn journal tail, opening).
       std::this_thread::sleep_for(std::chrono::milliseconds(std::uniform_int_distribution<int>(0, 150)(rng)));
-      mapper->signal(SIGKILL);
-      ASSERT_TRUE(mapper->wait(10s).has_value());
+      ASSERT_TRUE(mapper->kill());
       ++survived;
       ++killed_starting;
       ASSERT_EQ(strictLoadProblems(dir_ / "state"), "") << "after kill " << survived << " (while starting)";
       continue;
     }
-    const auto first = status->waitFor([](const auto&) { return true; }, 15s);
+    const auto first = mapper->waitForStatus([](const auto&) { return true; }, 15s);
     ASSERT_TRUE(first) << mapper->log();
     const std::int64_t restored = first->delta_seq;
     SCOPED_TRACE("round " + std::to_string(round) + " restored seq " + std::to_string(restored) + " acknowledged " +
@@ -155,10 +149,9 @@ TEST_F(FaultTest, MapperKilledAtRandomInstantsResumesEveryAcknowledgedUpdateAndI
     if (round == kills) {
       // The last round stops cleanly: a final snapshot, and the next start is at the same update.
       feed(lcm, static_cast<int>(restored), static_cast<int>(restored) + 5, 15ms);
-      const auto s = status->waitFor([&](const auto& m) { return m.delta_seq == restored + 5; }, 30s);
+      const auto s = mapper->waitForStatus([&](const auto& m) { return m.delta_seq == restored + 5; }, 30s);
       ASSERT_TRUE(s) << mapper->log();
-      mapper->signal(SIGTERM);
-      ASSERT_EQ(mapper->wait(30s), 0) << mapper->log();
+      ASSERT_TRUE(mapper->stop(30s));
       EXPECT_EQ(strictLoadProblems(dir_ / "state"), "");
       break;
     }
@@ -166,9 +159,8 @@ TEST_F(FaultTest, MapperKilledAtRandomInstantsResumesEveryAcknowledgedUpdateAndI
     feed(lcm, static_cast<int>(restored), static_cast<int>(restored) + std::uniform_int_distribution<int>(3, 20)(rng),
          15ms);
     std::this_thread::sleep_for(std::chrono::milliseconds(std::uniform_int_distribution<int>(0, 400)(rng)));
-    if (const auto s = status->latest()) acknowledged = s->delta_seq;
-    mapper->signal(SIGKILL);
-    ASSERT_TRUE(mapper->wait(10s).has_value());
+    if (const auto s = mapper->latestStatus()) acknowledged = s->delta_seq;
+    ASSERT_TRUE(mapper->kill());
     ++survived;
     const std::string problems = strictLoadProblems(dir_ / "state");
     ASSERT_EQ(problems, "") << "after kill " << survived;
@@ -216,9 +208,10 @@ TEST_F(FaultTest, DriverKilledAtRandomInstantsPublishesAgainWithinOneScan) {
       std::lock_guard lk(mu);
       heard.clear();
     }
-    ChildProcess driver({binDir() + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port",
-                         data_port, "--position-port", position_port, "--no-packets", "--log-level", "warn"},
-                        (dir_ / ("driver-" + std::to_string(round) + ".log")).string());
+    Driver driver({binDir() + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port",
+                   data_port, "--position-port", position_port, "--no-packets", "--log-level", "warn"},
+                  (dir_ / ("driver-" + std::to_string(round) + ".log")).string(), url,
+                  ogf::testing::kDriverStatusChannel);
     ASSERT_TRUE(driver.started());
     SCOPED_TRACE("round " + std::to_string(round));
     // Publishing again: two scans, the first one (partial, from wherever the stream was) and a whole one.
@@ -231,13 +224,11 @@ TEST_F(FaultTest, DriverKilledAtRandomInstantsPublishesAgainWithinOneScan) {
     EXPECT_LE(span, kRevolutionUs) << "the first scan after a restart must end at the first cut it crosses";
     EXPECT_EQ(got[0].seq + 1, got[1].seq);
     if (round == kills) {
-      driver.signal(SIGTERM);
-      EXPECT_EQ(driver.wait(20s), 0) << driver.log();
+      EXPECT_TRUE(driver.stop());
       break;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(std::uniform_int_distribution<int>(0, 300)(rng)));
-    driver.signal(SIGKILL);
-    ASSERT_TRUE(driver.wait(10s).has_value());
+    ASSERT_TRUE(driver.kill());
     ++survived;
   }
   sensor.signal(SIGTERM);
@@ -252,29 +243,26 @@ TEST_F(FaultTest, DriverKilledAtRandomInstantsPublishesAgainWithinOneScan) {
 class PersistenceFaultTest : public FaultTest {
  protected:
   // Feeds scans [from, to) and waits until all are mapped; the status then.
-  static std::optional<ogf::mapper_status_t> feedAndWait(StatusListener& status, lcm::LCM& lcm, int from, int to) {
+  static std::optional<ogf::mapper_status_t> feedAndWait(const Mapper& mapper, lcm::LCM& lcm, int from, int to) {
     feed(lcm, from, to, 20ms);
-    return status->waitFor([&](const auto& s) { return s.delta_seq == to; }, 30s);
+    return mapper.waitForStatus([&](const auto& s) { return s.delta_seq == to; }, 30s);
   }
-  static std::optional<ogf::mapper_status_t> waitPersistence(StatusListener& status, bool ok) {
-    return status->waitFor([&](const auto& s) { return s.persistence_ok == ok; }, 20s);
+  static std::optional<ogf::mapper_status_t> waitPersistence(const Mapper& mapper, bool ok) {
+    return mapper.waitForStatus([&](const auto& s) { return s.persistence_ok == ok; }, 20s);
   }
   // Kills the mapper (kill -9: only what is on disk counts), checks its files load, restarts it and checks it
   // restored exactly the map after `updates` updates.
-  void killRestartAndCheck(std::unique_ptr<ChildProcess>& mapper, StatusListener& status, const std::string& url,
-                           const std::string& log, int updates) {
-    mapper->signal(SIGKILL);
-    mapper->wait(10s);
+  void killRestartAndCheck(std::unique_ptr<Mapper>& mapper, const std::string& url, const std::string& log,
+                           int updates) {
+    ASSERT_TRUE(mapper->kill());
     EXPECT_EQ(strictLoadProblems(dir_ / "state"), "");
-    status.emplace(url, "OGF_MAPPER_STATUS");
     mapper = startMapper(url, dir_ / "state", log);
-    const auto s = status->waitFor([](const auto&) { return true; }, 15s);
+    const auto s = mapper->waitForStatus([](const auto&) { return true; }, 15s);
     ASSERT_TRUE(s) << mapper->log();
     EXPECT_EQ(s->delta_seq, updates) << "the saved map and what was mapped while it could not be saved";
     EXPECT_EQ(static_cast<std::uint64_t>(s->filter_checksum), reference_.at(updates));
     EXPECT_TRUE(s->persistence_ok) << s->persistence_error;
-    mapper->signal(SIGTERM);
-    EXPECT_EQ(mapper->wait(30s), 0) << mapper->log();
+    EXPECT_TRUE(mapper->stop(30s));
   }
   OfflineReference reference_{kPoints};
 };
@@ -284,30 +272,28 @@ TEST_F(PersistenceFaultTest, FullDiskKeepsMappingInMemorySaysSoAndSavesAgainWhen
   auto disk = ScratchMount::tmpfs(dir_ / "state", "8m");
   if (disk.unavailable()) GTEST_SKIP() << "cannot make a small file system: " << *disk.unavailable();
   const std::string url = ogf::testing::loopbackUdpmUrl(73);
-  StatusListener status;
-  status.emplace(url, "OGF_MAPPER_STATUS");
   lcm::LCM lcm(url);
   auto mapper = startMapper(url, dir_ / "state", "mapper-full.log");
-  ASSERT_TRUE(waitPersistence(status, true)) << mapper->log();
-  ASSERT_TRUE(feedAndWait(status, lcm, 0, 5)) << mapper->log();
+  ASSERT_TRUE(waitPersistence(*mapper, true)) << mapper->log();
+  ASSERT_TRUE(feedAndWait(*mapper, lcm, 0, 5)) << mapper->log();
 
   const auto filled = ogf::testing::fillFileSystem(dir_ / "state" / "filler");
   ASSERT_GT(filled, 0u);
-  auto s = feedAndWait(status, lcm, 5, 15);
+  auto s = feedAndWait(*mapper, lcm, 5, 15);
   ASSERT_TRUE(s) << "mapping must go on when the disk is full\n" << mapper->log();
   EXPECT_EQ(static_cast<std::uint64_t>(s->filter_checksum), reference_.at(15)) << "the map in memory is complete";
-  s = waitPersistence(status, false);
+  s = waitPersistence(*mapper, false);
   ASSERT_TRUE(s) << mapper->log();
   EXPECT_NE(s->persistence_error.find("No space left on device"), std::string::npos) << s->persistence_error;
   EXPECT_NE(mapper->log().find("persistence: "), std::string::npos) << "a clear logged error";
   std::printf("[ figures  ] full disk: status persistence_ok=false \"%s\"\n", s->persistence_error.c_str());
 
   fs::remove(dir_ / "state" / "filler");
-  s = waitPersistence(status, true);
+  s = waitPersistence(*mapper, true);
   ASSERT_TRUE(s) << "the next snapshot after space returns saves the map\n" << mapper->log();
   EXPECT_EQ(s->persistence_error, "");
   // Saved indeed: killed and restarted, it has the whole map (scans 0..14).
-  killRestartAndCheck(mapper, status, url, "mapper-full-after.log", 15);
+  killRestartAndCheck(mapper, url, "mapper-full-after.log", 15);
 }
 
 TEST_F(PersistenceFaultTest, ReadOnlyStateDirectoryKeepsTheSavedMapMapsOnInMemoryAndSavesWhenWritable) {
@@ -315,35 +301,31 @@ TEST_F(PersistenceFaultTest, ReadOnlyStateDirectoryKeepsTheSavedMapMapsOnInMemor
   auto mount = ScratchMount::bind(dir_ / "backing", dir_ / "state");
   if (mount.unavailable()) GTEST_SKIP() << "cannot make a bind mount: " << *mount.unavailable();
   const std::string url = ogf::testing::loopbackUdpmUrl(74);
-  StatusListener status;
-  status.emplace(url, "OGF_MAPPER_STATUS");
   lcm::LCM lcm(url);
   {  // A saved map: scans 0..9, stopped cleanly.
     auto mapper = startMapper(url, dir_ / "state", "mapper-rw.log");
-    ASSERT_TRUE(waitPersistence(status, true)) << mapper->log();
-    ASSERT_TRUE(feedAndWait(status, lcm, 0, 10)) << mapper->log();
-    mapper->signal(SIGTERM);
-    ASSERT_EQ(mapper->wait(30s), 0) << mapper->log();
+    ASSERT_TRUE(waitPersistence(*mapper, true)) << mapper->log();
+    ASSERT_TRUE(feedAndWait(*mapper, lcm, 0, 10)) << mapper->log();
+    ASSERT_TRUE(mapper->stop(30s));
   }
   ASSERT_EQ(mount.setReadOnly(true), std::nullopt);
-  status.emplace(url, "OGF_MAPPER_STATUS");
   auto mapper = startMapper(url, dir_ / "state", "mapper-ro.log");
-  auto s = status->waitFor([](const auto&) { return true; }, 15s);
+  auto s = mapper->waitForStatus([](const auto&) { return true; }, 15s);
   ASSERT_TRUE(s) << mapper->log();
   EXPECT_FALSE(s->persistence_ok);
   EXPECT_NE(s->persistence_error.find("Read-only file system"), std::string::npos) << s->persistence_error;
   EXPECT_EQ(s->delta_seq, 10) << "the saved map is still read and used";
   EXPECT_NE(mapper->log().find("persistence: "), std::string::npos) << "a clear logged error";
   std::printf("[ figures  ] read-only: status persistence_ok=false \"%s\"\n", s->persistence_error.c_str());
-  s = feedAndWait(status, lcm, 10, 20);
+  s = feedAndWait(*mapper, lcm, 10, 20);
   ASSERT_TRUE(s) << "mapping must go on in memory\n" << mapper->log();
   EXPECT_FALSE(s->persistence_ok);
   EXPECT_EQ(static_cast<std::uint64_t>(s->filter_checksum), reference_.at(20));
 
   ASSERT_EQ(mount.setReadOnly(false), std::nullopt);
-  s = waitPersistence(status, true);
+  s = waitPersistence(*mapper, true);
   ASSERT_TRUE(s) << "writable again: the next snapshot saves the map\n" << mapper->log();
-  killRestartAndCheck(mapper, status, url, "mapper-ro-after.log", 20);
+  killRestartAndCheck(mapper, url, "mapper-ro-after.log", 20);
 }
 
 }  // namespace

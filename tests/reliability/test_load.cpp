@@ -33,14 +33,15 @@
 #include "offline_reference.hpp"
 #include "support/process_memory.hpp"
 #include "programs.hpp"
-#include "support/child_process.hpp"
+#include "support/daemon_process.hpp"
 #include "support/multicast.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
-using ogf::testing::ChildProcess;
+using Driver = ogf::testing::DaemonProcess<ogf::driver_status_t>;
+using Mapper = ogf::testing::DaemonProcess<ogf::mapper_status_t>;
 using ogf::testing::LatestMessage;
 using ogf::testing::MessageCounter;
 using ogf::testing::RssSampler;
@@ -142,38 +143,34 @@ class LoadTest : public ::testing::Test {
     fs::create_directories(dir);
     const std::string data_port = std::to_string(20000 + (::getpid() % 20000) + slot);
     const std::string position_port = std::to_string(40000 + (::getpid() % 20000) + slot);
-    LatestMessage<ogf::driver_status_t> status(url, "VELODYNE_STATUS");
     MessageCounter<ogf::lidar_scan_t> scans(url, "VELODYNE_SCAN");
     std::vector<std::string> argv{binDir() + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1",
                                   "--data-port", data_port, "--position-port", position_port, "--log-level", "warn"};
     argv.insert(argv.end(), extra.begin(), extra.end());
-    ChildProcess driver(argv, (dir / "driver.log").string());
-    ASSERT_TRUE(driver.started());
+    Driver driver(argv, (dir / "driver.log").string(), url, ogf::testing::kDriverStatusChannel);
     // The first status (1 s after start) says the sockets are open.
-    ASSERT_TRUE(status.waitFor([](const auto&) { return true; }, 10s)) << driver.log();
-    std::optional<std::int64_t> peak;
+    ASSERT_TRUE(driver.reportsStatus(10s));
     {
-      RssSampler rss(driver.pid(), 20ms);
-      if (stall) driver.signal(SIGSTOP);
+      RssSampler rss(driver.process().pid(), 20ms);
+      if (stall) driver.process().signal(SIGSTOP);
       const int rc = ogf::testing::runToEnd(
           {binDir() + "/ogf-replay", "--pcap", (root_ / "sim" / "capture.pcap").string(), "--dest", "127.0.0.1",
            "--data-port", data_port, "--position-port", position_port, "--speed", std::to_string(speed)},
           dir / "replay.log", 120s);
-      if (stall) driver.signal(SIGCONT);
+      if (stall) driver.process().signal(SIGCONT);
       ASSERT_EQ(rc, 0) << ogf::testing::readText(dir / "replay.log");
       const auto sent = parseReplay(ogf::testing::readText(dir / "replay.log"));
       ASSERT_TRUE(sent) << ogf::testing::readText(dir / "replay.log");
       run.sent = *sent;
       // Let the driver read what is queued, then stop it: it publishes the scan in progress and a last status.
       std::this_thread::sleep_for(300ms);
-      driver.signal(SIGTERM);
-      ASSERT_EQ(driver.wait(20s), 0) << driver.log();
+      ASSERT_TRUE(driver.stop());
       run.rss_start = rss.firstBytes();
       run.rss_peak = rss.peakBytes();
     }
-    const auto last = status.waitFor(
+    const auto last = driver.waitForStatus(
         [&](const ogf::driver_status_t& s) { return datagramsReceived(s) + s.kernel_drops >= run.sent.packets; }, 3s);
-    run.status = last ? *last : status.latest().value_or(ogf::driver_status_t{});
+    run.status = last ? *last : driver.latestStatus().value_or(ogf::driver_status_t{});
     std::this_thread::sleep_for(200ms);  // the scans published before the last status
     run.scans_heard = scans.count();
   }
@@ -225,13 +222,11 @@ class LoadTest : public ::testing::Test {
     fs::create_directories(dir);
     std::ofstream(dir / "mapper.yaml") << "status_interval_s: 0.1\nfusion:\n  max_pending_scans: " << kMapperQueue
                                        << "\n  max_pending_points: " << kMapperQueuePoints << "\n";
-    LatestMessage<ogf::mapper_status_t> status(url, "OGF_MAPPER_STATUS");
-    ChildProcess mapper({binDir() + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir / "state").string(), "--config",
-                         (dir / "mapper.yaml").string(), "--log-level", "warn"},
-                        (dir / "mapper.log").string());
-    ASSERT_TRUE(mapper.started());
-    ASSERT_TRUE(status.waitFor([](const auto&) { return true; }, 10s)) << mapper.log();
-    RssSampler rss(mapper.pid(), 20ms);
+    Mapper mapper({binDir() + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir / "state").string(), "--config",
+                   (dir / "mapper.yaml").string(), "--log-level", "warn"},
+                  (dir / "mapper.log").string(), url, ogf::testing::kMapperStatusChannel);
+    ASSERT_TRUE(mapper.reportsStatus(10s));
+    RssSampler rss(mapper.process().pid(), 20ms);
     std::this_thread::sleep_for(100ms);
     std::vector<ogf::testing::FeedStep> steps;
     for (int i = 0; i < scans; ++i) steps.push_back(ogf::testing::feedStep(i, kScanPoints));
@@ -248,15 +243,14 @@ class LoadTest : public ::testing::Test {
       return s.scans_mapped + s.scans_dropped_behind + s.scans_dropped_no_pose + s.scans_late + s.scans_rejected ==
              s.scans_in;
     };
-    auto done = status.waitFor([&](const auto& s) { return accounted(s) && s.scans_in == run.sent; }, 30s);
-    if (!done) done = status.waitFor(accounted, 5s);
+    auto done = mapper.waitForStatus([&](const auto& s) { return accounted(s) && s.scans_in == run.sent; }, 30s);
+    if (!done) done = mapper.waitForStatus(accounted, 5s);
     ASSERT_TRUE(done) << mapper.log();
     run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     run.status = *done;
     run.rss_start = rss.firstBytes();
     run.rss_peak = rss.peakBytes();
-    mapper.signal(SIGTERM);
-    EXPECT_EQ(mapper.wait(30s), 0) << mapper.log();
+    EXPECT_TRUE(mapper.stop(30s));
   }
 
   static void printMapper(double speed, const MapperRun& r) {

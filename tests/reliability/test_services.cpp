@@ -26,9 +26,11 @@
 #include "ogf/mapper_daemon/command_auth.hpp"
 #include "programs.hpp"
 #include "support/child_process.hpp"
-#include "support/latest_message.hpp"
+#include "support/daemon_process.hpp"
 #include "support/lcm_thread.hpp"
+#include "support/message_log.hpp"
 #include "support/multicast.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
@@ -36,7 +38,7 @@ using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 using ogf::testing::binDir;
 using ogf::testing::ChildProcess;
-using ogf::testing::LatestMessage;
+using Mapper = ogf::testing::DaemonProcess<ogf::mapper_status_t>;
 using Status = ogf::mapper_status_t;
 
 std::int64_t nowUtime() {
@@ -60,41 +62,20 @@ ogf::map_command_t command(const std::string& what, const std::string& format = 
 // The replies on OGF_MAP_COMMAND_REPLY, by request_id.
 class CommandReplies {
  public:
-  explicit CommandReplies(const std::string& url) : bus_(url) {
-    bus_.lcm().subscribe("OGF_MAP_COMMAND_REPLY", &CommandReplies::on, this);
-    bus_.start(20ms);
-  }
-  std::optional<ogf::map_command_reply_t> waitFor(std::int64_t id, std::chrono::milliseconds limit) {
-    const auto deadline = std::chrono::steady_clock::now() + limit;
-    while (std::chrono::steady_clock::now() < deadline) {
-      {
-        std::lock_guard lk(mu_);
-        for (const auto& r : replies_)
-          if (r.request_id == id) return r;
-      }
-      std::this_thread::sleep_for(10ms);
-    }
-    return std::nullopt;
+  explicit CommandReplies(const std::string& url) : replies_(url, "OGF_MAP_COMMAND_REPLY") {}
+  std::optional<ogf::map_command_reply_t> waitFor(std::int64_t id, std::chrono::milliseconds limit) const {
+    return replies_.waitFor([id](const ogf::map_command_reply_t& r) { return r.request_id == id; }, limit);
   }
 
  private:
-  void on(const lcm::ReceiveBuffer*, const std::string&, const ogf::map_command_reply_t* r) {
-    std::lock_guard lk(mu_);
-    replies_.push_back(*r);
-  }
-  std::mutex mu_;
-  std::vector<ogf::map_command_reply_t> replies_;
-  ogf::testing::LcmThread bus_;
+  ogf::testing::MessageLog<ogf::map_command_reply_t> replies_;
 };
 
 class ServicesTest : public ::testing::Test {
  protected:
   void SetUp() override {
     if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-    dir_ = fs::temp_directory_path() / ("ogf-services-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ogf::testing::emptyTestDirectory("ogf-services");
     key_path_ = dir_ / "command.key";
     ASSERT_TRUE(ogf::mapper_daemon::createCommandKey(key_path_).ok());
     auto k = ogf::mapper_daemon::loadCommandKey(key_path_);
@@ -106,30 +87,30 @@ class ServicesTest : public ::testing::Test {
   }
 
   // ogf-mapper on `slot` with a state directory and `config` (YAML) after the test defaults.
-  std::unique_ptr<ChildProcess> startMapper(const std::string& url, const std::string& config,
-                                            const std::string& log_name = "mapper.log") {
+  std::unique_ptr<Mapper> startMapper(const std::string& url, const std::string& config,
+                                      const std::string& log_name = "mapper.log") {
     std::ofstream(dir_ / "mapper.yaml") << "status_interval_s: 0.1\n" << config;
-    auto m = std::make_unique<ChildProcess>(
+    return std::make_unique<Mapper>(
         std::vector<std::string>{binDir() + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir_ / "state").string(),
                                  "--config", (dir_ / "mapper.yaml").string(), "--log-level", "info"},
-        (dir_ / log_name).string());
-    return m;
+        (dir_ / log_name).string(), url, ogf::testing::kMapperStatusChannel);
   }
   std::string enabledConfig() const {
     return "services:\n  commands_enabled: true\n  key_file: " + key_path_.string() + "\n  export_min_free_bytes: 0\n";
   }
-  void feed(lcm::LCM& lcm, LatestMessage<Status>& status, int from, int to, int points = 1500) {
+  void feed(lcm::LCM& lcm, const Mapper& mapper, int from, int to, int points = 1500) {
     for (int i = from; i < to; ++i) {
       const auto step = ogf::testing::feedStep(i, points);
       for (const auto& p : step.poses) lcm.publish("POSE", &p);
       lcm.publish("VELODYNE_SCAN", &step.scan);
       std::this_thread::sleep_for(20ms);
     }
-    ASSERT_TRUE(status.waitFor(
+    ASSERT_TRUE(mapper.waitForStatus(
         [&](const Status& s) {
           return s.scans_in == to && s.scans_mapped + s.scans_dropped_no_pose + s.scans_dropped_behind == to;
         },
-        30s));
+        30s))
+        << mapper.log();
   }
   std::pair<int, std::string> query(const std::string& url, std::vector<std::string> args) {
     args.insert(args.begin(), {binDir() + "/ogf-map-query", "--lcm-url", url});
@@ -152,14 +133,12 @@ std::string fileText(const fs::path& p) {
 // names are refused, nothing is written outside the export directory, and a restart restores the whole map.
 TEST_F(ServicesTest, ExportsAreConfinedToTheExportDirectoryAndARestartRestoresTheFullMap) {
   const std::string url = ogf::testing::loopbackUdpmUrl(81);
-  LatestMessage<Status> status(url, "OGF_MAPPER_STATUS");
   CommandReplies replies(url);
   auto mapper = startMapper(url, enabledConfig());
-  ASSERT_TRUE(mapper->started());
-  ASSERT_TRUE(status.waitFor([](const Status&) { return true; }, 10s)) << mapper->log();
+  ASSERT_TRUE(mapper->reportsStatus(10s));
   lcm::LCM lcm(url);
-  feed(lcm, status, 0, 30);
-  const auto before = status.waitFor([](const Status& s) { return s.cells > 0; }, 5s);
+  feed(lcm, *mapper, 0, 30);
+  const auto before = mapper->waitForStatus([](const Status& s) { return s.cells > 0; }, 5s);
   ASSERT_TRUE(before);
   const fs::path exports = dir_ / "state" / "exports";
   fs::create_directories(exports);
@@ -214,36 +193,32 @@ TEST_F(ServicesTest, ExportsAreConfinedToTheExportDirectoryAndARestartRestoresTh
     const auto n = e.path().filename().string();
     EXPECT_TRUE(n == "map.ply" || n == "kept.csv" || n == "link.ply") << "left behind: " << n;
   }
-  const auto counted = status.waitFor([&](const Status& s) { return s.commands_refused_bad_name >= 11; }, 5s);
-  ASSERT_TRUE(counted) << "refused for their names: " << status.latest()->commands_refused_bad_name;
+  const auto counted = mapper->waitForStatus([&](const Status& s) { return s.commands_refused_bad_name >= 11; }, 5s);
+  ASSERT_TRUE(counted) << "refused for their names: " << mapper->latestStatus()->commands_refused_bad_name;
   const std::int64_t cells = counted->cells;
   const std::int64_t checksum = counted->filter_checksum;
-  mapper->signal(SIGTERM);
-  ASSERT_EQ(mapper->wait(30s), 0) << mapper->log();
+  ASSERT_TRUE(mapper->stop(30s));
 
-  status.reset();
   auto again = startMapper(url, enabledConfig(), "mapper-restart.log");
-  const auto restored = status.waitFor([](const Status&) { return true; }, 10s);
+  const auto restored = again->waitForStatus([](const Status&) { return true; }, 10s);
   ASSERT_TRUE(restored) << again->log();
   EXPECT_EQ(restored->cells, cells) << "the map came back whole";
   EXPECT_EQ(restored->filter_checksum, checksum);
   EXPECT_EQ(again->log().find("moved to"), std::string::npos) << again->log();
-  again->signal(SIGTERM);
-  EXPECT_EQ(again->wait(30s), 0) << again->log();
+  EXPECT_TRUE(again->stop(30s));
 }
 
 // Attack 3: an export that would leave less than services.export_min_free_bytes free is refused and
 // counted before anything is copied or written.
 TEST_F(ServicesTest, AnExportThatWouldLeaveTooLittleFreeSpaceIsRefusedAndCounted) {
   const std::string url = ogf::testing::loopbackUdpmUrl(87);
-  LatestMessage<Status> status(url, "OGF_MAPPER_STATUS");
   CommandReplies replies(url);
   // More than any disk holds: every export is refused for space.
   auto mapper = startMapper(url, "services:\n  commands_enabled: true\n  key_file: " + key_path_.string() +
                                      "\n  export_min_free_bytes: 1000000000000000000\n");
-  ASSERT_TRUE(status.waitFor([](const Status&) { return true; }, 10s)) << mapper->log();
+  ASSERT_TRUE(mapper->reportsStatus(10s));
   lcm::LCM lcm(url);
-  feed(lcm, status, 0, 10);
+  feed(lcm, *mapper, 0, 10);
   auto c = command("export", "csv", "map.csv");
   ogf::mapper_daemon::signCommand(c, key_);
   lcm.publish("OGF_MAP_COMMAND", &c);
@@ -251,10 +226,9 @@ TEST_F(ServicesTest, AnExportThatWouldLeaveTooLittleFreeSpaceIsRefusedAndCounted
   ASSERT_TRUE(r) << mapper->log();
   EXPECT_EQ(r->status, ogf::map_command_reply_t::STATUS_REFUSED);
   EXPECT_NE(r->message.find("disk space"), std::string::npos) << r->message;
-  EXPECT_TRUE(status.waitFor([](const Status& s) { return s.commands_refused_disk_space == 1; }, 5s));
+  EXPECT_TRUE(mapper->waitForStatus([](const Status& s) { return s.commands_refused_disk_space == 1; }, 5s));
   EXPECT_FALSE(fs::exists(dir_ / "state" / "exports" / "map.csv"));
-  mapper->signal(SIGTERM);
-  EXPECT_EQ(mapper->wait(30s), 0) << mapper->log();
+  EXPECT_TRUE(mapper->stop(30s));
 }
 
 // Attacks 4 and 5: with commands disabled (the default) a reset is refused; enabled, an unsigned, a
@@ -262,12 +236,11 @@ TEST_F(ServicesTest, AnExportThatWouldLeaveTooLittleFreeSpaceIsRefusedAndCounted
 // ogf-map-query --key is carried out.
 TEST_F(ServicesTest, UnauthenticatedAndReplayedCommandsAreRefusedAndCountedAndASignedOneIsCarriedOut) {
   const std::string url = ogf::testing::loopbackUdpmUrl(82);
-  LatestMessage<Status> status(url, "OGF_MAPPER_STATUS");
   CommandReplies replies(url);
   lcm::LCM lcm(url);
   {
     auto mapper = startMapper(url, "", "mapper-default.log");
-    ASSERT_TRUE(status.waitFor([](const Status&) { return true; }, 10s)) << mapper->log();
+    ASSERT_TRUE(mapper->reportsStatus(10s));
     auto c = command("reset");
     ogf::mapper_daemon::signCommand(c, key_);
     lcm.publish("OGF_MAP_COMMAND", &c);
@@ -275,14 +248,12 @@ TEST_F(ServicesTest, UnauthenticatedAndReplayedCommandsAreRefusedAndCountedAndAS
     ASSERT_TRUE(r);
     EXPECT_EQ(r->status, ogf::map_command_reply_t::STATUS_REFUSED);
     EXPECT_NE(r->message.find("disabled"), std::string::npos) << r->message;
-    mapper->signal(SIGTERM);
-    ASSERT_EQ(mapper->wait(30s), 0);
+    ASSERT_TRUE(mapper->stop(30s));
   }
-  status.reset();
   auto mapper = startMapper(url, enabledConfig());
-  ASSERT_TRUE(status.waitFor([](const Status&) { return true; }, 10s)) << mapper->log();
-  feed(lcm, status, 0, 20);
-  const auto mapped = status.waitFor([](const Status& s) { return s.cells > 0; }, 5s);
+  ASSERT_TRUE(mapper->reportsStatus(10s));
+  feed(lcm, *mapper, 0, 20);
+  const auto mapped = mapper->waitForStatus([](const Status& s) { return s.cells > 0; }, 5s);
   ASSERT_TRUE(mapped);
 
   auto [rc, out] = query(url, {"reset"});  // no --key: unsigned
@@ -318,10 +289,10 @@ TEST_F(ServicesTest, UnauthenticatedAndReplayedCommandsAreRefusedAndCountedAndAS
   ASSERT_TRUE(second);
   EXPECT_EQ(second->status, ogf::map_command_reply_t::STATUS_REFUSED) << second->message;
 
-  const auto counted = status.waitFor(
+  const auto counted = mapper->waitForStatus(
       [](const Status& s) { return s.commands_refused_unauthenticated >= 3 && s.commands_refused_replayed >= 2; }, 5s);
-  ASSERT_TRUE(counted) << "unauthenticated " << status.latest()->commands_refused_unauthenticated << " replayed "
-                       << status.latest()->commands_refused_replayed;
+  ASSERT_TRUE(counted) << "unauthenticated " << mapper->latestStatus()->commands_refused_unauthenticated << " replayed "
+                       << mapper->latestStatus()->commands_refused_replayed;
   EXPECT_EQ(counted->commands_refused_unauthenticated, 3);
   EXPECT_EQ(counted->commands_refused_replayed, 2);
   EXPECT_EQ(counted->map_resets, 0);
@@ -329,12 +300,11 @@ TEST_F(ServicesTest, UnauthenticatedAndReplayedCommandsAreRefusedAndCountedAndAS
 
   std::tie(rc, out) = query(url, {"--key", key_path_.string(), "reset"});
   EXPECT_EQ(rc, 0) << out;
-  const auto reset = status.waitFor([](const Status& s) { return s.map_resets == 1; }, 5s);
+  const auto reset = mapper->waitForStatus([](const Status& s) { return s.map_resets == 1; }, 5s);
   ASSERT_TRUE(reset) << mapper->log();
   EXPECT_EQ(reset->cells, 0);
   EXPECT_EQ(reset->last_requester.rfind("ogf-map-query:", 0), 0u) << reset->last_requester;
-  mapper->signal(SIGTERM);
-  EXPECT_EQ(mapper->wait(30s), 0) << mapper->log();
+  EXPECT_TRUE(mapper->stop(30s));
 }
 
 // The mapper refuses to start on a key file others can read or that is not a regular file.
@@ -342,14 +312,14 @@ TEST_F(ServicesTest, AKeyFileReadableByOthersOrNotARegularFileStopsTheStart) {
   const std::string url = ogf::testing::loopbackUdpmUrl(83);
   fs::permissions(key_path_, fs::perms::group_read | fs::perms::others_read, fs::perm_options::add);
   auto mapper = startMapper(url, enabledConfig());
-  const auto rc = mapper->wait(20s);
+  const auto rc = mapper->process().wait(20s);
   ASSERT_TRUE(rc);
   EXPECT_NE(*rc, 0);
   EXPECT_NE(mapper->log().find("chmod 600"), std::string::npos) << mapper->log();
   fs::remove(key_path_);
   fs::create_directories(key_path_);
   auto dir_key = startMapper(url, enabledConfig(), "mapper-dir.log");
-  const auto rc2 = dir_key->wait(20s);
+  const auto rc2 = dir_key->process().wait(20s);
   ASSERT_TRUE(rc2);
   EXPECT_NE(*rc2, 0);
   EXPECT_NE(dir_key->log().find("not a regular file"), std::string::npos) << dir_key->log();
@@ -359,10 +329,9 @@ TEST_F(ServicesTest, AKeyFileReadableByOthersOrNotARegularFileStopsTheStart) {
 // status' last_requester holds it sanitised.
 TEST_F(ServicesTest, ANewlineInTheRequesterDoesNotInjectALogLine) {
   const std::string url = ogf::testing::loopbackUdpmUrl(84);
-  LatestMessage<Status> status(url, "OGF_MAPPER_STATUS");
   CommandReplies replies(url);
   auto mapper = startMapper(url, enabledConfig());
-  ASSERT_TRUE(status.waitFor([](const Status&) { return true; }, 10s)) << mapper->log();
+  ASSERT_TRUE(mapper->reportsStatus(10s));
   lcm::LCM lcm(url);
   const std::string forged_line = "[2026-01-01 00:00:00.000] [critical] FORGED map reset by operator";
   auto c = command("export", "ply", "x.ply\n" + forged_line);
@@ -374,13 +343,12 @@ TEST_F(ServicesTest, ANewlineInTheRequesterDoesNotInjectALogLine) {
   ogf::mapper_daemon::signCommand(signed_c, key_);
   lcm.publish("OGF_MAP_COMMAND", &signed_c);  // signed, refused for its name, and logged
   ASSERT_TRUE(replies.waitFor(signed_c.request_id, 10s));
-  const auto s = status.waitFor([](const Status& st) { return st.commands_refused_bad_name >= 1; }, 5s);
+  const auto s = mapper->waitForStatus([](const Status& st) { return st.commands_refused_bad_name >= 1; }, 5s);
   ASSERT_TRUE(s);
   EXPECT_EQ(s->last_requester.find('\n'), std::string::npos);
   EXPECT_LE(s->last_requester.size(), std::size_t{64});
   EXPECT_EQ(s->last_requester.rfind("evil?[2026", 0), 0u) << s->last_requester;
-  mapper->signal(SIGTERM);
-  ASSERT_EQ(mapper->wait(30s), 0);
+  ASSERT_TRUE(mapper->stop(30s));
   const std::string log = mapper->log();
   EXPECT_NE(log.find("evil?"), std::string::npos) << "the refusals are logged: " << log;
   std::istringstream lines(log);
@@ -393,27 +361,25 @@ TEST_F(ServicesTest, ANewlineInTheRequesterDoesNotInjectALogLine) {
 // memory (memory_bytes, cells) is what it was, while regions are paged out.
 TEST_F(ServicesTest, AHugeBoxIsRefusedBeforeAnyPageIsLoaded) {
   const std::string url = ogf::testing::loopbackUdpmUrl(85);
-  LatestMessage<Status> status(url, "OGF_MAPPER_STATUS");
   auto mapper = startMapper(url, "page_out_distance_m: 1.0\n");
-  ASSERT_TRUE(status.waitFor([](const Status&) { return true; }, 10s)) << mapper->log();
+  ASSERT_TRUE(mapper->reportsStatus(10s));
   lcm::LCM lcm(url);
-  feed(lcm, status, 0, 60);
+  feed(lcm, *mapper, 0, 60);
   std::size_t pages = 0;
   for (const auto& e : fs::directory_iterator(dir_ / "state" / "pages")) pages += e.is_regular_file() ? 1U : 0U;
   ASSERT_GT(pages, 0u) << "regions should be paged out";
   std::this_thread::sleep_for(300ms);
-  const auto before = status.latest();
+  const auto before = mapper->latestStatus();
   ASSERT_TRUE(before);
   // The whole 10 m x 8 m room and far beyond: 500 x 500 x 50 cells, over the 4 000 000 limit.
   auto [rc, out] = query(url, {"box", "-50", "-50", "-5", "50", "50", "5"});
   EXPECT_EQ(rc, 1) << out;
   EXPECT_NE(out.find("exceed the limit"), std::string::npos) << out;
-  const auto after = status.waitFor([&](const Status& s) { return s.queries_refused >= 1; }, 5s);
+  const auto after = mapper->waitForStatus([&](const Status& s) { return s.queries_refused >= 1; }, 5s);
   ASSERT_TRUE(after);
   EXPECT_EQ(after->memory_bytes, before->memory_bytes) << "pages were loaded for a refused box";
   EXPECT_EQ(after->cells, before->cells);
-  mapper->signal(SIGTERM);
-  EXPECT_EQ(mapper->wait(30s), 0) << mapper->log();
+  EXPECT_TRUE(mapper->stop(30s));
 }
 
 // Figures of a replay: drops and the largest gap between two delta messages.
@@ -429,7 +395,6 @@ ReplayFigures replay(const fs::path& dir, const std::string& url, const fs::path
   ReplayFigures f;
   std::ofstream(dir / "flood.yaml") << "status_interval_s: 0.1\nservices:\n  commands_enabled: true\n  key_file: "
                                     << key_path.string() << "\n";
-  LatestMessage<Status> status(url, "OGF_MAPPER_STATUS");
   std::mutex mu;
   std::vector<std::chrono::steady_clock::time_point> arrivals;
   struct DeltaTimes {
@@ -443,10 +408,12 @@ ReplayFigures replay(const fs::path& dir, const std::string& url, const fs::path
   ogf::testing::LcmThread deltas(url);
   deltas.lcm().subscribe("OGF_MAP_DELTA", &DeltaTimes::on, &times);
   deltas.start(10ms);
-  ChildProcess mapper({binDir() + "/ogf-mapper", "--lcm-url", url, "--state-dir", (dir / (flood ? "state-flood" : "state")).string(),
-                       "--config", (dir / "flood.yaml").string(), "--log-level", "warn"},
-                      (dir / (flood ? "mapper-flood.log" : "mapper-quiet.log")).string());
-  EXPECT_TRUE(status.waitFor([](const Status&) { return true; }, 10s)) << mapper.log();
+  Mapper mapper({binDir() + "/ogf-mapper", "--lcm-url", url, "--state-dir",
+                 (dir / (flood ? "state-flood" : "state")).string(), "--config", (dir / "flood.yaml").string(),
+                 "--log-level", "warn"},
+                (dir / (flood ? "mapper-flood.log" : "mapper-quiet.log")).string(), url,
+                ogf::testing::kMapperStatusChannel);
+  EXPECT_TRUE(mapper.reportsStatus(10s));
   pid_t flooder = -1;
   if (flood) {
     flooder = ::fork();
@@ -483,7 +450,7 @@ ReplayFigures replay(const fs::path& dir, const std::string& url, const fs::path
     for (const auto& p : step.poses) lcm.publish("POSE", &p);
     lcm.publish("VELODYNE_SCAN", &step.scan);
   }
-  const auto done = status.waitFor(
+  const auto done = mapper.waitForStatus(
       [&](const Status& s) {
         return s.scans_in == scans &&
                s.scans_mapped + s.scans_dropped_behind + s.scans_dropped_no_pose + s.scans_late == scans;
@@ -505,8 +472,7 @@ ReplayFigures replay(const fs::path& dir, const std::string& url, const fs::path
     for (std::size_t i = 1; i < in.size(); ++i)
       f.largest_gap_s = std::max(f.largest_gap_s, std::chrono::duration<double>(in[i] - in[i - 1]).count());
   }
-  mapper.signal(SIGTERM);
-  EXPECT_EQ(mapper.wait(60s), 0) << mapper.log();
+  EXPECT_TRUE(mapper.stop(60s));
   return f;
 }
 

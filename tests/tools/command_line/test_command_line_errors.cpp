@@ -5,17 +5,18 @@
 
 #include <lcm/lcm-cpp.hpp>
 #include <ogf/driver_status_t.hpp>
+#include <ogf/mapper_status_t.hpp>
 
 #include <chrono>
-#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <thread>
 
 #include "support/child_process.hpp"
-#include "support/latest_message.hpp"
+#include "support/daemon_process.hpp"
 #include "support/multicast.hpp"
+#include "support/test_directory.hpp"
 
 namespace {
 
@@ -28,10 +29,7 @@ const std::string kBin = OGF_BIN_DIR;
 class CommandLineErrors : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("ogf-cli-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = ogf::testing::emptyTestDirectory("ogf-cli");
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -119,11 +117,12 @@ TEST_F(CommandLineErrors, ConfigurationValuesNameFileLineAndKeyAsWritten) {
 TEST_F(CommandLineErrors, MapperWithoutStateDirectoryWarnsAtStart) {
   if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
   ::unsetenv("STATE_DIRECTORY");
-  ChildProcess mapper({kBin + "/ogf-mapper", "--lcm-url", ogf::testing::loopbackUdpmUrl(226)},
-                      (dir_ / "mapper.log").string());
+  const std::string url = ogf::testing::loopbackUdpmUrl(226);
+  ogf::testing::DaemonProcess<ogf::mapper_status_t> mapper({kBin + "/ogf-mapper", "--lcm-url", url},
+                                                           (dir_ / "mapper.log").string(), url,
+                                                           ogf::testing::kMapperStatusChannel);
   for (int i = 0; i < 300 && mapper.log().find("mapping ") == std::string::npos; ++i) std::this_thread::sleep_for(50ms);
-  mapper.signal(SIGTERM);
-  EXPECT_EQ(mapper.wait(20s), 0) << mapper.log();
+  EXPECT_TRUE(mapper.stop());
   EXPECT_NE(mapper.log().find("no state directory"), std::string::npos) << mapper.log();
   EXPECT_NE(mapper.log().find("in memory only"), std::string::npos) << mapper.log();
 }
@@ -132,15 +131,14 @@ TEST_F(CommandLineErrors, MapperWithoutStateDirectoryWarnsAtStart) {
 TEST_F(CommandLineErrors, DriverLogAndStatusAgreeOnTheReceiveBuffer) {
   if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
   const std::string url = ogf::testing::loopbackUdpmUrl(227);
-  ogf::testing::LatestMessage<ogf::driver_status_t> status(url, "VELODYNE_STATUS");
   // More than any rmem_max grants, so the driver says what it got.
-  ChildProcess driver({kBin + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port",
-                       std::to_string(40000 + (::getpid() % 20000) + 228), "--position-port",
-                       std::to_string(40000 + (::getpid() % 20000) + 229), "--receive-buffer", "1073741824"},
-                      (dir_ / "driver.log").string());
-  const auto s = status.waitFor([](const auto& m) { return m.socket_receive_buffer > 0; }, 15s);
-  driver.signal(SIGTERM);
-  driver.wait(20s);
+  ogf::testing::DaemonProcess<ogf::driver_status_t> driver(
+      {kBin + "/ogf-driver", "--lcm-url", url, "--bind-address", "127.0.0.1", "--data-port",
+       std::to_string(40000 + (::getpid() % 20000) + 228), "--position-port",
+       std::to_string(40000 + (::getpid() % 20000) + 229), "--receive-buffer", "1073741824"},
+      (dir_ / "driver.log").string(), url, ogf::testing::kDriverStatusChannel);
+  const auto s = driver.waitForStatus([](const auto& m) { return m.socket_receive_buffer > 0; }, 15s);
+  EXPECT_TRUE(driver.stop());
   ASSERT_TRUE(s.has_value()) << driver.log();
   std::smatch m;
   const std::string log = driver.log();
