@@ -87,14 +87,14 @@ Result<std::unique_ptr<MapperDaemon>> MapperDaemon::create(const MapperOptions& 
   std::optional<correction::ScanPoseCorrection> correction;
   if (options.pose_correction.corrector.mode != slam::CorrectionMode::kNone) {
     auto c = correction::ScanPoseCorrection::create(options.pose_correction);
-    if (!c) return Error{"pose_correction: " + c.error().message};
+    if (!c) return c.error().within("pose_correction");
     correction.emplace(std::move(*c));
   }
   std::optional<CommandKey> key;
   if (options.services.commands_enabled) {
     // Never start accepting commands with a key others could read or that is not ours.
     auto k = loadCommandKey(options.services.key_file);
-    if (!k) return Error{"services.key_file: " + k.error().message};
+    if (!k) return k.error().within("services.key_file");
     key = *k;
   }
   std::unique_ptr<MapperDaemon> d(new MapperDaemon(options, lcm, loop, std::move(*mapper), std::move(correction)));
@@ -194,14 +194,19 @@ void MapperDaemon::restore() {
       }
     } else {
       auto rec = dir->recover(newMapId(), wallUtime());
-      if (!rec) {
+      const bool damaged = !rec && rec.error().is(ErrorKind::input_damaged);
+      if (damaged) {
         // Never half-load a map, and never overwrite one that could still be rescued: set it aside.
         const auto aside = dir->setAside(wallUtime());
         spdlog::error("state directory: {}; moved to {} and starting a new map", rec.error().message,
                       aside ? aside->string() : aside.error().message);
         rec = dir->recover(newMapId(), wallUtime());
       }
-      if (!rec) {
+      if (!rec && !damaged) {
+        // Not known to be damaged (an I/O or resource error): the files stay as they are and nothing is
+        // written over them; the next start reads them again.
+        persistenceFailed(rec.error().message + "; the state directory is left as it is and not written", false);
+      } else if (!rec) {
         persistenceFailed(rec.error().message, true);
       } else if (applyRecovered(*rec, dir->snapshotPath().string())) {
         seq = rec->last_seq;
