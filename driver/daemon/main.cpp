@@ -87,7 +87,7 @@ int main(int argc, char** argv) {
     auto loaded = ogf::driver::loadDriverConfig(config_path, config);
     if (!loaded) {
       std::fprintf(stderr, "ogf-driver: %s\n", loaded.error().message.c_str());
-      return 2;
+      return ogf::cli::exitCodeFor(loaded.error());
     }
     config = std::move(*loaded);
   }
@@ -126,12 +126,12 @@ int main(int argc, char** argv) {
   auto stream_config = ogf::driver::validate(config);
   if (!stream_config) {
     spdlog::error("configuration: {}", stream_config.error().message);
-    return 2;
+    return ogf::cli::exitCodeFor(stream_config.error());
   }
   auto stream = ogf::velodyne::PacketStream::create(*stream_config);
   if (!stream) {
     spdlog::error("configuration: {}", stream.error().message);
-    return 2;
+    return ogf::cli::exitCodeFor(stream.error());
   }
   const std::string lcm_url = ogf::transport::resolveLcmUrl(config.lcm_url);
   lcm::LCM lcm(lcm_url);  // publish only: no subscription, so LCM starts no receive thread
@@ -145,7 +145,7 @@ int main(int argc, char** argv) {
   ogf::driver::DriverApp driver(loop, lcm, config, std::move(*stream));
   if (auto error = driver.start()) {
     spdlog::error("{}", error->message);
-    return 1;
+    return ogf::cli::exitCodeFor(*error);
   }
   loop.onShutdown([&driver] { driver.finish(); });
   loop.ready("decoding");

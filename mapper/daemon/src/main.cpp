@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
   if (!config_path.empty()) {
     if (auto st = ogf::mapper_daemon::loadMapperOptions(config_path, options); !st) {
       spdlog::critical("configuration: {}", st.error().message);
-      return ogf::cli::kExitUsage;
+      return ogf::cli::exitCodeFor(st.error());
     }
   }
   if (!url.empty()) options.lcm_url = url;
@@ -94,7 +94,7 @@ int main(int argc, char** argv) {
   if (drop_fraction) options.test_drop_delta_fraction = *drop_fraction;
   if (auto st = options.validate(); !st) {
     spdlog::critical("configuration: {}", st.error().message);
-    return ogf::cli::kExitUsage;
+    return ogf::cli::exitCodeFor(st.error());
   }
   if (print_config) {
     // Before $STATE_DIRECTORY is looked up, so the output reads back to this configuration anywhere.
@@ -135,7 +135,7 @@ int main(int argc, char** argv) {
   auto daemon = ogf::mapper_daemon::MapperDaemon::create(options, lcm, loop);
   if (!daemon) {
     spdlog::critical("{}", daemon.error().message);
-    return ogf::cli::kExitUsage;
+    return ogf::cli::exitCodeFor(daemon.error());
   }
   auto& d = **daemon;
   loop.onShutdown([&d] { d.stop(); });
