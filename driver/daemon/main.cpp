@@ -116,34 +116,23 @@ void applyFlags(const Flags& f, DriverConfig& config) {
   if (f.source == "pcap-file") config.source = SourceKind::PcapFile;
 }
 
-// The configuration: the file's values, then the flags'; nothing (said on stderr) when the file is refused.
-std::optional<DriverConfig> readConfig(const Flags& f) {
+// The configuration: the file's values, then the flags'; the file's error when it is refused.
+ogf::Result<DriverConfig> readConfig(const Flags& f) {
   DriverConfig config;
   if (!f.config_path.empty()) {
     auto loaded = ogf::driver::loadDriverConfig(f.config_path, config);
-    if (!loaded) {
-      std::fprintf(stderr, "ogf-driver: %s\n", loaded.error().message.c_str());
-      return std::nullopt;
-    }
+    if (!loaded) return loaded.error();
     config = std::move(*loaded);
   }
   applyFlags(f, config);
   return config;
 }
 
-// The packet stream the configuration describes; nothing (said) when it is invalid.
-std::optional<ogf::velodyne::PacketStream> openStream(const DriverConfig& config) {
+// The packet stream the configuration describes; the reason when the configuration is invalid.
+ogf::Result<ogf::velodyne::PacketStream> openStream(const DriverConfig& config) {
   auto stream_config = ogf::driver::validate(config);
-  if (!stream_config) {
-    spdlog::error("configuration: {}", stream_config.error().message);
-    return std::nullopt;
-  }
-  auto stream = ogf::velodyne::PacketStream::create(*stream_config);
-  if (!stream) {
-    spdlog::error("configuration: {}", stream.error().message);
-    return std::nullopt;
-  }
-  return std::move(*stream);
+  if (!stream_config) return stream_config.error();
+  return ogf::velodyne::PacketStream::create(*stream_config);
 }
 
 }  // namespace
@@ -163,10 +152,16 @@ int main(int argc, char** argv) {
   declareOutputFlags(app, flags);
   OGF_PARSE_COMMAND_LINE(app, argc, argv);
   auto config = readConfig(flags);
-  if (!config) return 2;
-  if (!ogf::transport::setupLoggingAt("ogf-driver", "log_level", config->log_level)) return 2;
+  if (!config) {
+    std::fprintf(stderr, "ogf-driver: %s\n", config.error().message.c_str());
+    return ogf::cli::exitCodeFor(config.error());
+  }
+  if (!ogf::transport::setupLoggingAt("ogf-driver", "log_level", config->log_level)) return ogf::cli::kExitUsage;
   auto stream = openStream(*config);
-  if (!stream) return 2;
+  if (!stream) {
+    spdlog::error("configuration: {}", stream.error().message);
+    return ogf::cli::exitCodeFor(stream.error());
+  }
   const std::string lcm_url = ogf::transport::resolveLcmUrl(config->lcm_url);
   lcm::LCM lcm(lcm_url);  // publish only: no subscription, so LCM starts no receive thread
   if (!lcm.good()) {
@@ -179,7 +174,7 @@ int main(int argc, char** argv) {
   ogf::driver::DriverApp driver(loop, lcm, *config, std::move(*stream));
   if (auto error = driver.start()) {
     spdlog::error("{}", error->message);
-    return 1;
+    return ogf::cli::exitCodeFor(*error);
   }
   loop.onShutdown([&driver] { driver.finish(); });
   loop.ready("decoding");

@@ -3,7 +3,8 @@
 // 1 km and of 10 km, a pose at x = 1e300, 16 bytes flipped in the middle of the journal, the snapshot cut
 // to half. After each, a valid drive goes on: every one of its scans is mapped, the map is exactly the
 // valid scans mapped offline through the same pipeline, the refusal is counted on its own counter in
-// OGF_MAPPER_STATUS, and the client ends with the daemon's checksum.
+// OGF_MAPPER_STATUS, and the client ends with the daemon's checksum. A snapshot that cannot be read is
+// left where it is, not set aside as damaged.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -12,7 +13,10 @@
 #include <ogf/mapper_status_t.hpp>
 #include <ogf/odometry_t.hpp>
 
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -340,6 +344,41 @@ TEST_F(MapperPoison, PagesThatCannotBeListedStartANewMapAndLeaveTheSavedOneAlone
   stopMapper();
   EXPECT_EQ(fs::file_size(dir_ / "state" / "snapshot.ogfs"), before) << "the saved map is never written over";
   EXPECT_NE(mapper_->log().find("pages"), std::string::npos) << mapper_->log();
+}
+
+// A snapshot that cannot be read (a directory in its place: EISDIR, which root meets too) is not damage:
+// the mapper starts a new map in memory and says why in its status, but neither sets the state directory
+// aside nor writes over it; once the snapshot can be read again, the next start restores the map.
+TEST_F(MapperPoison, ASnapshotThatCannotBeReadIsLeftInPlaceAndRestoredOnceReadable) {
+  startMapper();
+  publish(drive(0, 5));
+  waitMapped(5);
+  stopMapper();  // snapshot at update 5
+  const fs::path state = dir_ / "state";
+  fs::rename(state / "snapshot.ogfs", dir_ / "snapshot.kept");
+  fs::create_directory(state / "snapshot.ogfs");
+  std::error_code ec;
+  const auto journal = fs::file_size(state / "journal.ogfj", ec);
+  ASSERT_FALSE(ec) << ec.message();
+  startMapper();
+  const auto s = mapper_->latestStatus();
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->delta_seq, 0) << "a new map in memory";
+  EXPECT_FALSE(s->persistence_ok);
+  EXPECT_NE(s->persistence_error.find("snapshot.ogfs"), std::string::npos) << s->persistence_error;
+  EXPECT_NE(s->persistence_error.find(std::strerror(EISDIR)), std::string::npos) << s->persistence_error;
+  stopMapper();
+  for (const auto& e : fs::directory_iterator(state))
+    EXPECT_NE(e.path().filename().string().rfind("damaged-", 0), 0U) << e.path() << ": an unreadable snapshot is not damage";
+  EXPECT_TRUE(fs::is_directory(state / "snapshot.ogfs"));
+  EXPECT_EQ(fs::file_size(state / "journal.ogfj", ec), journal) << "the saved map is never written over";
+  fs::remove(state / "snapshot.ogfs");
+  fs::rename(dir_ / "snapshot.kept", state / "snapshot.ogfs");
+  startMapper();
+  const auto restored = mapper_->waitForStatus([](const ogf::mapper_status_t& m) { return m.delta_seq == 5; }, 15s);
+  ASSERT_TRUE(restored) << mapper_->log();
+  EXPECT_EQ(static_cast<std::uint64_t>(restored->filter_checksum), ogf::testing::offlineChecksum(5, kPoints));
+  stopMapper();
 }
 
 }  // namespace

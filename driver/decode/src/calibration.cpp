@@ -62,7 +62,7 @@ std::optional<double> parseNumber(std::string_view s) {
 Error fieldError(std::string_view source, int line, std::string_view field, std::string_view what) {
   std::ostringstream os;
   os << source << ':' << line << ": field '" << field << "': " << what;
-  return Error{os.str()};
+  return Error::configuration(os.str());
 }
 
 // ---- ROS YAML -----------------------------------------------------------------------------------
@@ -275,7 +275,7 @@ Result<Calibration> parseVeloViewXmlCalibration(std::string_view text, std::stri
 
 Result<Calibration> loadCalibrationFile(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) return Error{path.string() + ": cannot open calibration file"};
+  if (!in) return Error::configuration(path.string() + ": cannot open calibration file");
   std::ostringstream buffer;
   buffer << in.rdbuf();
   const std::string text = buffer.str();

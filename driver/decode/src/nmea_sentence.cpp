@@ -44,7 +44,7 @@ int hexDigit(char c) {
 }
 
 Error fieldError(std::string_view field, std::string_view what) {
-  return Error{"NMEA field '" + std::string(field) + "': " + std::string(what)};
+  return Error::inputDamaged("NMEA field '" + std::string(field) + "': " + std::string(what));
 }
 
 // ddmm.mmmm (latitude) or dddmm.mmmm (longitude) with a hemisphere letter.

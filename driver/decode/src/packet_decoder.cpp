@@ -45,16 +45,16 @@ const AzimuthTable& azimuthTable() {
 }  // namespace
 
 Result<PacketDecoder> PacketDecoder::create(const DecoderConfig& config) {
-  if (config.model == Model::Unknown) return Error{"decoder: the model is unknown"};
+  if (config.model == Model::Unknown) return Error::configuration("decoder: the model is unknown");
   if (!(config.min_range_m >= 0.0) || !(config.max_range_m > config.min_range_m))
-    return Error{"decoder: need 0 <= min_range < max_range, got min_range " +
-                 std::to_string(config.min_range_m) + " max_range " + std::to_string(config.max_range_m)};
+    return Error::configuration("decoder: need 0 <= min_range < max_range, got min_range " +
+                 std::to_string(config.min_range_m) + " max_range " + std::to_string(config.max_range_m));
   PacketDecoder d(config);
   const ModelTraits& t = traits(config.model);
   const Calibration calib = config.calibration ? *config.calibration : nominalCalibration(config.model);
   if (static_cast<int>(calib.lasers.size()) < t.lasers)
-    return Error{"calibration " + calib.source + ": " + std::to_string(calib.lasers.size()) +
-                 " lasers, the " + std::string(t.name) + " needs " + std::to_string(t.lasers)};
+    return Error::configuration("calibration " + calib.source + ": " + std::to_string(calib.lasers.size()) +
+                 " lasers, the " + std::string(t.name) + " needs " + std::to_string(t.lasers));
   const double t_block = t.block_duration_us;
   d.resolution_m_ = calib.distance_resolution_m;
   d.resolution_f_ = static_cast<float>(calib.distance_resolution_m);

@@ -24,8 +24,8 @@ Result<PacketStream> PacketStream::create(const StreamConfig& config) {
   auto decoder = PacketDecoder::create(probe);
   if (!decoder) return decoder.error();
   if (config.clock_settle_packets > 4096)
-    return Error{"clock_settle_packets " + std::to_string(config.clock_settle_packets) +
-                 " is above 4096 (5 s of packets): the first scan would wait too long"};
+    return Error::configuration("clock_settle_packets " + std::to_string(config.clock_settle_packets) +
+                 " is above 4096 (5 s of packets): the first scan would wait too long");
   PacketStream stream(config);
   if (config.model) stream.decoder_.emplace(std::move(*decoder));
   return stream;

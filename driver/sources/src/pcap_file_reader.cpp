@@ -17,8 +17,8 @@ velodyne::Result<std::unique_ptr<PcapFileReader>> PcapFileReader::open(const std
   if (handle == nullptr) {
     // libpcap names the file itself when it cannot open it ("<path>: No such file or directory").
     const std::string why = error;
-    if (why.rfind(path.string() + ":", 0) == 0) return velodyne::Error{why};
-    return velodyne::Error{path.string() + ": " + why};
+    if (why.rfind(path.string() + ":", 0) == 0) return velodyne::Error::io(why);
+    return velodyne::Error::io(path.string() + ": " + why);
   }
   return std::unique_ptr<PcapFileReader>(new PcapFileReader(handle, path.string()));
 }
@@ -28,7 +28,7 @@ velodyne::Result<std::unique_ptr<PcapFileReader>> PcapFileReader::open(std::FILE
   pcap* handle = pcap_fopen_offline_with_tstamp_precision(stream, PCAP_TSTAMP_PRECISION_MICRO, error);
   if (handle == nullptr) {
     std::fclose(stream);
-    return velodyne::Error{name + ": " + error};
+    return velodyne::Error::io(name + ": " + error);
   }
   return std::unique_ptr<PcapFileReader>(new PcapFileReader(handle, std::move(name)));
 }

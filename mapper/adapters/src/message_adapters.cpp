@@ -36,7 +36,7 @@ std::optional<std::string> notATime(const char* field, std::int64_t utime) {
 template <class Message>
 Result<Message> decodeExactly(const void* data, std::size_t size, const char* type) {
   Message m;
-  if (auto why = ogf::messages::decodeMessage(data, size, m)) return Error{std::string(type) + ": " + *why};
+  if (auto why = ogf::messages::decodeMessage(data, size, m)) return Error::inputDamaged(std::string(type) + ": " + *why);
   return m;
 }
 
@@ -60,7 +60,7 @@ Result<fusion::Pose> decodePoseFields(const void* data, std::size_t size) {
     pose.orientation = Eigen::Quaterniond(m->orientation[0], m->orientation[1], m->orientation[2], m->orientation[3]);
     return pose;
   }
-  return Error{"fingerprint matches neither ogf.odometry_t nor bot_core.pose_t"};
+  return Error::inputDamaged("fingerprint matches neither ogf.odometry_t nor bot_core.pose_t");
 }
 
 }  // namespace
@@ -68,31 +68,31 @@ Result<fusion::Pose> decodePoseFields(const void* data, std::size_t size) {
 Result<fusion::Pose> decodePose(const void* data, std::size_t size) {
   auto pose = decodePoseFields(data, size);
   if (pose) {
-    if (auto why = notATime("utime", pose->utime)) return Error{*why};
+    if (auto why = notATime("utime", pose->utime)) return Error::inputDamaged(*why);
   }
   return pose;
 }
 
 Status validateScan(const ogf::lidar_scan_t& s) {
   if (s.num_points < 0 || s.num_points > ogf::messages::kMaxScanPoints)
-    return Error{"num_points: " + std::to_string(s.num_points) + " outside [0, " +
-                 std::to_string(ogf::messages::kMaxScanPoints) + "]"};
+    return Error::inputDamaged("num_points: " + std::to_string(s.num_points) + " outside [0, " +
+                 std::to_string(ogf::messages::kMaxScanPoints) + "]");
   const auto n = static_cast<std::size_t>(s.num_points);
   if (s.x.size() != n || s.y.size() != n || s.z.size() != n || s.time_offset_ns.size() != n)
-    return Error{"arrays: lengths differ from num_points " + std::to_string(n)};
+    return Error::inputDamaged("arrays: lengths differ from num_points " + std::to_string(n));
   for (const auto& [field, utime] : {std::pair{"utime", s.utime}, std::pair{"device_utime_start", s.device_utime_start},
                                       std::pair{"device_utime_end", s.device_utime_end},
                                       std::pair{"host_utime_start", s.host_utime_start},
                                       std::pair{"host_utime_end", s.host_utime_end}})
-    if (auto why = notATime(field, utime)) return Error{*why};
-  if (s.device_utime_end < s.device_utime_start) return Error{"device_utime_end: before device_utime_start"};
-  if (s.host_utime_end < s.host_utime_start) return Error{"host_utime_end: before host_utime_start"};
+    if (auto why = notATime(field, utime)) return Error::inputDamaged(*why);
+  if (s.device_utime_end < s.device_utime_start) return Error::inputDamaged("device_utime_end: before device_utime_start");
+  if (s.host_utime_end < s.host_utime_start) return Error::inputDamaged("host_utime_end: before host_utime_start");
   for (std::size_t i = 0; i < n; ++i) {
-    if (s.time_offset_ns[i] < 0) return Error{"time_offset_ns[" + std::to_string(i) + "]: negative"};
+    if (s.time_offset_ns[i] < 0) return Error::inputDamaged("time_offset_ns[" + std::to_string(i) + "]: negative");
     // Coordinates are metres (lidar_scan_t); a sender never has a NaN or infinite point to give, so one
     // marks a corrupt message, refused whole and counted rather than mapped minus its bad rays.
     if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i]) || !std::isfinite(s.z[i]))
-      return Error{"x/y/z[" + std::to_string(i) + "]: not finite"};
+      return Error::inputDamaged("x/y/z[" + std::to_string(i) + "]: not finite");
   }
   return okStatus();
 }

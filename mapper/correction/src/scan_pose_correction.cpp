@@ -7,16 +7,16 @@
 namespace ogf::correction {
 
 Status ScanPoseCorrectionConfig::validate() const {
-  if (auto st = corrector.validate(); !st) return Error{"corrector." + st.error().message};
+  if (auto st = corrector.validate(); !st) return Error::configuration("corrector." + st.error().message);
   if (corrector.mode == slam::CorrectionMode::kNone) return okStatus();
-  if (auto st = projection.validate(); !st) return Error{"projection." + st.error().message};
+  if (auto st = projection.validate(); !st) return Error::configuration("projection." + st.error().message);
   return okStatus();
 }
 
 Result<ScanPoseCorrection> ScanPoseCorrection::create(const ScanPoseCorrectionConfig& config) {
   if (auto st = config.validate(); !st) return st.error();
   auto corrector = slam::PoseCorrector::create(config.corrector);
-  if (!corrector) return Error{"corrector." + corrector.error().message};
+  if (!corrector) return Error::configuration("corrector." + corrector.error().message);
   return ScanPoseCorrection(config, std::move(*corrector));
 }
 

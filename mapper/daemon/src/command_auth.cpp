@@ -47,36 +47,36 @@ class Fd {
 Result<CommandKey> loadCommandKey(const std::filesystem::path& path) {
   const std::string name = "key file " + path.string();
   Fd fd(::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK));
-  if (fd.get() < 0) return Error{name + ": cannot open (" + std::strerror(errno) + "; a symbolic link is refused)"};
+  if (fd.get() < 0) return Error::configuration(name + ": cannot open (" + std::strerror(errno) + "; a symbolic link is refused)");
   struct stat st {};
-  if (::fstat(fd.get(), &st) != 0) return Error{name + ": " + std::strerror(errno)};
-  if (!S_ISREG(st.st_mode)) return Error{name + ": not a regular file"};
+  if (::fstat(fd.get(), &st) != 0) return Error::configuration(name + ": " + std::strerror(errno));
+  if (!S_ISREG(st.st_mode)) return Error::configuration(name + ": not a regular file");
   if (st.st_uid != ::geteuid())
-    return Error{name + ": owned by uid " + std::to_string(st.st_uid) + ", not by this user (uid " +
-                 std::to_string(::geteuid()) + ")"};
+    return Error::configuration(name + ": owned by uid " + std::to_string(st.st_uid) + ", not by this user (uid " +
+                 std::to_string(::geteuid()) + ")");
   if ((st.st_mode & 077) != 0) {
     char mode[8];
     std::snprintf(mode, sizeof mode, "%04o", static_cast<unsigned>(st.st_mode & 07777));
-    return Error{name + ": mode " + mode + " lets the group or others read it; chmod 600 it"};
+    return Error::configuration(name + ": mode " + mode + " lets the group or others read it; chmod 600 it");
   }
   char text[130] = {};
   const auto n = ::read(fd.get(), text, sizeof text - 1);
-  if (n < 0) return Error{name + ": " + std::strerror(errno)};
+  if (n < 0) return Error::configuration(name + ": " + std::strerror(errno));
   std::string hex(text, static_cast<std::size_t>(n));
   while (!hex.empty() && (hex.back() == '\n' || hex.back() == '\r' || hex.back() == ' ')) hex.pop_back();
-  if (!sodiumReady()) return Error{"libsodium failed to initialise"};
+  if (!sodiumReady()) return Error::internal("libsodium failed to initialise");
   CommandKey key;
   std::size_t len = 0;
   if (hex.size() != 64 || sodium_hex2bin(key.bytes.data(), key.bytes.size(), hex.data(), hex.size(), nullptr, &len,
                                          nullptr) != 0 || len != 32)
-    return Error{name + ": expected 64 hexadecimal digits (a 32-byte key; ogf-map-query keygen FILE makes one)"};
+    return Error::configuration(name + ": expected 64 hexadecimal digits (a 32-byte key; ogf-map-query keygen FILE makes one)");
   return key;
 }
 
 Status createCommandKey(const std::filesystem::path& path) {
-  if (!sodiumReady()) return Error{"libsodium failed to initialise"};
+  if (!sodiumReady()) return Error::internal("libsodium failed to initialise");
   Fd fd(::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600));
-  if (fd.get() < 0) return Error{path.string() + ": cannot create (" + std::strerror(errno) + "); an existing file is never replaced"};
+  if (fd.get() < 0) return Error{kindOfErrno(errno), path.string() + ": cannot create (" + std::strerror(errno) + "); an existing file is never replaced"};
   CommandKey key;
   crypto_auth_keygen(key.bytes.data());
   char hex[65];
@@ -86,7 +86,7 @@ Status createCommandKey(const std::filesystem::path& path) {
   sodium_memzero(hex, sizeof hex);
   const bool ok = ::write(fd.get(), line.data(), line.size()) == static_cast<ssize_t>(line.size()) && ::fsync(fd.get()) == 0;
   sodium_memzero(line.data(), line.size());
-  if (!ok) return Error{path.string() + ": write failed (" + std::strerror(errno) + ")"};
+  if (!ok) return Error{kindOfErrno(errno), path.string() + ": write failed (" + std::strerror(errno) + ")"};
   return okStatus();
 }
 

@@ -67,33 +67,33 @@ std::optional<std::string> probability(double v) {
 }
 
 Result<double> readNumber(const YAML::Node& n, const Locate& where) {
-  if (!n.IsScalar()) return Error{where(n, "") + ": expected a number"};
+  if (!n.IsScalar()) return Error::configuration(where(n, "") + ": expected a number");
   double v = 0;
   try {
     v = n.as<double>();
   } catch (const YAML::Exception&) {
-    return Error{where(n, "") + ": cannot read '" + n.Scalar() + "' as a number"};
+    return Error::configuration(where(n, "") + ": cannot read '" + n.Scalar() + "' as a number");
   }
-  if (!std::isfinite(v)) return Error{where(n, "") + ": must be a finite number, got " + n.Scalar()};
+  if (!std::isfinite(v)) return Error::configuration(where(n, "") + ": must be a finite number, got " + n.Scalar());
   return v;
 }
 
 Result<long long> readInteger(const YAML::Node& n, const Locate& where, long long lo, long long hi) {
-  if (!n.IsScalar()) return Error{where(n, "") + ": expected an integer"};
+  if (!n.IsScalar()) return Error::configuration(where(n, "") + ": expected an integer");
   long long v = 0;
   try {
     v = n.as<long long>();
   } catch (const YAML::Exception&) {
-    return Error{where(n, "") + ": cannot read '" + n.Scalar() + "' as an integer"};
+    return Error::configuration(where(n, "") + ": cannot read '" + n.Scalar() + "' as an integer");
   }
   if (v < lo || v > hi)
-    return Error{where(n, "") + ": must be from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got " +
-                 n.Scalar()};
+    return Error::configuration(where(n, "") + ": must be from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got " +
+                 n.Scalar());
   return v;
 }
 
 Result<std::string> readText(const YAML::Node& n, const Locate& where) {
-  if (!n.IsScalar()) return Error{where(n, "") + ": expected text"};
+  if (!n.IsScalar()) return Error::configuration(where(n, "") + ": expected text");
   return n.Scalar();
 }
 
@@ -105,7 +105,7 @@ ConfigKey numberKey(std::string path, std::string unit, std::string meaning, uns
           [at, check](const YAML::Node& n, MapperOptions& o, const Locate& where) -> Status {
             auto v = readNumber(n, where);
             if (!v) return v.error();
-            if (auto why = check(*v)) return Error{where(n, "") + ": " + *why + ", got " + n.Scalar()};
+            if (auto why = check(*v)) return Error::configuration(where(n, "") + ": " + *why + ", got " + n.Scalar());
             at(o) = *v;
             return okStatus();
           },
@@ -124,7 +124,7 @@ ConfigKey derivedNumberKey(std::string path, std::string unit, std::string meani
             }
             auto v = readNumber(n, where);
             if (!v) return v.error();
-            if (auto why = positive(*v)) return Error{where(n, "") + ": " + *why + " (or auto), got " + n.Scalar()};
+            if (auto why = positive(*v)) return Error::configuration(where(n, "") + ": " + *why + " (or auto), got " + n.Scalar());
             at(o) = *v;
             return okStatus();
           },
@@ -149,11 +149,11 @@ template <class Access>
 ConfigKey boolKey(std::string path, std::string meaning, unsigned users, Access at) {
   return {std::move(path), "`true` or `false`", "", std::move(meaning), users,
           [at](const YAML::Node& n, MapperOptions& o, const Locate& where) -> Status {
-            if (!n.IsScalar()) return Error{where(n, "") + ": expected true or false"};
+            if (!n.IsScalar()) return Error::configuration(where(n, "") + ": expected true or false");
             try {
               at(o) = n.as<bool>();
             } catch (const YAML::Exception&) {
-              return Error{where(n, "") + ": expected true or false, got '" + n.Scalar() + "'"};
+              return Error::configuration(where(n, "") + ": expected true or false, got '" + n.Scalar() + "'");
             }
             return okStatus();
           },
@@ -169,8 +169,8 @@ ConfigKey textKey(std::string path, std::string meaning, unsigned users, std::si
             auto v = readText(n, where);
             if (!v) return v.error();
             if (max_length > 0 && (v->empty() || v->size() > max_length))
-              return Error{where(n, "") + ": must be 1 to " + std::to_string(max_length) + " characters, got '" + *v +
-                           "'"};
+              return Error::configuration(where(n, "") + ": must be 1 to " + std::to_string(max_length) + " characters, got '" + *v +
+                           "'");
             at(o) = *v;
             return okStatus();
           },
@@ -189,14 +189,14 @@ ConfigKey choiceKey(std::string path, std::string meaning, unsigned users,
   for (std::size_t i = 0; i < names.size(); ++i) listed += (i == 0 ? "'" : ", '") + names[i].first + "'";
   return {std::move(path), type, "", std::move(meaning), users,
           [at, names, listed](const YAML::Node& n, MapperOptions& o, const Locate& where) -> Status {
-            if (!n.IsScalar()) return Error{where(n, "") + ": expected one of " + listed};
+            if (!n.IsScalar()) return Error::configuration(where(n, "") + ": expected one of " + listed);
             for (const auto& [name, value] : names) {
               if (n.Scalar() == name) {
                 at(o) = value;
                 return okStatus();
               }
             }
-            return Error{where(n, "") + ": expected one of " + listed + ", got '" + n.Scalar() + "'"};
+            return Error::configuration(where(n, "") + ": expected one of " + listed + ", got '" + n.Scalar() + "'");
           },
           [at, names](const MapperOptions& o) {
             for (const auto& [name, value] : names)
@@ -208,15 +208,15 @@ ConfigKey choiceKey(std::string path, std::string meaning, unsigned users,
 
 Status readVector(const YAML::Node& n, const Locate& where, std::string_view subkey, std::size_t size, double* out) {
   const char* form = size == 3 ? "expected [x, y, z]" : "expected [w, x, y, z]";
-  if (!n.IsSequence() || n.size() != size) return Error{where(n, subkey) + ": " + form};
+  if (!n.IsSequence() || n.size() != size) return Error::configuration(where(n, subkey) + ": " + form);
   for (std::size_t i = 0; i < size; ++i) {
-    if (!n[i].IsScalar()) return Error{where(n[i], subkey) + ": " + form};
+    if (!n[i].IsScalar()) return Error::configuration(where(n[i], subkey) + ": " + form);
     try {
       out[i] = n[i].as<double>();
     } catch (const YAML::Exception&) {
-      return Error{where(n[i], subkey) + ": cannot read '" + n[i].Scalar() + "' as a number"};
+      return Error::configuration(where(n[i], subkey) + ": cannot read '" + n[i].Scalar() + "' as a number");
     }
-    if (!std::isfinite(out[i])) return Error{where(n[i], subkey) + ": must be finite, got " + n[i].Scalar()};
+    if (!std::isfinite(out[i])) return Error::configuration(where(n[i], subkey) + ": must be finite, got " + n[i].Scalar());
   }
   return okStatus();
 }
@@ -233,7 +233,7 @@ template <class Access>
 ConfigKey poseKey(std::string path, std::string meaning, unsigned users, Access at) {
   return {std::move(path), "{translation, rpy or quaternion}", "m, rad", std::move(meaning), users,
           [at](const YAML::Node& n, MapperOptions& o, const Locate& where) -> Status {
-            if (!n.IsMap()) return Error{where(n, "") + ": expected {translation: [x, y, z], rpy: [r, p, y]}"};
+            if (!n.IsMap()) return Error::configuration(where(n, "") + ": expected {translation: [x, y, z], rpy: [r, p, y]}");
             fusion::ExtrinsicConfig& pose = at(o);
             for (const auto& kv : n) {
               const std::string sub = kv.first.IsScalar() ? kv.first.Scalar() : std::string("?");
@@ -246,7 +246,7 @@ ConfigKey poseKey(std::string path, std::string meaning, unsigned users, Access 
                 if (auto st = readVector(kv.second, where, sub, 4, q); !st) return st;
                 pose.quaternion = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
               } else {
-                return Error{where(kv.first, sub) + ": unknown key (translation, rpy, quaternion)"};
+                return Error::configuration(where(kv.first, sub) + ": unknown key (translation, rpy, quaternion)");
               }
             }
             return okStatus();

@@ -90,20 +90,13 @@ void applyFlags(const Flags& f, MapperOptions& options) {
   if (f.drop_fraction) options.test_drop_delta_fraction = *f.drop_fraction;
 }
 
-// The configuration: the defaults, then the file's values, then the flags'; false (said) when invalid.
-bool readOptions(const Flags& f, MapperOptions& options) {
+// The configuration: the defaults, then the file's values, then the flags'; the reason when invalid.
+ogf::Status readOptions(const Flags& f, MapperOptions& options) {
   if (!f.config_path.empty()) {
-    if (auto st = ogf::mapper_daemon::loadMapperOptions(f.config_path, options); !st) {
-      spdlog::critical("configuration: {}", st.error().message);
-      return false;
-    }
+    if (auto st = ogf::mapper_daemon::loadMapperOptions(f.config_path, options); !st) return st;
   }
   applyFlags(f, options);
-  if (auto st = options.validate(); !st) {
-    spdlog::critical("configuration: {}", st.error().message);
-    return false;
-  }
-  return true;
+  return options.validate();
 }
 
 // The state directory: the configuration's, else $STATE_DIRECTORY; none with --in-memory (said either way).
@@ -166,7 +159,10 @@ int main(int argc, char** argv) {
   }
   if (!ogf::transport::setupLoggingAt("ogf-mapper", "--log-level", flags.log_level)) return ogf::cli::kExitUsage;
   MapperOptions options;
-  if (!readOptions(flags, options)) return ogf::cli::kExitUsage;
+  if (auto st = readOptions(flags, options); !st) {
+    spdlog::critical("configuration: {}", st.error().message);
+    return ogf::cli::exitCodeFor(st.error());
+  }
   if (flags.print_config) {
     // Before $STATE_DIRECTORY is looked up, so the output reads back to this configuration anywhere.
     std::cout << ogf::mapper_daemon::mapperConfigYaml(options);
@@ -187,7 +183,7 @@ int main(int argc, char** argv) {
   auto daemon = ogf::mapper_daemon::MapperDaemon::create(options, lcm, loop);
   if (!daemon) {
     spdlog::critical("{}", daemon.error().message);
-    return ogf::cli::kExitUsage;
+    return ogf::cli::exitCodeFor(daemon.error());
   }
   auto& d = **daemon;
   loop.onShutdown([&d] { d.stop(); });

@@ -36,12 +36,19 @@ std::int64_t MapPersistence::restoreFromReadOnly() {
 
 std::int64_t MapPersistence::restoreFrom(persistence::StateDirectory dir) {
   auto rec = dir.recover(newMapId(), wallUtime());
-  if (!rec) {
+  const bool damaged = !rec && rec.error().is(ErrorKind::input_damaged);
+  if (damaged) {
     // Never half-load a map, and never overwrite one that could still be rescued: set it aside.
     const auto aside = dir.setAside(wallUtime());
     spdlog::error("state directory: {}; moved to {} and starting a new map", rec.error().message,
                   aside ? aside->string() : aside.error().message);
     rec = dir.recover(newMapId(), wallUtime());
+  }
+  if (!rec && !damaged) {
+    // Not known to be damaged (an I/O or resource error): the files stay as they are and nothing is
+    // written over them; the next start reads them again.
+    failed(rec.error().message + "; the state directory is left as it is and not written", false);
+    return 0;
   }
   if (!rec) {
     failed(rec.error().message, true);

@@ -28,14 +28,14 @@ Result<std::unique_ptr<MapperDaemon>> MapperDaemon::create(const MapperOptions& 
   std::optional<correction::ScanPoseCorrection> correction;
   if (options.pose_correction.corrector.mode != slam::CorrectionMode::kNone) {
     auto c = correction::ScanPoseCorrection::create(options.pose_correction);
-    if (!c) return Error{"pose_correction: " + c.error().message};
+    if (!c) return c.error().within("pose_correction");
     correction.emplace(std::move(*c));
   }
   std::optional<CommandKey> key;
   if (options.services.commands_enabled) {
     // Never start accepting commands with a key others could read or that is not ours.
     auto k = loadCommandKey(options.services.key_file);
-    if (!k) return Error{"services.key_file: " + k.error().message};
+    if (!k) return k.error().within("services.key_file");
     key = *k;
   }
   std::unique_ptr<MapperDaemon> d(

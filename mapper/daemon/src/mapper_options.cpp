@@ -54,24 +54,24 @@ struct Reader {
   // The keys of the mapping `node`, the section `section` of the file.
   Status section(const YAML::Node& node, const std::string& section_path) {
     if (node.IsNull()) return okStatus();  // `filter:` with nothing under it
-    if (!node.IsMap()) return Error{where(node, section_path.empty() ? "the top level" : section_path) + ": expected a mapping of keys"};
+    if (!node.IsMap()) return Error::configuration(where(node, section_path.empty() ? "the top level" : section_path) + ": expected a mapping of keys");
     for (const auto& kv : node) {
-      if (!kv.first.IsScalar()) return Error{where(kv.first, section_path) + ": a key must be a name"};
+      if (!kv.first.IsScalar()) return Error::configuration(where(kv.first, section_path) + ": a key must be a name");
       const std::string key = section_path.empty() ? kv.first.Scalar() : section_path + "." + kv.first.Scalar();
       if (const auto* k = findKey(key)) {
         const schema::Locate locate = [this, &key](const YAML::Node& at, std::string_view sub) {
           return where(at, sub.empty() ? key : key + "." + std::string(sub));
         };
-        if (kv.second.IsNull()) return Error{where(kv.first, key) + ": needs a value"};
+        if (kv.second.IsNull()) return Error::configuration(where(kv.first, key) + ": needs a value");
         if (auto st = k->read(kv.second, options, locate); !st) return st;
         if (keys_read) keys_read->push_back(key);
       } else if (isSection(key)) {
         if (auto st = section(kv.second, key); !st) return st;
       } else {
         for (const auto& r : schema::renamedKeys())
-          if (r.old_path == key) return Error{where(kv.first, key) + ": not a key here: use " + std::string(r.new_path)};
-        return Error{where(kv.first, key) + ": unknown key (" + (section_path.empty() ? "keys" : section_path) +
-                     ": " + keysIn(section_path) + ")"};
+          if (r.old_path == key) return Error::configuration(where(kv.first, key) + ": not a key here: use " + std::string(r.new_path));
+        return Error::configuration(where(kv.first, key) + ": unknown key (" + (section_path.empty() ? "keys" : section_path) +
+                     ": " + keysIn(section_path) + ")");
       }
     }
     return okStatus();
@@ -120,33 +120,33 @@ std::string programsOf(unsigned used_by) {
 }  // namespace
 
 Status MapperOptions::validate() const {
-  if (auto st = map.validate(); !st) return Error{"map: " + st.error().message};
-  if (auto st = pose_correction.validate(); !st) return Error{"pose_correction: " + st.error().message};
-  if (auto st = static_pose.validate(); !st) return Error{"static_pose: " + st.error().message};
+  if (auto st = map.validate(); !st) return Error::configuration("map: " + st.error().message);
+  if (auto st = pose_correction.validate(); !st) return Error::configuration("pose_correction: " + st.error().message);
+  if (auto st = static_pose.validate(); !st) return Error::configuration("static_pose: " + st.error().message);
   if (pose_source == PoseSource::kStatic && pose_correction.corrector.mode != slam::CorrectionMode::kNone)
-    return Error{"pose_correction.mode: needs a moving sensor with odometry (pose_source: odometry)"};
+    return Error::configuration("pose_correction.mode: needs a moving sensor with odometry (pose_source: odometry)");
   for (const auto* ch : {&scan_channel, &pose_channel, &delta_channel, &request_channel, &status_channel,
                          &corrected_pose_channel, &query_channel, &command_channel}) {
-    if (ch->empty() || ch->size() > 63) return Error{"channels: '" + *ch + "' must be 1 to 63 characters"};
+    if (ch->empty() || ch->size() > 63) return Error::configuration("channels: '" + *ch + "' must be 1 to 63 characters");
   }
   for (const auto* ch : {&query_channel, &command_channel}) {
-    if (ch->size() > 57) return Error{"channels: '" + *ch + "' must be 1 to 57 characters (its reply adds _REPLY)"};
+    if (ch->size() > 57) return Error::configuration("channels: '" + *ch + "' must be 1 to 57 characters (its reply adds _REPLY)");
   }
-  if (!(snapshot_interval_s > 0)) return Error{"snapshot_interval_s: must be > 0"};
+  if (!(snapshot_interval_s > 0)) return Error::configuration("snapshot_interval_s: must be > 0");
   if (!(page_out_distance_m >= 0) || !std::isfinite(page_out_distance_m))
-    return Error{"page_out_distance_m: must be >= 0 (0 keeps the whole map in memory)"};
-  if (!(keyframe_interval_s > 0)) return Error{"keyframe_interval_s: must be > 0"};
-  if (!(status_interval_s > 0)) return Error{"status_interval_s: must be > 0"};
+    return Error::configuration("page_out_distance_m: must be >= 0 (0 keeps the whole map in memory)");
+  if (!(keyframe_interval_s > 0)) return Error::configuration("keyframe_interval_s: must be > 0");
+  if (!(status_interval_s > 0)) return Error::configuration("status_interval_s: must be > 0");
   if (!(test_drop_delta_fraction >= 0 && test_drop_delta_fraction < 1))
-    return Error{"test_drop_delta_fraction: must be in [0, 1)"};
+    return Error::configuration("test_drop_delta_fraction: must be in [0, 1)");
   // services:
   if (services.commands_enabled && services.key_file.empty())
-    return Error{"services.commands_enabled: needs services.key_file (ogf-map-query keygen FILE makes one)"};
+    return Error::configuration("services.commands_enabled: needs services.key_file (ogf-map-query keygen FILE makes one)");
   if (services.max_query_cells < 1 || services.max_query_cells > 100'000'000)
-    return Error{"services.max_query_cells: must be 1 to 100000000"};
-  if (services.box_chunk_cells < 1000) return Error{"services.box_chunk_cells: must be 1000 or more"};
+    return Error::configuration("services.max_query_cells: must be 1 to 100000000");
+  if (services.box_chunk_cells < 1000) return Error::configuration("services.box_chunk_cells: must be 1000 or more");
   if (!(services.budget_ms_per_scan > 0) || !std::isfinite(services.budget_ms_per_scan))
-    return Error{"services.budget_ms_per_scan: must be > 0"};
+    return Error::configuration("services.budget_ms_per_scan: must be > 0");
   if (const auto exports = services.exportDirFor(state_dir); !exports.empty() && !state_dir.empty()) {
     // Compared resolved (links, '..') and without a trailing '/', so no spelling of the state directory passes.
     const auto resolved = [](const std::filesystem::path& p) {
@@ -156,7 +156,7 @@ Status MapperOptions::validate() const {
     };
     const auto a = resolved(exports), b = resolved(state_dir);
     if (a == b || a == b / "pages")
-      return Error{"services.export_dir: " + exports.string() + " is the state directory's own; exports must never land among its files"};
+      return Error::configuration("services.export_dir: " + exports.string() + " is the state directory's own; exports must never land among its files");
   }
   return okStatus();
 }
@@ -169,7 +169,7 @@ std::filesystem::path ServicesOptions::exportDirFor(const std::filesystem::path&
 
 Status loadMapperOptions(const std::filesystem::path& path, MapperOptions& o, std::vector<std::string>* keys_read) {
   std::ifstream in(path);
-  if (!in) return Error{path.string() + ": cannot read the file"};
+  if (!in) return Error::configuration(path.string() + ": cannot read the file");
   std::ostringstream text;
   text << in.rdbuf();  // an empty file gives "", an empty configuration
   return parseMapperOptions(text.str(), path, o, keys_read);
@@ -184,7 +184,7 @@ Status parseMapperOptions(const std::string& yaml, const std::filesystem::path& 
     if (!root || root.IsNull()) return okStatus();
     return Reader{path, o, keys_read}.section(root, "");
   } catch (const YAML::Exception& e) {
-    return Error{path.string() + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg};
+    return Error::configuration(path.string() + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
 }
 

@@ -1055,17 +1055,17 @@ Status BandedOgf::checkRestorable(const CellKey& blockKey, std::size_t values, s
   const std::string block =
       "block " + std::to_string(blockKey.x) + "," + std::to_string(blockKey.y) + "," + std::to_string(blockKey.z);
   if (marks != 0 && marks != storage_.cellsPerBlock()) {
-    return Error{block + ": " + std::to_string(marks) + " cell marks, expected " +
-                 std::to_string(storage_.cellsPerBlock())};
+    return Error::inputDamaged(block + ": " + std::to_string(marks) + " cell marks, expected " +
+                               std::to_string(storage_.cellsPerBlock()));
   }
   if (values != expected) {
-    return Error{block + ": " + std::to_string(values) + " values, expected " + std::to_string(expected)};
+    return Error::inputDamaged(block + ": " + std::to_string(values) + " values, expected " + std::to_string(expected));
   }
   if (config_.dimensions == 2 && blockKey.z != 0) {
-    return Error{"block z = " + std::to_string(blockKey.z) + " in a 2-D map"};
+    return Error::inputDamaged("block z = " + std::to_string(blockKey.z) + " in a 2-D map");
   }
   if (storage_.find(blockKey) != nullptr) {
-    return Error{block + " appears twice"};
+    return Error::inputDamaged(block + " appears twice");
   }
   return okStatus();
 }

@@ -12,7 +12,7 @@ namespace ogf::filter {
 namespace {
 
 Error fieldError(const char* field, double value, const char* why) {
-  return Error{std::string("filter config: ") + field + " = " + std::to_string(value) + " " + why};
+  return Error::configuration(std::string("filter config: ") + field + " = " + std::to_string(value) + " " + why);
 }
 
 bool positiveFinite(double v) { return std::isfinite(v) && v > 0.0; }

@@ -48,7 +48,7 @@ class Reader {
     return true;
   }
   Error fail(const char* field, const std::string& why) const {
-    return Error{std::string(source_) + ": offset " + std::to_string(pos_) + ", " + field + ": " + why};
+    return Error::inputDamaged(std::string(source_) + ": offset " + std::to_string(pos_) + ", " + field + ": " + why);
   }
   std::size_t pos() const { return pos_; }
   void seek(std::size_t p) { pos_ = p; }
@@ -147,12 +147,12 @@ bool readHeaderFields(Reader& r, Header& h) {
 Status syncDirectory(const std::filesystem::path& dir) {
   const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd < 0) {
-    return Error{dir.string() + ": cannot open directory to sync: " + std::strerror(errno)};
+    return Error::system(dir.string() + ": cannot open directory to sync");
   }
   const int rc = ::fsync(fd);
   ::close(fd);
   if (rc != 0) {
-    return Error{dir.string() + ": fsync of the directory failed: " + std::strerror(errno)};
+    return Error::system(dir.string() + ": fsync of the directory failed");
   }
   return okStatus();
 }
@@ -257,7 +257,7 @@ Result<BandedOgf> decodeMap(std::span<const std::uint8_t> bytes, std::string_vie
   config.threads = std::clamp(threads, 1, 256);
   auto created = BandedOgf::create(config);
   if (!created) {
-    return Error{std::string(source) + ": header: " + created.error().message};
+    return Error::inputDamaged(std::string(source) + ": header: " + created.error().message);
   }
   BandedOgf map = std::move(created).value();
   const std::size_t cellsPerBlock = config.dimensions == 3 ? 512U : 64U;
@@ -319,25 +319,25 @@ Status saveMapFile(const BandedOgf& map, const std::filesystem::path& path) {
   tmp += ".tmp-" + std::to_string(::getpid());
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) {
-    return Error{tmp.string() + ": cannot create: " + std::strerror(errno)};
+    return Error::system(tmp.string() + ": cannot create");
   }
   if (const std::size_t done = writeAll(fd, std::as_bytes(std::span(bytes))); done != bytes.size()) {
-    const std::string why = std::strerror(errno);
+    const int why = errno;
     ::close(fd);
     ::unlink(tmp.c_str());
-    return Error{tmp.string() + ": write failed at offset " + std::to_string(done) + ": " + why};
+    return Error::system(tmp.string() + ": write failed at offset " + std::to_string(done), why);
   }
   if (::fsync(fd) != 0) {
-    const std::string why = std::strerror(errno);
+    const int why = errno;
     ::close(fd);
     ::unlink(tmp.c_str());
-    return Error{tmp.string() + ": fsync failed: " + why};
+    return Error::system(tmp.string() + ": fsync failed", why);
   }
   ::close(fd);
   if (::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string why = std::strerror(errno);
+    const int why = errno;
     ::unlink(tmp.c_str());
-    return Error{path.string() + ": rename from " + tmp.string() + " failed: " + why};
+    return Error::system(path.string() + ": rename from " + tmp.string() + " failed", why);
   }
   return syncDirectory(path.parent_path());
 }
@@ -345,11 +345,11 @@ Status saveMapFile(const BandedOgf& map, const std::filesystem::path& path) {
 Result<BandedOgf> loadMapFile(const std::filesystem::path& path, int threads) {
   std::ifstream file(path, std::ios::binary);
   if (!file) {
-    return Error{path.string() + ": cannot open: " + std::strerror(errno)};
+    return Error::system(path.string() + ": cannot open");
   }
   const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
   if (file.bad()) {
-    return Error{path.string() + ": read failed"};
+    return Error::io(path.string() + ": read failed");
   }
   return decodeMap(bytes, path.string(), threads);
 }

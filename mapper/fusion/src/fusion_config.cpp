@@ -14,12 +14,12 @@ constexpr double kMaxCellsPerRange = 1 << 20;
 Error fieldError(const std::string& field, const std::string& rule, double value) {
   std::ostringstream s;
   s << field << " " << rule << " (got " << value << ")";
-  return Error{s.str()};
+  return Error::configuration(s.str());
 }
 
 Status prefixed(const char* prefix, Status status) {
   if (status) return status;
-  return Error{std::string(prefix) + status.error().message};
+  return Error::configuration(std::string(prefix) + status.error().message);
 }
 
 bool finite(const Eigen::Vector3d& v) { return v.allFinite(); }
@@ -43,14 +43,14 @@ Status MeasurementConfig::validate() const {
 }
 
 Status ExtrinsicConfig::validate() const {
-  if (!finite(translation_m)) return Error{"translation_m must be finite"};
+  if (!finite(translation_m)) return Error::configuration("translation_m must be finite");
   if (quaternion) {
     const double n = quaternion->coeffs().norm();
     if (!quaternion->coeffs().allFinite() || std::abs(n - 1.0) > 1e-3) {
       return fieldError("quaternion", "must be a unit quaternion (w, x, y, z), norm", n);
     }
   } else if (!finite(rpy_rad)) {
-    return Error{"rpy_rad must be finite"};
+    return Error::configuration("rpy_rad must be finite");
   }
   return okStatus();
 }
@@ -86,8 +86,8 @@ Status PendingScansConfig::validate() const {
   if (!(max_pose_wait_s >= 0.0) || !std::isfinite(max_pose_wait_s)) {
     return fieldError("max_pose_wait_s", "must be >= 0 seconds", max_pose_wait_s);
   }
-  if (max_pending_scans < 1) return Error{"max_pending_scans must be >= 1 (got 0)"};
-  if (max_pending_points < 1) return Error{"max_pending_points must be >= 1 (got 0)"};
+  if (max_pending_scans < 1) return Error::configuration("max_pending_scans must be >= 1 (got 0)");
+  if (max_pending_points < 1) return Error::configuration("max_pending_points must be >= 1 (got 0)");
   return okStatus();
 }
 

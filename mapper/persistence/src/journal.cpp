@@ -7,12 +7,11 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <limits>
 
 #include "ogf/common/crc32.hpp"
 #include "ogf/common/little_endian.hpp"
+#include "ogf/common/read_file.hpp"
 #include "ogf/persistence/measurement_coding.hpp"
 
 namespace ogf::persistence {
@@ -42,7 +41,8 @@ T get(const std::byte* p) {
 }
 
 Error systemError(const std::filesystem::path& path, const std::string& what) {
-  return Error{path.string() + ": " + what + ": " + std::strerror(errno)};
+  const int e = errno;
+  return Error::system(path.string() + ": " + what, e);
 }
 
 std::vector<std::byte> header(std::int64_t map_id, std::int64_t base_seq) {
@@ -131,13 +131,12 @@ std::string headerDamage(const std::byte* data) {
 }  // namespace
 
 Result<JournalContents> readJournal(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return systemError(path, "cannot open journal");
-  const std::vector<char> raw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const auto* data = reinterpret_cast<const std::byte*>(raw.data());
-  const std::size_t size = raw.size();
+  const auto raw = readWholeFile(path);
+  if (!raw) return raw.error();
+  const std::byte* data = raw->data();
+  const std::size_t size = raw->size();
 
-  if (size < kHeaderSize) return Error{path.string() + ": offset 0: journal header truncated (" + std::to_string(size) + " bytes)"};
+  if (size < kHeaderSize) return Error::inputDamaged(path.string() + ": offset 0: journal header truncated (" + std::to_string(size) + " bytes)");
   JournalContents out;
   out.header_damage = headerDamage(data);
   if (out.header_damage.empty()) {
@@ -179,7 +178,7 @@ Result<JournalContents> readJournal(const std::filesystem::path& path) {
     off = next;
   }
   if (!out.header_damage.empty() && out.records.empty())
-    return Error{path.string() + ": offset 0: " + out.header_damage + ", and no whole record follows"};
+    return Error::inputDamaged(path.string() + ": offset 0: " + out.header_damage + ", and no whole record follows");
   return out;
 }
 
@@ -251,9 +250,9 @@ JournalWriter::~JournalWriter() {
 
 Status JournalWriter::append(std::int64_t seq, std::int64_t utime, std::span<const Measurement> measurements) {
   if (seq <= last_seq_)
-    return Error{path_.string() + ": record seq " + std::to_string(seq) + " after " + std::to_string(last_seq_)};
+    return Error::internal(path_.string() + ": record seq " + std::to_string(seq) + " after " + std::to_string(last_seq_));
   if (measurements.size() > kMaxMeasurements)
-    return Error{path_.string() + ": record of " + std::to_string(measurements.size()) + " measurements is too large"};
+    return Error::resource(path_.string() + ": record of " + std::to_string(measurements.size()) + " measurements is too large");
   const std::size_t start = pending_.size();
   put<std::uint32_t>(pending_, kCodedRecordMagic);
   put<std::uint32_t>(pending_, static_cast<std::uint32_t>(measurements.size()));
@@ -273,7 +272,7 @@ Status JournalWriter::append(std::int64_t seq, std::int64_t utime, std::span<con
 
 Status JournalWriter::flush() {
   if (pending_.empty()) return okStatus();
-  if (fd_ < 0) return Error{path_.string() + ": journal is closed"};
+  if (fd_ < 0) return Error::internal(path_.string() + ": journal is closed");
   if (auto st = writeAll(fd_, path_, pending_); !st) {
     // A partial write (disk full) must not leave half a record: cut back to the last whole one so a
     // later flush (which retries the whole buffer) continues a readable journal.

@@ -97,30 +97,30 @@ std::vector<std::byte> readAll(const std::filesystem::path& path, std::string& w
 // machine; the hint costs each write about 0.25 ms.
 Status writeNewFile(const std::filesystem::path& path, std::span<const std::byte> bytes) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0) return Error{path.string() + ": cannot create the page: " + std::strerror(errno)};
+  if (fd < 0) return Error::system(path.string() + ": cannot create the page");
   if (const std::size_t done = writeAll(fd, bytes); done != bytes.size()) {
-    const std::string why = std::strerror(errno);
+    const int why = errno;
     ::close(fd);
     ::unlink(path.c_str());
-    return Error{path.string() + ": write failed at offset " + std::to_string(done) + ": " + why};
+    return Error::system(path.string() + ": write failed at offset " + std::to_string(done), why);
   }
   // A hint only: an error here (a file system without it) leaves the flush to sync(), as without it.
   (void)::sync_file_range(fd, 0, 0, SYNC_FILE_RANGE_WRITE);
   if (::close(fd) != 0) {
-    const std::string why = std::strerror(errno);
+    const int why = errno;
     ::unlink(path.c_str());
-    return Error{path.string() + ": close failed: " + why};
+    return Error::system(path.string() + ": close failed", why);
   }
   return okStatus();
 }
 
 Status flushFile(const std::filesystem::path& path, int flags) {
   const int fd = ::open(path.c_str(), flags | O_CLOEXEC);
-  if (fd < 0) return Error{path.string() + ": cannot open to flush: " + std::strerror(errno)};
+  if (fd < 0) return Error::system(path.string() + ": cannot open to flush");
   const int rc = ::fsync(fd);
-  const std::string why = rc != 0 ? std::strerror(errno) : "";
+  const int why = rc != 0 ? errno : 0;
   ::close(fd);
-  if (rc != 0) return Error{path.string() + ": fsync failed: " + why};
+  if (rc != 0) return Error::system(path.string() + ": fsync failed", why);
   return okStatus();
 }
 
@@ -128,7 +128,7 @@ Status flushFile(const std::filesystem::path& path, int flags) {
 Result<Page> readPage(const std::filesystem::path& path) {
   std::string why;
   const auto bytes = readAll(path, why);
-  if (!why.empty()) return Error{path.string() + ": " + why};
+  if (!why.empty()) return Error::io(path.string() + ": " + why);
   return decodePage(bytes, path.string());
 }
 
@@ -137,9 +137,9 @@ Result<Page> readPage(const std::filesystem::path& path, const filter::BandedOgf
   auto page = readPage(path);
   if (!page) return page.error();
   if (page->floats_per_block != map.storedFloatsPerBlock() || page->cells_per_block != map.cellsPerBlock())
-    return Error{path.string() + ": offset 28: blocks of " + std::to_string(page->floats_per_block) + " floats and " +
-                 std::to_string(page->cells_per_block) + " cells, the map stores " +
-                 std::to_string(map.storedFloatsPerBlock()) + " and " + std::to_string(map.cellsPerBlock())};
+    return Error::inputDamaged(path.string() + ": offset 28: blocks of " + std::to_string(page->floats_per_block) +
+                               " floats and " + std::to_string(page->cells_per_block) + " cells, the map stores " +
+                               std::to_string(map.storedFloatsPerBlock()) + " and " + std::to_string(map.cellsPerBlock()));
   return page;
 }
 
@@ -148,12 +148,12 @@ Result<Page> readPage(const std::filesystem::path& path, const filter::BandedOgf
 Result<MapPager> MapPager::open(const std::filesystem::path& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  if (ec) return Error{dir.string() + ": cannot create the page directory: " + ec.message()};
+  if (ec) return Error::system(dir.string() + ": cannot create the page directory", ec);
   std::uint64_t next = 1;
   for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
     next = std::max(next, pageNumber(entry.path().filename().string()) + 1);
   }
-  if (ec) return Error{dir.string() + ": cannot list the page directory: " + ec.message()};
+  if (ec) return Error::system(dir.string() + ": cannot list the page directory", ec);
   return MapPager(dir, next);
 }
 

@@ -62,7 +62,7 @@ std::vector<std::byte> encodePage(const Page& page) {
 
 Result<Page> decodePage(std::span<const std::byte> bytes, const std::string& source) {
   const auto fail = [&](std::size_t offset, const std::string& what) {
-    return Error{source + ": offset " + std::to_string(offset) + ": " + what};
+    return Error::inputDamaged(source + ": offset " + std::to_string(offset) + ": " + what);
   };
   if (bytes.size() < kHeader + kTrailer)
     return fail(0, "page truncated (" + std::to_string(bytes.size()) + " bytes)");

@@ -4,12 +4,11 @@
 
 #include <cerrno>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 
 #include "ogf/common/atomic_file.hpp"
 #include "ogf/common/crc32.hpp"
 #include "ogf/common/little_endian.hpp"
+#include "ogf/common/read_file.hpp"
 
 namespace ogf::persistence {
 namespace {
@@ -56,7 +55,7 @@ std::vector<std::byte> encodeSnapshot(std::int64_t map_id, std::int64_t seq, std
 
 Result<Snapshot> decodeSnapshot(std::span<const std::byte> bytes, const std::string& source) {
   const auto fail = [&](std::size_t offset, const std::string& what) {
-    return Error{source + ": offset " + std::to_string(offset) + ": " + what};
+    return Error::inputDamaged(source + ": offset " + std::to_string(offset) + ": " + what);
   };
   if (bytes.size() < kFixed + 4) return fail(0, "snapshot truncated (" + std::to_string(bytes.size()) + " bytes)");
   if (std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) return fail(0, "not an ogf snapshot (bad magic)");
@@ -99,9 +98,9 @@ Result<Snapshot> decodeSnapshot(std::span<const std::byte> bytes, const std::str
 Result<StateDirectory> StateDirectory::open(const std::filesystem::path& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  if (ec) return Error{dir.string() + ": cannot create the state directory: " + ec.message()};
+  if (ec) return Error::system(dir.string() + ": cannot create the state directory", ec);
   if (::access(dir.c_str(), W_OK) != 0)
-    return Error{dir.string() + ": the state directory is not writable: " + std::strerror(errno)};
+    return Error::system(dir.string() + ": the state directory is not writable");
   return StateDirectory(dir);
 }
 
@@ -129,14 +128,14 @@ Result<RecoveredState> StateDirectory::recover(std::int64_t new_map_id, std::int
     for (const auto& f : out.damaged_files) {
       if (!ec) std::filesystem::copy_file(f, aside / f.filename(), std::filesystem::copy_options::overwrite_existing, ec);
     }
-    if (ec) return Error{aside.string() + ": cannot keep the damaged files: " + ec.message()};
+    if (ec) return Error::system(aside.string() + ": cannot keep the damaged files", ec);
     out.damage += "; the damaged files are kept in " + aside.string();
     out.notes.push_back("the damaged files are kept in " + aside.string());
   }
   if (out.snapshot_fallback) {
     // The previous snapshot is the newest good one now; the damaged one is kept aside.
     std::filesystem::rename(previousSnapshotPath(), snapshotPath(), ec);
-    if (ec) return Error{snapshotPath().string() + ": cannot restore the previous snapshot: " + ec.message()};
+    if (ec) return Error::system(snapshotPath().string() + ": cannot restore the previous snapshot", ec);
   }
   if (resumable) {
     // The journal continues the snapshot: keep appending to it.
@@ -154,7 +153,7 @@ Result<RecoveredState> StateDirectory::recover(std::int64_t new_map_id, std::int
       if (auto st = w->append(rec.seq, rec.utime, rec.measurements); !st) return st.error();
     if (auto st = w->flush(); !st) return st.error();
     std::filesystem::rename(fresh, journalPath(), ec);
-    if (ec) return Error{journalPath().string() + ": cannot replace the journal: " + ec.message()};
+    if (ec) return Error::system(journalPath().string() + ": cannot replace the journal", ec);
     w->renamedTo(journalPath());
     writer_.emplace(std::move(*w));
   }
@@ -165,29 +164,35 @@ Result<std::filesystem::path> StateDirectory::setAside(std::int64_t wall_utime) 
   const auto aside = dir_ / ("damaged-" + std::to_string(wall_utime));
   std::error_code ec;
   std::filesystem::create_directories(aside, ec);
-  if (ec) return Error{aside.string() + ": " + ec.message()};
+  if (ec) return Error::system(aside.string(), ec);
   for (const auto& f : {snapshotPath(), journalPath(), previousSnapshotPath(), previousJournalPath()}) {
     if (!std::filesystem::exists(f, ec)) continue;
     std::filesystem::rename(f, aside / f.filename(), ec);
-    if (ec) return Error{f.string() + ": cannot move it to " + aside.string() + ": " + ec.message()};
+    if (ec) return Error::system(f.string() + ": cannot move it to " + aside.string(), ec);
   }
   if (std::filesystem::exists(pagesDir(), ec)) {
     // The pages belong to the snapshots set aside.
     std::filesystem::rename(pagesDir(), aside / "pages", ec);
-    if (ec) return Error{pagesDir().string() + ": cannot move it to " + aside.string() + ": " + ec.message()};
+    if (ec) return Error::system(pagesDir().string() + ": cannot move it to " + aside.string(), ec);
   }
   return aside;
 }
 
 namespace {
 
-// The snapshot at `path`: nullopt when there is none, an error naming the file and offset when damaged.
+// The snapshot at `path`: nullopt when there is none; an error naming the file and offset when damaged
+// (input_damaged), or the system's reason when it cannot be read (io, resource).
 std::optional<Result<Snapshot>> loadSnapshot(const std::filesystem::path& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return std::nullopt;
-  std::ifstream in(path, std::ios::binary);
-  const std::vector<char> raw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return decodeSnapshot(std::span(reinterpret_cast<const std::byte*>(raw.data()), raw.size()), path.string());
+  const auto raw = readWholeFile(path);
+  if (!raw) return raw.error();
+  return decodeSnapshot(*raw, path.string());
+}
+
+// A file that could not be read is not known to be damaged: recovery stops with the reason, the files stay.
+bool unreadable(const std::optional<Result<Snapshot>>& snapshot) {
+  return snapshot && !*snapshot && !(*snapshot).error().is(ErrorKind::input_damaged);
 }
 
 void addDamage(RecoveredState& out, const std::string& what) {
@@ -200,14 +205,16 @@ Result<RecoveredState> StateDirectory::readState(std::int64_t new_map_id,
                                                  std::optional<JournalContents>& resumable) const {
   RecoveredState out;
   auto newest = loadSnapshot(snapshotPath());
+  if (unreadable(newest)) return newest->error();
   std::optional<Snapshot> snapshot;
   if (newest && *newest) {
     snapshot = std::move(**newest);
   } else {
     // No newest snapshot, or a damaged one: the previous generation and both journals.
     auto previous = loadSnapshot(previousSnapshotPath());
+    if (unreadable(previous)) return previous->error();
     if (previous && !*previous) {
-      if (newest) return Error{newest->error().message + "; and " + previous->error().message};
+      if (newest) return Error::inputDamaged(newest->error().message + "; and " + previous->error().message);
       return previous->error();
     }
     if (newest && !previous) return newest->error();
@@ -237,6 +244,7 @@ Result<RecoveredState> StateDirectory::readState(std::int64_t new_map_id,
   for (const auto& path : journals) {
     if (!std::filesystem::exists(path, ec)) continue;
     auto contents = readJournal(path);
+    if (!contents && !contents.error().is(ErrorKind::input_damaged)) return contents.error();
     if (!contents) {
       // Nothing recoverable in it; kept aside all the same.
       addDamage(out, contents.error().message);
@@ -295,7 +303,7 @@ Result<RecoveredState> StateDirectory::readState(std::int64_t new_map_id,
 }
 
 Status StateDirectory::journal(std::int64_t seq, std::int64_t utime, std::span<const Measurement> measurements) {
-  if (!writer_) return Error{dir_.string() + ": no journal open (recover() first)"};
+  if (!writer_) return Error::internal(dir_.string() + ": no journal open (recover() first)");
   if (auto st = writer_->append(seq, utime, measurements); !st) return st;
   if (auto st = writer_->flush(); !st) return st;
   // While a snapshot is written, the journal that will continue it gets the record too.
@@ -315,13 +323,12 @@ Status keepAs(const std::filesystem::path& from, const std::filesystem::path& to
   std::error_code ec;
   std::filesystem::remove(tmp, ec);
   if (::link(from.c_str(), tmp.c_str()) != 0) {
-    std::ifstream in(from, std::ios::binary);
-    if (!in) return Error{from.string() + ": cannot read: " + std::strerror(errno)};
-    const std::vector<char> raw((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    return writeFileAtomically(to, std::span(reinterpret_cast<const std::byte*>(raw.data()), raw.size()));
+    const auto raw = readWholeFile(from);
+    if (!raw) return raw.error();
+    return writeFileAtomically(to, *raw);
   }
   std::filesystem::rename(tmp, to, ec);
-  if (ec) return Error{to.string() + ": cannot replace: " + ec.message()};
+  if (ec) return Error::system(to.string() + ": cannot replace", ec);
   return okStatus();
 }
 
@@ -372,11 +379,11 @@ void StateDirectory::retireOldJournal(const std::filesystem::path& path) {
 }
 
 Status StateDirectory::finishSnapshot(std::span<const std::string> pages) {
-  if (!next_writer_) return Error{dir_.string() + ": no snapshot begun"};
+  if (!next_writer_) return Error::internal(dir_.string() + ": no snapshot begun");
   const std::filesystem::path journal = journalPath();
   std::error_code ec;
   std::filesystem::rename(nextJournalPath(), journal, ec);
-  if (ec) return Error{journal.string() + ": cannot replace the journal: " + ec.message()};
+  if (ec) return Error::system(journal.string() + ": cannot replace the journal", ec);
   syncParentDirectory(journal);  // records flushed from now on are found under this name after a power cut
   next_writer_->renamedTo(journal);  // so a later write error names the file that is there
   writer_ = std::move(next_writer_);

@@ -34,7 +34,7 @@ class ChangeCollector final : public filter::ChangeSink {
 Result<ScanMapper> ScanMapper::create(const MapperConfig& config) {
   if (auto st = config.validate(); !st) return st.error();
   auto filter = filter::BandedOgf::create(config.filter);
-  if (!filter) return Error{"filter." + filter.error().message};
+  if (!filter) return Error::configuration("filter." + filter.error().message);
   return ScanMapper(config, std::move(*filter));
 }
 
@@ -99,13 +99,13 @@ filter::UpdateStats ScanMapper::apply(std::span<const Measurement> measurements,
 
 Status ScanMapper::restoreFilter(std::span<const std::uint8_t> map_bytes, const std::string& source) {
   auto loaded = filter::decodeMap(map_bytes, source, filter_.config().threads);
-  if (!loaded) return Error{loaded.error().message};
+  if (!loaded) return loaded.error();
   const auto& want = filter_.config();
   const auto& got = loaded->config();
   const auto differs = [](double a, double b) { return std::abs(a - b) > 1e-12 * std::max(1.0, std::abs(a)); };
   const auto mismatch = [&](const char* field, double saved, double configured) -> Status {
-    return Error{source + ": " + field + " " + std::to_string(saved) + " of the saved map differs from the configured " +
-                 std::to_string(configured)};
+    return Error::configuration(source + ": " + field + " " + std::to_string(saved) +
+                                " of the saved map differs from the configured " + std::to_string(configured));
   };
   if (got.dimensions != want.dimensions) return mismatch("dimensions", got.dimensions, want.dimensions);
   if (differs(got.resolution, want.resolution)) return mismatch("resolution", got.resolution, want.resolution);
@@ -115,7 +115,7 @@ Status ScanMapper::restoreFilter(std::span<const std::uint8_t> map_bytes, const 
   if (differs(*got.stencilRadius, *want.stencilRadius)) return mismatch("stencil radius", *got.stencilRadius, *want.stencilRadius);
   // The thresholds, clamps and skip tolerance are the configuration's, not those saved with the map (an
   // older file, or a changed configuration).
-  if (auto st = loaded->adoptPolicy(want); !st) return Error{source + ": " + st.error().message};
+  if (auto st = loaded->adoptPolicy(want); !st) return st.error().within(source);
   // A map saved in the other covariance storage is converted to the configured one.
   filter_ = got.covariance == want.covariance ? std::move(*loaded) : loaded->withCovarianceStorage(want.covariance);
   return okStatus();

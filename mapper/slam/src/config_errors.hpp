@@ -11,13 +11,13 @@ namespace ogf::slam {
 inline Error fieldError(const std::string& field, const std::string& rule, double value) {
   std::ostringstream s;
   s << field << " " << rule << " (got " << value << ")";
-  return Error{s.str()};
+  return Error::configuration(s.str());
 }
 
 // The error of a nested part, its field path prefixed ("proposal.samples_per_axis ...").
 inline Status prefixed(const std::string& prefix, Status status) {
   if (status) return status;
-  return Error{prefix + status.error().message};
+  return Error::configuration(prefix + status.error().message);
 }
 
 }  // namespace ogf::slam

@@ -9,7 +9,7 @@ Result<CorrectionMode> parseCorrectionMode(std::string_view text) {
   if (text == "none") return CorrectionMode::kNone;
   if (text == "scan-match") return CorrectionMode::kScanMatch;
   if (text == "rbpf") return CorrectionMode::kRbpf;
-  return Error{"unknown pose-correction mode '" + std::string(text) + "' (none, scan-match, rbpf)"};
+  return Error::configuration("unknown pose-correction mode '" + std::string(text) + "' (none, scan-match, rbpf)");
 }
 
 std::string_view toString(CorrectionMode mode) {

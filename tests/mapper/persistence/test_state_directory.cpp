@@ -1,8 +1,11 @@
 // Recovery from the state directory: snapshot + the journal after it, whatever instant the previous run
-// stopped at; a damaged snapshot is refused rather than half-loaded.
+// stopped at; a damaged snapshot is refused rather than half-loaded, and one that cannot be read is left
+// where it is.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -112,12 +115,84 @@ TEST_F(StateDirectoryTest, DamagedSnapshotIsRefusedNamingTheFile) {
   auto r = StateDirectory::open(dir_)->recover(1);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("snapshot.ogfs"), std::string::npos);
+  EXPECT_EQ(r.error().kind, ogf::ErrorKind::input_damaged) << r.error().message;
   {
     std::fstream f(dir_ / "snapshot.ogfs", std::ios::in | std::ios::out | std::ios::binary);
     f.seekp(0);
     f.put('X');
   }
-  EXPECT_FALSE(StateDirectory::open(dir_)->recover(1).ok());
+  const auto bad_magic = StateDirectory::open(dir_)->recover(1);
+  ASSERT_FALSE(bad_magic.ok());
+  EXPECT_EQ(bad_magic.error().kind, ogf::ErrorKind::input_damaged) << bad_magic.error().message;
+}
+
+std::vector<char> bytesOf(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+bool anyDamagedDirectory(const fs::path& dir) {
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().filename().string().rfind("damaged-", 0) == 0) return true;
+  return false;
+}
+
+// Two generations (snapshots at seq 1 and 2, a record after each) for the unreadable-file tests.
+void writeTwoGenerations(const fs::path& dir) {
+  auto sd = StateDirectory::open(dir);
+  ASSERT_TRUE(sd->recover(7).ok());
+  ASSERT_TRUE(sd->journal(1, 1, std::vector<ogf::Measurement>{{{1, 0, 0}, 1}}).ok());
+  ASSERT_TRUE(sd->snapshot(1, std::vector<std::uint8_t>(80, 1)).ok());
+  ASSERT_TRUE(sd->journal(2, 2, std::vector<ogf::Measurement>{{{2, 0, 0}, 1}}).ok());
+  ASSERT_TRUE(sd->snapshot(2, std::vector<std::uint8_t>(80, 2)).ok());
+  ASSERT_TRUE(sd->journal(3, 3, std::vector<ogf::Measurement>{{{3, 0, 0}, 1}}).ok());
+}
+
+// A snapshot that cannot be read (here a directory in its place: EISDIR, which root meets too) is not
+// known to be damaged: recovery fails with the system's reason, of kind io, and neither falls back to the
+// previous generation nor copies or moves anything, so the map is there once the file can be read.
+TEST_F(StateDirectoryTest, SnapshotThatCannotBeReadIsAnIoErrorAndNothingIsSetAsideOrFallenBackFrom) {
+  ASSERT_NO_FATAL_FAILURE(writeTwoGenerations(dir_));
+  fs::rename(dir_ / "snapshot.ogfs", dir_ / "snapshot.kept");
+  fs::create_directory(dir_ / "snapshot.ogfs");
+  const auto previous = bytesOf(dir_ / "snapshot.prev.ogfs");
+  const auto journal = bytesOf(dir_ / "journal.ogfj");
+  auto sd = StateDirectory::open(dir_);
+  ASSERT_TRUE(sd.ok()) << sd.error().message;
+  auto r = sd->recover(1, 5000);
+  ASSERT_FALSE(r.ok()) << "restored from the previous generation instead of failing";
+  EXPECT_EQ(r.error().kind, ogf::ErrorKind::io) << r.error().message;
+  EXPECT_NE(r.error().message.find((dir_ / "snapshot.ogfs").string()), std::string::npos) << r.error().message;
+  EXPECT_NE(r.error().message.find(std::strerror(EISDIR)), std::string::npos) << r.error().message;
+  EXPECT_FALSE(anyDamagedDirectory(dir_)) << "an unreadable snapshot is not damage";
+  EXPECT_TRUE(fs::is_directory(dir_ / "snapshot.ogfs"));
+  EXPECT_EQ(bytesOf(dir_ / "snapshot.prev.ogfs"), previous);
+  EXPECT_EQ(bytesOf(dir_ / "journal.ogfj"), journal);
+  fs::remove(dir_ / "snapshot.ogfs");
+  fs::rename(dir_ / "snapshot.kept", dir_ / "snapshot.ogfs");
+  auto again = StateDirectory::open(dir_)->recover(1);
+  ASSERT_TRUE(again.ok()) << again.error().message;
+  EXPECT_EQ(again->snapshot_seq, 2);
+  EXPECT_EQ(again->last_seq, 3) << "the whole map, once the snapshot can be read";
+}
+
+// The same for a journal: an unreadable one is an io error, not a journal to start anew (which would lose
+// its records).
+TEST_F(StateDirectoryTest, JournalThatCannotBeReadIsAnIoErrorNotAJournalStartedAnew) {
+  ASSERT_NO_FATAL_FAILURE(writeTwoGenerations(dir_));
+  fs::rename(dir_ / "journal.ogfj", dir_ / "journal.kept");
+  fs::create_directory(dir_ / "journal.ogfj");
+  auto r = StateDirectory::open(dir_)->recover(1, 5000);
+  ASSERT_FALSE(r.ok()) << "the journal was started anew";
+  EXPECT_EQ(r.error().kind, ogf::ErrorKind::io) << r.error().message;
+  EXPECT_NE(r.error().message.find((dir_ / "journal.ogfj").string()), std::string::npos) << r.error().message;
+  EXPECT_FALSE(anyDamagedDirectory(dir_));
+  EXPECT_TRUE(fs::is_directory(dir_ / "journal.ogfj"));
+  fs::remove(dir_ / "journal.ogfj");
+  fs::rename(dir_ / "journal.kept", dir_ / "journal.ogfj");
+  auto again = StateDirectory::open(dir_)->recover(1);
+  ASSERT_TRUE(again.ok()) << again.error().message;
+  EXPECT_EQ(again->last_seq, 3);
 }
 
 TEST_F(StateDirectoryTest, AfterASnapshotJournalErrorsNameTheJournalThatIsThere) {
@@ -138,6 +213,7 @@ TEST_F(StateDirectoryTest, UnusablePathIsAnErrorNamingIt) {
   auto sd = StateDirectory::open(fs::path(dir_.string() + "-file") / "state");
   ASSERT_FALSE(sd.ok());
   EXPECT_NE(sd.error().message.find("-file"), std::string::npos);
+  EXPECT_EQ(sd.error().kind, ogf::ErrorKind::io) << sd.error().message;
   fs::remove(dir_.string() + "-file");
 }
 

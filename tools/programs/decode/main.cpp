@@ -94,7 +94,7 @@ int main(int argc, char** argv) {
     auto calib = ov::loadCalibrationFile(calib_path);
     if (!calib) {
       std::fprintf(stderr, "ogf-decode: --calib: %s\n", calib.error().message.c_str());
-      return 2;
+      return ogf::cli::exitCodeFor(calib.error());
     }
     config.calibration = std::move(*calib);
   }
@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
   auto stream = ov::PacketStream::create(config);
   if (!stream) {
     std::fprintf(stderr, "ogf-decode: %s\n", stream.error().message.c_str());
-    return 2;
+    return ogf::cli::exitCodeFor(stream.error());
   }
   std::optional<ogf::tools::CsvPointWriter> csv;
   if (!csv_path.empty()) {

@@ -454,7 +454,7 @@ int main(int argc, char** argv) {
     auto read = ogf::map_io::readOfflineConfig(config_path, ogf::mapper_daemon::kUsedByEval);
     if (!read) {
       spdlog::error("--config: {}", read.error().message);
-      return kExitUsage;
+      return ogf::cli::exitCodeFor(read.error());
     }
     if (const auto note = read->unusedNote("ogf-eval"); !note.empty()) spdlog::info("--config: {}", note);
     file = read->options;
@@ -470,7 +470,7 @@ int main(int argc, char** argv) {
   if (config_path.empty() || min_opt->count() > 0) built.fusion.measurement.min_range_m = min_range;
   if (auto st = built.validate(); !st) {
     spdlog::error("configuration: {}", st.error().message);
-    return kExitUsage;
+    return ogf::cli::exitCodeFor(st.error());
   }
   std::optional<ev::HeldOutSplit> split;
   if (held_out) split.emplace(held_out_share, seed);
@@ -515,7 +515,7 @@ int main(int argc, char** argv) {
     auto m = ogf::pipeline::ScanMapper::create(config);
     if (!m) {
       spdlog::error("configuration: {}", m.error().message);
-      return kExitUsage;
+      return ogf::cli::exitCodeFor(m.error());
     }
     own.emplace(std::move(*m));
   }

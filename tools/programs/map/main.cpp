@@ -352,7 +352,7 @@ int main(int argc, char** argv) {
     auto read = mio::readOfflineConfig(o.config_path, ogf::mapper_daemon::kUsedByMap);
     if (!read) {
       spdlog::error("--config: {}", read.error().message);
-      return kExitUsage;
+      return ogf::cli::exitCodeFor(read.error());
     }
     if (const auto note = read->unusedNote("ogf-map"); !note.empty()) spdlog::info("--config: {}", note);
     file = read->options;
@@ -384,7 +384,7 @@ int main(int argc, char** argv) {
   auto created = mio::OfflineMapping::create(config);
   if (!created) {
     spdlog::error("configuration: {}", created.error().message);
-    return kExitUsage;
+    return ogf::cli::exitCodeFor(created.error());
   }
   mio::OfflineMapping& run = *created;
   ogf::correction::ScanPoseCorrectionConfig cc = file.pose_correction;

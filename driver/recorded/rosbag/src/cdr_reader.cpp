@@ -9,13 +9,13 @@ namespace ogf::rosbag {
 
 Result<CdrReader> CdrReader::open(std::span<const std::uint8_t> message) {
   if (message.size() < kHeaderBytes)
-    return Error{
-        fmt::format("CDR message of {} bytes: shorter than its 4-byte encapsulation header", message.size())};
+    return Error::inputDamaged(
+        fmt::format("CDR message of {} bytes: shorter than its 4-byte encapsulation header", message.size()));
   // The representation identifier (OMG XTypes 7.6.3.1.2): 0x0000 CDR_BE, 0x0001 CDR_LE. Bytes 2-3 are
   // options, which plain CDR leaves unused.
   if (message[0] != 0x00 || message[1] > 0x01)
-    return Error{fmt::format("CDR encapsulation {:02x} {:02x}: not plain CDR (00 00 or 00 01)", message[0],
-                             message[1])};
+    return Error::inputDamaged(fmt::format("CDR encapsulation {:02x} {:02x}: not plain CDR (00 00 or 00 01)", message[0],
+                             message[1]));
   return CdrReader(message, message[1] == 0x00);
 }
 

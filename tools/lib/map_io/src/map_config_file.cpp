@@ -18,7 +18,7 @@ std::string OfflineConfig::unusedNote(std::string_view program) const {
 Result<OfflineConfig> readOfflineConfig(const std::filesystem::path& path, mapper_daemon::ConfigUser user) {
   OfflineConfig c;
   if (auto st = mapper_daemon::loadMapperOptions(path, c.options, &c.keys_read); !st) return st.error();
-  if (auto st = c.options.validate(); !st) return Error{path.string() + ": " + st.error().message};
+  if (auto st = c.options.validate(); !st) return Error::configuration(path.string() + ": " + st.error().message);
   for (const auto& k : c.keys_read)
     if ((mapper_daemon::configKeyUsers(k) & user) == 0) c.unused_keys.push_back(k);
   return c;

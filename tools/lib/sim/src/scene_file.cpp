@@ -22,7 +22,7 @@ class Parser {
   Error error(const YAML::Node& node, const std::string& field, const std::string& what) const {
     std::string where = source_;
     if (node.IsDefined() && node.Mark().line >= 0) where += ":" + std::to_string(node.Mark().line + 1);
-    return Error{where + ": " + field + ": " + what};
+    return Error::configuration(where + ": " + field + ": " + what);
   }
 
   // A number at parent[key]; `fallback` when absent (nullopt: required).
@@ -111,25 +111,25 @@ class Parser {
     }
     for (std::size_t i = 0; i < wps.size(); ++i) {
       auto v = vectorNode(wps[i], path + "waypoints[" + std::to_string(i) + "]", 2, 3);
-      if (!v) return Error{v.error().message};
+      if (!v) return Error::configuration(v.error().message);
       spec.waypoints.emplace_back((*v)[0], (*v)[1], (*v)[2]);
     }
     auto speed = number(node, "speed", path, 1.0);
-    if (!speed) return Error{speed.error().message};
+    if (!speed) return Error::configuration(speed.error().message);
     if (!(*speed > 0.0)) return error(node["speed"], path + "speed", "must be positive");
     spec.speed = *speed;
     auto loop = boolean(node, "loop", path, false);
-    if (!loop) return Error{loop.error().message};
+    if (!loop) return Error::configuration(loop.error().message);
     spec.loop = *loop;
     auto yaw = number(node, "yaw_deg", path, 0.0);
-    if (!yaw) return Error{yaw.error().message};
+    if (!yaw) return Error::configuration(yaw.error().message);
     spec.yaw = *yaw * kDeg;
     return spec;
   }
 
   Result<std::size_t> materialIndex(const World& world, const YAML::Node& node, const std::string& path) const {
     auto name = string(node, "material", path, std::string("default"));
-    if (!name) return Error{name.error().message};
+    if (!name) return Error::configuration(name.error().message);
     for (std::size_t i = 0; i < world.materials.size(); ++i) {
       if (world.materials[i].name == *name) return i;
     }
@@ -140,38 +140,38 @@ class Parser {
   Result<Solid> solid(const World& world, const YAML::Node& node, const std::string& path,
                       std::initializer_list<const char*> also = {}) const {
     auto type = string(node, "type", path, std::nullopt);
-    if (!type) return Error{type.error().message};
+    if (!type) return Error::configuration(type.error().message);
     auto material = materialIndex(world, node, path);
-    if (!material) return Error{material.error().message};
+    if (!material) return Error::configuration(material.error().message);
     if (*type == "box") {
       if (auto e = onlyKeys(node, path, {"type", "center", "size", "yaw_deg", "material"}, also)) return *e;
       auto c = vector(node, "center", path, 3, 3);
-      if (!c) return Error{c.error().message};
+      if (!c) return Error::configuration(c.error().message);
       auto s = vector(node, "size", path, 3, 3);
-      if (!s) return Error{s.error().message};
+      if (!s) return Error::configuration(s.error().message);
       if ((s->array() <= 0.0).any()) return error(node["size"], path + "size", "every side must be positive");
       auto yaw = number(node, "yaw_deg", path, 0.0);
-      if (!yaw) return Error{yaw.error().message};
+      if (!yaw) return Error::configuration(yaw.error().message);
       return Solid{Box{*c, *s, *yaw * kDeg}, *material};
     }
     if (*type == "cylinder") {
       if (auto e = onlyKeys(node, path, {"type", "center", "radius", "z", "material"}, also)) return *e;
       auto c = vector(node, "center", path, 2, 2);
-      if (!c) return Error{c.error().message};
+      if (!c) return Error::configuration(c.error().message);
       auto r = number(node, "radius", path, std::nullopt);
-      if (!r) return Error{r.error().message};
+      if (!r) return Error::configuration(r.error().message);
       if (!(*r > 0.0)) return error(node["radius"], path + "radius", "must be positive");
       auto z = vector(node, "z", path, 2, 2);
-      if (!z) return Error{z.error().message};
+      if (!z) return Error::configuration(z.error().message);
       if (!((*z)[1] > (*z)[0])) return error(node["z"], path + "z", "expected [z_min, z_max] with z_max > z_min");
       return Solid{Cylinder{Eigen::Vector2d{(*c)[0], (*c)[1]}, *r, (*z)[0], (*z)[1]}, *material};
     }
     if (*type == "plane") {
       if (auto e = onlyKeys(node, path, {"type", "point", "normal", "material"}, also)) return *e;
       auto p = vector(node, "point", path, 3, 3);
-      if (!p) return Error{p.error().message};
+      if (!p) return Error::configuration(p.error().message);
       auto n = vector(node, "normal", path, 3, 3);
-      if (!n) return Error{n.error().message};
+      if (!n) return Error::configuration(n.error().message);
       if (n->norm() < 1e-9) return error(node["normal"], path + "normal", "must not be zero");
       const Eigen::Vector3d unit = Eigen::Vector3d(*n).normalized();
       return Solid{HalfSpace{unit, unit.dot(Eigen::Vector3d(*p))}, *material};
@@ -187,7 +187,7 @@ class Parser {
     Scene scene;
     World& world = scene.world;
     auto name = string(root, "name", "", std::string("unnamed"));
-    if (!name) return Error{name.error().message};
+    if (!name) return Error::configuration(name.error().message);
     world.name = *name;
     world.materials.push_back(Material{"default", 50.0, 0.0});
 
@@ -197,12 +197,12 @@ class Parser {
         const std::string path = "materials[" + std::to_string(i) + "].";
         if (auto e = onlyKeys(mats[i], path, {"name", "reflectivity", "transmittance"})) return *e;
         auto mname = string(mats[i], "name", path, std::nullopt);
-        if (!mname) return Error{mname.error().message};
+        if (!mname) return Error::configuration(mname.error().message);
         auto refl = number(mats[i], "reflectivity", path, 50.0);
-        if (!refl) return Error{refl.error().message};
+        if (!refl) return Error::configuration(refl.error().message);
         if (*refl < 0.0 || *refl > 255.0) return error(mats[i]["reflectivity"], path + "reflectivity", "must be in 0..255");
         auto trans = number(mats[i], "transmittance", path, 0.0);
-        if (!trans) return Error{trans.error().message};
+        if (!trans) return Error::configuration(trans.error().message);
         if (*trans < 0.0 || *trans >= 1.0) {
           return error(mats[i]["transmittance"], path + "transmittance", "must be in [0, 1)");
         }
@@ -218,9 +218,9 @@ class Parser {
     if (const YAML::Node ground = root["ground"]; ground.IsDefined() && !ground.IsNull()) {
       if (auto e = onlyKeys(ground, "ground.", {"height", "material"})) return *e;
       auto h = number(ground, "height", "ground.", 0.0);
-      if (!h) return Error{h.error().message};
+      if (!h) return Error::configuration(h.error().message);
       auto material = materialIndex(world, ground, "ground.");
-      if (!material) return Error{material.error().message};
+      if (!material) return Error::configuration(material.error().message);
       world.solids.push_back(Solid{HalfSpace{Eigen::Vector3d::UnitZ(), *h}, *material});
     }
 
@@ -228,7 +228,7 @@ class Parser {
       if (!solids.IsSequence()) return error(solids, "solids", "expected a list");
       for (std::size_t i = 0; i < solids.size(); ++i) {
         auto s = solid(world, solids[i], "solids[" + std::to_string(i) + "].");
-        if (!s) return Error{s.error().message};
+        if (!s) return Error::configuration(s.error().message);
         world.solids.push_back(*s);
       }
     }
@@ -239,9 +239,9 @@ class Parser {
     if (const YAML::Node bounds = root["bounds"]; bounds.IsDefined()) {
       if (auto e = onlyKeys(bounds, "bounds.", {"min", "max"})) return *e;
       auto lo = vector(bounds, "min", "bounds.", 3, 3);
-      if (!lo) return Error{lo.error().message};
+      if (!lo) return Error::configuration(lo.error().message);
       auto hi = vector(bounds, "max", "bounds.", 3, 3);
-      if (!hi) return Error{hi.error().message};
+      if (!hi) return Error::configuration(hi.error().message);
       if (!(hi->array() > lo->array()).all()) return error(bounds, "bounds", "max must exceed min on every axis");
       world.bounds = Aabb{*lo, *hi};
     } else {
@@ -262,11 +262,11 @@ class Parser {
     if (const YAML::Node mount = root["sensor_mount"]; mount.IsDefined()) {
       if (auto e = onlyKeys(mount, "sensor_mount.", {"xyz", "rpy_deg"})) return *e;
       auto xyz = vector(mount, "xyz", "sensor_mount.", 3, 3);
-      if (!xyz) return Error{xyz.error().message};
+      if (!xyz) return Error::configuration(xyz.error().message);
       Eigen::Vector3d rpy = Eigen::Vector3d::Zero();
       if (mount["rpy_deg"].IsDefined()) {
         auto v = vector(mount, "rpy_deg", "sensor_mount.", 3, 3);
-        if (!v) return Error{v.error().message};
+        if (!v) return Error::configuration(v.error().message);
         rpy = *v * kDeg;
       }
       scene.sensor_to_body = Eigen::Isometry3d::Identity();
@@ -284,7 +284,7 @@ class Parser {
       for (const auto& kv : trajs) {
         const std::string tname = kv.first.Scalar();
         auto t = trajectory(kv.second, "trajectories." + tname + ".");
-        if (!t) return Error{t.error().message};
+        if (!t) return Error::configuration(t.error().message);
         scene.trajectories[tname] = *t;
       }
     }
@@ -294,7 +294,7 @@ class Parser {
       scene.trajectories["static"] = TrajectorySpec{{Eigen::Vector3d{mid.x(), mid.y(), 0.0}}, 1.0, false, 0.0};
     }
     auto def = string(root, "default_trajectory", "", std::string("static"));
-    if (!def) return Error{def.error().message};
+    if (!def) return Error::configuration(def.error().message);
     if (scene.trajectories.find(*def) == scene.trajectories.end()) {
       return error(root["default_trajectory"], "default_trajectory", "no trajectory named '" + *def + "'");
     }
@@ -308,7 +308,7 @@ class Parser {
         std::vector<MovingSolidSpec> set;
         for (std::size_t i = 0; i < kv.second.size(); ++i) {
           auto m = mover(world, kv.second[i], "movers." + mname + "[" + std::to_string(i) + "].");
-          if (!m) return Error{m.error().message};
+          if (!m) return Error::configuration(m.error().message);
           set.push_back(*m);
         }
         scene.movers[mname] = std::move(set);
@@ -321,14 +321,14 @@ class Parser {
   Result<MovingSolidSpec> mover(const World& world, const YAML::Node& node, const std::string& path) const {
     if (!node.IsMap()) return error(node, path, "expected a mapping");
     auto s = solid(world, node, path, {"path", "start_s"});
-    if (!s) return Error{s.error().message};
+    if (!s) return Error::configuration(s.error().message);
     if (std::holds_alternative<HalfSpace>(s->shape)) return error(node["type"], path + "type", "a moving solid is a box or a cylinder");
     const YAML::Node p = node["path"];
     if (!p.IsDefined()) return error(node, path + "path", "required: {speed, waypoints, loop}");
     auto t = trajectory(p, path + "path.");
-    if (!t) return Error{t.error().message};
+    if (!t) return Error::configuration(t.error().message);
     auto start = number(node, "start_s", path, 0.0);
-    if (!start) return Error{start.error().message};
+    if (!start) return Error::configuration(start.error().message);
     if (!(*start >= 0.0)) return error(node["start_s"], path + "start_s", "must be >= 0");
     return MovingSolidSpec{*s, *t, *start};
   }
@@ -341,13 +341,13 @@ Result<YAML::Node> loadYaml(std::string_view text, const std::string& source) {
   try {
     return YAML::Load(std::string(text));
   } catch (const YAML::Exception& e) {
-    return Error{source + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg};
+    return Error::configuration(source + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg);
   }
 }
 
 Result<std::string> readText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) return Error{path + ": cannot open"};
+  if (!in) return Error::configuration(path + ": cannot open");
   std::ostringstream ss;
   ss << in.rdbuf();
   return ss.str();
@@ -357,11 +357,11 @@ Result<std::string> readText(const std::string& path) {
 template <class T, class Parse>
 Result<T> parseDocument(std::string_view yaml, const std::string& source, Parse parse) {
   auto root = loadYaml(yaml, source);
-  if (!root) return Error{root.error().message};
+  if (!root) return Error::configuration(root.error().message);
   try {
     return parse(Parser(source), *root);
   } catch (const YAML::Exception& e) {
-    return Error{source + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg};
+    return Error::configuration(source + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
 }
 
@@ -373,7 +373,7 @@ Result<Scene> parseScene(std::string_view yaml, const std::string& source) {
 
 Result<Scene> loadSceneFile(const std::string& path) {
   auto text = readText(path);
-  if (!text) return Error{text.error().message};
+  if (!text) return Error::configuration(text.error().message);
   return parseScene(*text, path);
 }
 
@@ -384,7 +384,7 @@ Result<TrajectorySpec> parseTrajectory(std::string_view yaml, const std::string&
 
 Result<TrajectorySpec> loadTrajectoryFile(const std::string& path) {
   auto text = readText(path);
-  if (!text) return Error{text.error().message};
+  if (!text) return Error::configuration(text.error().message);
   return parseTrajectory(*text, path);
 }
 

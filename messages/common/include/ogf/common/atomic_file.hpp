@@ -39,8 +39,10 @@ inline void syncParentDirectory(const std::filesystem::path& path) {
 }
 
 inline Status writeFileAtomically(const std::filesystem::path& path, std::span<const std::byte> bytes) {
+  // Of the errno's kind: a full disk or quota is a resource error, the rest I/O.
   const auto fail = [&](const std::string& what) {
-    return Error{path.string() + ": " + what + ": " + std::strerror(errno)};
+    const int e = errno;
+    return Error::system(path.string() + ": " + what, e);
   };
   const std::filesystem::path tmp = path.string() + ".tmp";
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);

@@ -7,6 +7,8 @@
 #include <optional>
 #include <string>
 
+#include "ogf/common/error.hpp"
+
 namespace ogf::cli {
 
 // Exit codes of every ogf program (docs/reliability.md): 0 success; 1 a failure at run time (a file that
@@ -15,6 +17,13 @@ namespace ogf::cli {
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitUsage = 2;
+
+// The exit code for a program that stops on `kind` of error: kExitUsage for usage and configuration
+// errors (the person starting it must change something), kExitFailure for the rest.
+constexpr int exitCodeFor(ErrorKind kind) {
+  return kind == ErrorKind::usage || kind == ErrorKind::configuration ? kExitUsage : kExitFailure;
+}
+inline int exitCodeFor(const Error& error) { return exitCodeFor(error.kind); }
 
 // Parses the command line. Returns nullopt to go on, or the code to exit with: kExitOk after --help,
 // kExitUsage after an error, which is printed on stderr as "<program>: <message>". An option the program

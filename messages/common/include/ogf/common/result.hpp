@@ -1,17 +1,15 @@
-// How every ogf library reports failure: a Result<T> holds a value or an Error whose message names the
-// file, offset, line or field that was wrong (std::expected is C++23). Libraries never print or exit;
-// programs report the message once.
+// How every ogf library reports failure: a Result<T> holds a value or an Error (error.hpp) whose kind says
+// what sort of failure it is and whose message names the file, offset, line or field that was wrong
+// (std::expected is C++23). Libraries never print or exit; programs report the message once and pick the
+// exit code by the kind.
 #pragma once
 
-#include <string>
 #include <utility>
 #include <variant>
 
-namespace ogf {
+#include "ogf/common/error.hpp"
 
-struct Error {
-  std::string message;
-};
+namespace ogf {
 
 template <class T>
 class [[nodiscard]] Result {
