@@ -19,21 +19,13 @@
 #include "ogf/map_io/topdown_png.hpp"
 #include "scratch_dir.hpp"
 #include "synthetic_scan.hpp"
+#include "wall_mapping.hpp"
 
 namespace {
 
 using namespace ogf;
 
-map_formats::MapCells wallMap() {
-  pipeline::MapperConfig config;
-  config.setResolution(0.2);
-  config.fusion.measurement.max_range_m = 10.0;
-  auto run = map_io::OfflineMapping::create(config);
-  EXPECT_TRUE(run.ok());
-  const auto scan = ogf::testing::wallScan(4.1);
-  for (int i = 0; i < 3; ++i) run->addStaticScan(scan, Eigen::Isometry3d::Identity());
-  return map_formats::collectCells(run->mapper().filter());
-}
+map_formats::MapCells wallMap() { return map_formats::collectCells(ogf::testing::wallMapping().mapper().filter()); }
 
 std::string slurp(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
