@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cstdio>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "ogf/common/command_line.hpp"
@@ -28,15 +29,20 @@
 #include "ogf/transport/logging.hpp"
 #include "ogf/transport/subscriber.hpp"
 
-int main(int argc, char** argv) {
-  CLI::App app{
-      "Rebuild the ogf map from OGF_MAP_DELTA and print the checksum of that published map.\n\n"
-      "Output at the end: map_id, seq, cells, published_checksum (of the map this client rebuilt), "
-      "mapper_published_checksum (the one the mapper stamps on its deltas for the same seq), consistent (yes when "
-      "the two are equal: nothing was missed), gaps, keyframes, malformed, messages.\n"
-      "Both checksums cover the published cells (quantised probability, class, variance). The filter_checksum in "
-      "OGF_MAPPER_STATUS covers every float the filter stores: a different number, to compare only with another "
-      "mapper's filter_checksum or with the checksum ogf-map prints."};
+namespace {
+
+constexpr int kExitUsage = 2;  // bad flags, or the bus cannot be joined
+
+const char* const kDescription =
+    "Rebuild the ogf map from OGF_MAP_DELTA and print the checksum of that published map.\n\n"
+    "Output at the end: map_id, seq, cells, published_checksum (of the map this client rebuilt), "
+    "mapper_published_checksum (the one the mapper stamps on its deltas for the same seq), consistent (yes when "
+    "the two are equal: nothing was missed), gaps, keyframes, malformed, messages.\n"
+    "Both checksums cover the published cells (quantised probability, class, variance). The filter_checksum in "
+    "OGF_MAPPER_STATUS covers every float the filter stores: a different number, to compare only with another "
+    "mapper's filter_checksum or with the checksum ogf-map prints.";
+
+struct Options {
   std::string url;
   std::string delta_channel = "OGF_MAP_DELTA";
   std::string request_channel = "OGF_MAP_REQUEST";
@@ -46,109 +52,143 @@ int main(int argc, char** argv) {
   double keyframe_retry_s = 1.0;
   bool progress = false;
   std::string log_level = "info";
-  app.add_option("--lcm-url", url, "LCM URL (default: $LCM_DEFAULT_URL, else LCM's default)");
-  app.add_option("--channel", delta_channel, "Delta channel")->capture_default_str();
-  app.add_option("--request-channel", request_channel, "Keyframe request channel")->capture_default_str();
-  app.add_option("--duration", duration_s, "Stop after this many seconds (0: run until SIGINT/SIGTERM)")
+};
+
+void addOptions(CLI::App& app, Options& o) {
+  app.add_option("--lcm-url", o.url, "LCM URL (default: $LCM_DEFAULT_URL, else LCM's default)");
+  app.add_option("--channel", o.delta_channel, "Delta channel")->capture_default_str();
+  app.add_option("--request-channel", o.request_channel, "Keyframe request channel")->capture_default_str();
+  app.add_option("--duration", o.duration_s, "Stop after this many seconds (0: run until SIGINT/SIGTERM)")
       ->check(ogf::cli::nonNegative());
-  app.add_option("--until-seq", until_seq, "Stop once the map is consistent at this update sequence or later");
-  app.add_option("--idle-exit", idle_exit_s,
+  app.add_option("--until-seq", o.until_seq, "Stop once the map is consistent at this update sequence or later");
+  app.add_option("--idle-exit", o.idle_exit_s,
                  "Stop after this many seconds without a delta once the map is consistent (0: never)")
       ->check(ogf::cli::nonNegative());
-  app.add_option("--keyframe-retry", keyframe_retry_s, "Seconds between keyframe requests while one is needed")
+  app.add_option("--keyframe-retry", o.keyframe_retry_s, "Seconds between keyframe requests while one is needed")
       ->check(ogf::cli::positive())->capture_default_str();
-  app.add_flag("--progress", progress, "Print a status line every second");
-  app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
-  OGF_PARSE_COMMAND_LINE(app, argc, argv);
+  app.add_flag("--progress", o.progress, "Print a status line every second");
+  app.add_option("--log-level", o.log_level, "trace, debug, info, warn, error")->capture_default_str();
+}
 
-  if (!ogf::transport::setupLoggingAt("ogf-map-client", "--log-level", log_level)) return 2;
-  const std::string resolved = ogf::transport::withReceiveBuffer(ogf::transport::resolveLcmUrl(url));
+// The delta stream rebuilt into a map: a keyframe asked for at start and after every gap, and the stops
+// --until-seq and --idle-exit ask for.
+class DeltaFollower {
+ public:
+  DeltaFollower(const Options& o, lcm::LCM& lcm, ogf::transport::DaemonLoop& loop)
+      : o_(o), lcm_(lcm), loop_(loop), tick_(loop.io()),
+        sub_(lcm, o.delta_channel,
+             [this](const ogf::map_delta_t& m, const lcm::ReceiveBuffer&, const std::string&) { onDelta(m); },
+             [this](const std::string& channel, std::size_t size, std::string_view why) {
+               ++decode_errors_;
+               if (auto n = malformed_log_.allow())
+                 spdlog::warn("message on {} ({} bytes) {} ({} more)", channel, size, why, *n);
+             }) {}
+
+  // Housekeeping every 100 ms: keyframe requests while needed, progress, idle exit.
+  void housekeeping() {
+    const auto now = std::chrono::steady_clock::now();
+    if (receiver_.needsKeyframe() && now - last_request_ > std::chrono::duration<double>(o_.keyframe_retry_s))
+      requestKeyframe();
+    if (o_.progress && now - last_progress_ >= std::chrono::seconds(1)) {
+      last_progress_ = now;
+      std::printf("seq %lld cells %zu published_checksum %016llx gaps %llu messages %llu\n",
+                  static_cast<long long>(receiver_.appliedSeq()), receiver_.map().size(),
+                  static_cast<unsigned long long>(receiver_.map().checksum()),
+                  static_cast<unsigned long long>(receiver_.gaps()), static_cast<unsigned long long>(messages_));
+      std::fflush(stdout);
+    }
+    if (o_.idle_exit_s > 0 && receiver_.consistent() && now - last_delta_ > std::chrono::duration<double>(o_.idle_exit_s)) {
+      loop_.requestStop(0);
+      return;
+    }
+    tick_.expires_after(std::chrono::milliseconds(100));
+    tick_.async_wait([this](const boost::system::error_code& ec) { if (!ec) housekeeping(); });
+  }
+
+  // The line printed at the end (see the top of this file).
+  void printSummary() const {
+    const auto server = receiver_.serverChecksum();
+    std::printf("map_id %lld seq %lld cells %zu published_checksum %016llx mapper_published_checksum %016llx "
+                "consistent %s gaps %llu keyframes %llu malformed %llu messages %llu\n",
+                static_cast<long long>(receiver_.mapId().value_or(-1)), static_cast<long long>(receiver_.appliedSeq()),
+                receiver_.map().size(), static_cast<unsigned long long>(receiver_.map().checksum()),
+                static_cast<unsigned long long>(server.value_or(0)), receiver_.consistent() ? "yes" : "no",
+                static_cast<unsigned long long>(receiver_.gaps()),
+                static_cast<unsigned long long>(receiver_.keyframesApplied()),
+                static_cast<unsigned long long>(receiver_.malformed() + decode_errors_),
+                static_cast<unsigned long long>(messages_));
+  }
+
+ private:
+  void requestKeyframe() {
+    const ogf::map_request_t req = ogf::delta::keyframeRequest(receiver_, requester_);
+    lcm_.publish(o_.request_channel, &req);
+    last_request_ = std::chrono::steady_clock::now();
+    spdlog::debug("asked for a keyframe (last applied seq {})", req.last_seq);
+  }
+
+  void onDelta(const ogf::map_delta_t& m) {
+    ++messages_;
+    last_delta_ = std::chrono::steady_clock::now();
+    const bool needed_before = receiver_.needsKeyframe();
+    const auto outcome = receiver_.accept(m);
+    if (outcome == ogf::delta::MapReceiver::Outcome::kGap) {
+      spdlog::warn("gap in the delta stream after seq {}: asking for a keyframe", receiver_.appliedSeq());
+    } else if (outcome == ogf::delta::MapReceiver::Outcome::kMalformed) {
+      if (auto n = malformed_log_.allow()) spdlog::warn("malformed delta seq {} part {}/{} ignored ({} more)", m.seq, m.part_index, m.part_count, *n);
+    } else if (outcome == ogf::delta::MapReceiver::Outcome::kKeyframeApplied) {
+      spdlog::info("keyframe applied: map {} seq {} cells {}", m.map_id, receiver_.appliedSeq(), receiver_.map().size());
+    }
+    if (receiver_.needsKeyframe() && !needed_before) requestKeyframe();
+    if (o_.until_seq >= 0 && !receiver_.needsKeyframe() && receiver_.appliedSeq() >= o_.until_seq && receiver_.consistent())
+      loop_.requestStop(0);
+  }
+
+  const Options& o_;
+  lcm::LCM& lcm_;
+  ogf::transport::DaemonLoop& loop_;
+  ogf::delta::MapReceiver receiver_;
+  std::uint64_t messages_ = 0;
+  std::uint64_t decode_errors_ = 0;
+  std::chrono::steady_clock::time_point last_delta_ = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point last_request_{};
+  std::chrono::steady_clock::time_point last_progress_ = std::chrono::steady_clock::now();
+  const std::string requester_ = ogf::delta::requesterName();
+  ogf::transport::LogRateLimiter malformed_log_;
+  boost::asio::steady_timer tick_;
+  ogf::transport::Subscriber<ogf::map_delta_t> sub_;
+};
+
+// --duration: a stop after that many seconds.
+void stopAfter(double seconds, boost::asio::steady_timer& timer, ogf::transport::DaemonLoop& loop) {
+  if (seconds <= 0) return;
+  timer.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds)));
+  timer.async_wait([&loop](const boost::system::error_code& ec) { if (!ec) loop.requestStop(0); });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{kDescription};
+  Options o;
+  addOptions(app, o);
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
+  if (!ogf::transport::setupLoggingAt("ogf-map-client", "--log-level", o.log_level)) return kExitUsage;
+  const std::string resolved = ogf::transport::withReceiveBuffer(ogf::transport::resolveLcmUrl(o.url));
   lcm::LCM lcm(resolved);
   if (!lcm.good()) {
     spdlog::error("cannot join the LCM bus {}", resolved);
-    return 2;
+    return kExitUsage;
   }
 
   ogf::transport::DaemonLoop loop;
-  ogf::delta::MapReceiver receiver;
-  std::uint64_t messages = 0;
-  std::uint64_t decode_errors = 0;
-  auto last_delta = std::chrono::steady_clock::now();
-  auto last_request = std::chrono::steady_clock::time_point{};
-  const std::string requester = ogf::delta::requesterName();
-
-  const auto requestKeyframe = [&] {
-    const ogf::map_request_t req = ogf::delta::keyframeRequest(receiver, requester);
-    lcm.publish(request_channel, &req);
-    last_request = std::chrono::steady_clock::now();
-    spdlog::debug("asked for a keyframe (last applied seq {})", req.last_seq);
-  };
-
-  ogf::transport::LogRateLimiter malformed_log;
-  ogf::transport::Subscriber<ogf::map_delta_t> sub(
-      lcm, delta_channel,
-      [&](const ogf::map_delta_t& m, const lcm::ReceiveBuffer&, const std::string&) {
-        ++messages;
-        last_delta = std::chrono::steady_clock::now();
-        const bool needed_before = receiver.needsKeyframe();
-        const auto outcome = receiver.accept(m);
-        if (outcome == ogf::delta::MapReceiver::Outcome::kGap) {
-          spdlog::warn("gap in the delta stream after seq {}: asking for a keyframe", receiver.appliedSeq());
-        } else if (outcome == ogf::delta::MapReceiver::Outcome::kMalformed) {
-          if (auto n = malformed_log.allow()) spdlog::warn("malformed delta seq {} part {}/{} ignored ({} more)", m.seq, m.part_index, m.part_count, *n);
-        } else if (outcome == ogf::delta::MapReceiver::Outcome::kKeyframeApplied) {
-          spdlog::info("keyframe applied: map {} seq {} cells {}", m.map_id, receiver.appliedSeq(), receiver.map().size());
-        }
-        if (receiver.needsKeyframe() && !needed_before) requestKeyframe();
-        if (until_seq >= 0 && !receiver.needsKeyframe() && receiver.appliedSeq() >= until_seq && receiver.consistent())
-          loop.requestStop(0);
-      },
-      [&](const std::string& channel, std::size_t size, std::string_view why) {
-        ++decode_errors;
-        if (auto n = malformed_log.allow()) spdlog::warn("message on {} ({} bytes) {} ({} more)", channel, size, why, *n);
-      });
+  DeltaFollower follower(o, lcm, loop);
   ogf::transport::LcmAsioBridge bridge(loop.io(), lcm);
-
-  // Housekeeping every 100 ms: keyframe requests while needed, progress, idle exit.
-  boost::asio::steady_timer tick(loop.io());
-  auto last_progress = std::chrono::steady_clock::now();
-  std::function<void()> housekeeping = [&] {
-    const auto now = std::chrono::steady_clock::now();
-    if (receiver.needsKeyframe() && now - last_request > std::chrono::duration<double>(keyframe_retry_s)) requestKeyframe();
-    if (progress && now - last_progress >= std::chrono::seconds(1)) {
-      last_progress = now;
-      std::printf("seq %lld cells %zu published_checksum %016llx gaps %llu messages %llu\n",
-                  static_cast<long long>(receiver.appliedSeq()), receiver.map().size(),
-                  static_cast<unsigned long long>(receiver.map().checksum()),
-                  static_cast<unsigned long long>(receiver.gaps()), static_cast<unsigned long long>(messages));
-      std::fflush(stdout);
-    }
-    if (idle_exit_s > 0 && receiver.consistent() && now - last_delta > std::chrono::duration<double>(idle_exit_s)) {
-      loop.requestStop(0);
-      return;
-    }
-    tick.expires_after(std::chrono::milliseconds(100));
-    tick.async_wait([&](const boost::system::error_code& ec) { if (!ec) housekeeping(); });
-  };
-  housekeeping();
-
+  follower.housekeeping();
   boost::asio::steady_timer stop_timer(loop.io());
-  if (duration_s > 0) {
-    stop_timer.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(duration_s)));
-    stop_timer.async_wait([&](const boost::system::error_code& ec) { if (!ec) loop.requestStop(0); });
-  }
-  loop.ready("following " + delta_channel);
+  stopAfter(o.duration_s, stop_timer, loop);
+  loop.ready("following " + o.delta_channel);
   const int rc = loop.run();
-
-  const auto server = receiver.serverChecksum();
-  std::printf("map_id %lld seq %lld cells %zu published_checksum %016llx mapper_published_checksum %016llx "
-              "consistent %s gaps %llu keyframes %llu malformed %llu messages %llu\n",
-              static_cast<long long>(receiver.mapId().value_or(-1)), static_cast<long long>(receiver.appliedSeq()),
-              receiver.map().size(), static_cast<unsigned long long>(receiver.map().checksum()),
-              static_cast<unsigned long long>(server.value_or(0)), receiver.consistent() ? "yes" : "no",
-              static_cast<unsigned long long>(receiver.gaps()),
-              static_cast<unsigned long long>(receiver.keyframesApplied()),
-              static_cast<unsigned long long>(receiver.malformed() + decode_errors),
-              static_cast<unsigned long long>(messages));
+  follower.printSummary();
   return rc;
 }

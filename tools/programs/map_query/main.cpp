@@ -64,6 +64,154 @@ int noReply(const std::string& channel, double timeout_s, const std::string& url
   return kExitFailed;
 }
 
+// The command line: the bus options and one subcommand.
+struct Options {
+  std::string url, query_channel = "OGF_MAP_QUERY", command_channel = "OGF_MAP_COMMAND", log_level = "warn";
+  double timeout_s = 5.0;
+  std::vector<double> cell_xyz, box;
+  std::string key_file, keygen_file;
+  std::string format, path;
+  CLI::App* cell = nullptr;
+  CLI::App* box_command = nullptr;
+  CLI::App* keygen = nullptr;
+};
+
+void addOptions(CLI::App& app, Options& o) {
+  app.require_subcommand(1);
+  app.add_option("--lcm-url", o.url, "LCM URL (default: $LCM_DEFAULT_URL, else LCM's default)");
+  app.add_option("--query-channel", o.query_channel, "Query channel")->capture_default_str();
+  app.add_option("--command-channel", o.command_channel, "Command channel")->capture_default_str();
+  app.add_option("--timeout", o.timeout_s, "Seconds to wait for the reply")->capture_default_str()->check(ogf::cli::positive());
+  app.add_option("--log-level", o.log_level, "trace, debug, info, warn, error")->capture_default_str();
+  o.cell = app.add_subcommand("cell", "Probability, class, mean, variance and entropy of the cells holding points");
+  o.cell->add_option("xyz", o.cell_xyz, "X Y Z [X Y Z ...], metres")->required()->expected(3, 3 * 10'000);
+  o.box_command = app.add_subcommand("box", "Known and unknown volume and mean entropy of a box");
+  o.box_command->add_option("corners", o.box, "XMIN YMIN ZMIN XMAX YMAX ZMAX, metres")->required()->expected(6);
+  app.add_option("--key", o.key_file,
+                 "Key file to sign commands with (the mapper's services.key_file; 64 hex digits, mode 0600)");
+  o.keygen = app.add_subcommand("keygen", "Create a new key file (mode 0600) for services.key_file; nothing is sent");
+  o.keygen->add_option("file", o.keygen_file, "Where to create it (never replaced)")->required();
+  app.add_subcommand("save", "Write a snapshot to the mapper's state directory now");
+  app.add_subcommand("reset", "Start an empty map with a new map id (the old one is kept on disk)");
+  auto* exp = app.add_subcommand("export", "Write the map into the mapper's export directory (services.export_dir)");
+  exp->add_option("format", o.format, "ogfm, ply, pcd, csv or bt")->required();
+  exp->add_option("name", o.path, "Plain file name ending in .FORMAT (no directory); an existing file is kept")->required();
+}
+
+int keygen(const Options& o) {
+  if (auto st = ogf::mapper_daemon::createCommandKey(o.keygen_file); !st) {
+    std::fprintf(stderr, "keygen: %s\n", st.error().message.c_str());
+    return kExitFailed;
+  }
+  std::printf("wrote a new key to %s (mode 0600)\n", o.keygen_file.c_str());
+  return kExitOk;
+}
+
+// --key's key, and the cell subcommand's points checked, before anything is sent.
+std::optional<int> checkUsage(const Options& o, std::optional<ogf::mapper_daemon::CommandKey>& key) {
+  if (!o.key_file.empty()) {
+    auto k = ogf::mapper_daemon::loadCommandKey(o.key_file);
+    if (!k) {
+      std::fprintf(stderr, "--key: %s\n", k.error().message.c_str());
+      return kExitUsage;
+    }
+    key = *k;
+  }
+  if (o.cell->parsed() && o.cell_xyz.size() % 3 != 0) {
+    std::fprintf(stderr, "cell: give X Y Z triples (%zu numbers given)\n", o.cell_xyz.size());
+    return kExitUsage;
+  }
+  return std::nullopt;
+}
+
+// Who asks, under which request id: one per run.
+struct Request {
+  std::mt19937_64 rng{std::random_device{}()};  // first: the id is its first draw, a command's nonce the next
+  std::int64_t id = static_cast<std::int64_t>(rng() >> 1);
+  std::string requester = "ogf-map-query:" + std::to_string(::getpid());
+};
+
+ogf::map_query_t makeQuery(const Options& o, const Request& request) {
+  ogf::map_query_t q{};
+  q.utime = nowUtime();
+  q.request_id = request.id;
+  q.requester = request.requester;
+  if (o.cell->parsed()) {
+    q.kind = ogf::map_query_t::KIND_CELLS;
+    for (std::size_t i = 0; i + 2 < o.cell_xyz.size(); i += 3) {
+      q.points.push_back({static_cast<float>(o.cell_xyz[i]), static_cast<float>(o.cell_xyz[i + 1]),
+                          static_cast<float>(o.cell_xyz[i + 2])});
+    }
+    q.num_points = static_cast<std::int32_t>(q.points.size());
+  } else {
+    q.kind = ogf::map_query_t::KIND_BOX;
+    for (int a = 0; a < 3; ++a) {
+      q.box_min[a] = static_cast<float>(o.box[static_cast<std::size_t>(a)]);
+      q.box_max[a] = static_cast<float>(o.box[static_cast<std::size_t>(a) + 3]);
+    }
+  }
+  return q;
+}
+
+void printQueryReply(const ogf::map_query_t& q, const ogf::map_query_reply_t& r) {
+  std::printf("map_id %lld seq %lld resolution %.3f\n", static_cast<long long>(r.map_id),
+              static_cast<long long>(r.seq), static_cast<double>(r.resolution));
+  if (q.kind == ogf::map_query_t::KIND_CELLS) {
+    std::printf("%10s %10s %10s %11s %6s %10s %10s %8s\n", "x", "y", "z", "probability", "class", "mean", "variance",
+                "entropy");
+    for (std::size_t i = 0; i < static_cast<std::size_t>(r.num_cells); ++i) {
+      const char* cls = r.cell_class[i] > 0 ? "occ" : r.cell_class[i] < 0 ? "free" : "unk";
+      std::printf("%10.3f %10.3f %10.3f %11.4f %6s %10.4f %10.4f %8.4f\n", static_cast<double>(q.points[i][0]),
+                  static_cast<double>(q.points[i][1]), static_cast<double>(q.points[i][2]),
+                  static_cast<double>(r.probability[i]), cls, static_cast<double>(r.mean[i]),
+                  static_cast<double>(r.variance[i]), static_cast<double>(r.entropy[i]));
+    }
+  } else {
+    std::printf("cells %lld occupied %lld free %lld unknown %lld\n", static_cast<long long>(r.box_cells),
+                static_cast<long long>(r.box_occupied), static_cast<long long>(r.box_free),
+                static_cast<long long>(r.box_unknown));
+    std::printf("known_volume_m3 %.3f unknown_volume_m3 %.3f mean_entropy_bits %.4f mean_variance %.4f\n",
+                r.known_volume_m3, r.unknown_volume_m3, r.mean_entropy_bits, r.mean_variance);
+  }
+}
+
+int query(const Options& o, lcm::LCM& lcm, const std::string& url, const Request& request) {
+  const ogf::map_query_t q = makeQuery(o, request);
+  const auto r = awaitReply<ogf::map_query_reply_t>(lcm, o.query_channel + "_REPLY", request.id, o.timeout_s,
+                                                    [&] { lcm.publish(o.query_channel, &q); });
+  if (!r) return noReply(o.query_channel, o.timeout_s, url);
+  if (r->status != ogf::map_query_reply_t::STATUS_OK) {
+    std::fprintf(stderr, "refused: %s\n", r->message.c_str());
+    return kExitFailed;
+  }
+  printQueryReply(q, *r);
+  return kExitOk;
+}
+
+int command(const CLI::App& app, const Options& o, lcm::LCM& lcm, const std::string& url, Request& request,
+            const std::optional<ogf::mapper_daemon::CommandKey>& key) {
+  ogf::map_command_t c{};
+  c.utime = nowUtime();
+  c.request_id = request.id;
+  c.requester = request.requester;
+  for (const char* name : {"save", "reset", "export"}) {
+    if (app.got_subcommand(name)) c.command = name;
+  }
+  c.format = o.format;
+  c.path = o.path;
+  c.nonce = static_cast<std::int64_t>(request.rng());
+  // Unsigned without --key: the mapper refuses it, and says why.
+  if (key) ogf::mapper_daemon::signCommand(c, *key);
+  const auto r = awaitReply<ogf::map_command_reply_t>(lcm, o.command_channel + "_REPLY", request.id, o.timeout_s,
+                                                      [&] { lcm.publish(o.command_channel, &c); });
+  if (!r) return noReply(o.command_channel, o.timeout_s, url);
+  std::printf("%s: %s (map_id %lld seq %lld)\n", r->status == ogf::map_command_reply_t::STATUS_OK ? "done" : "not done",
+              r->message.c_str(), static_cast<long long>(r->map_id), static_cast<long long>(r->seq));
+  if (r->status == ogf::map_command_reply_t::STATUS_REFUSED && !key)
+    std::fprintf(stderr, "commands are signed with --key FILE (the mapper's services.key_file)\n");
+  return r->status == ogf::map_command_reply_t::STATUS_OK ? kExitOk : kExitFailed;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -71,129 +219,20 @@ int main(int argc, char** argv) {
       "Ask the running ogf-mapper about its map, or order it, over LCM (OGF_MAP_QUERY / OGF_MAP_COMMAND; the\n"
       "replies come on <channel>_REPLY). Coordinates are metres in the map frame.\n"
       "Exit 0 when answered or done, 1 when refused, failed or unanswered within --timeout, 2 on bad usage."};
-  app.require_subcommand(1);
-  std::string url, query_channel = "OGF_MAP_QUERY", command_channel = "OGF_MAP_COMMAND", log_level = "warn";
-  double timeout_s = 5.0;
-  app.add_option("--lcm-url", url, "LCM URL (default: $LCM_DEFAULT_URL, else LCM's default)");
-  app.add_option("--query-channel", query_channel, "Query channel")->capture_default_str();
-  app.add_option("--command-channel", command_channel, "Command channel")->capture_default_str();
-  app.add_option("--timeout", timeout_s, "Seconds to wait for the reply")->capture_default_str()->check(ogf::cli::positive());
-  app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
-  std::vector<double> cell_xyz, box;
-  auto* cell = app.add_subcommand("cell", "Probability, class, mean, variance and entropy of the cells holding points");
-  cell->add_option("xyz", cell_xyz, "X Y Z [X Y Z ...], metres")->required()->expected(3, 3 * 10'000);
-  auto* boxc = app.add_subcommand("box", "Known and unknown volume and mean entropy of a box");
-  boxc->add_option("corners", box, "XMIN YMIN ZMIN XMAX YMAX ZMAX, metres")->required()->expected(6);
-  std::string key_file, keygen_file;
-  app.add_option("--key", key_file,
-                 "Key file to sign commands with (the mapper's services.key_file; 64 hex digits, mode 0600)");
-  auto* keygen = app.add_subcommand("keygen", "Create a new key file (mode 0600) for services.key_file; nothing is sent");
-  keygen->add_option("file", keygen_file, "Where to create it (never replaced)")->required();
-  app.add_subcommand("save", "Write a snapshot to the mapper's state directory now");
-  app.add_subcommand("reset", "Start an empty map with a new map id (the old one is kept on disk)");
-  std::string format, path;
-  auto* exp = app.add_subcommand("export", "Write the map into the mapper's export directory (services.export_dir)");
-  exp->add_option("format", format, "ogfm, ply, pcd, csv or bt")->required();
-  exp->add_option("name", path, "Plain file name ending in .FORMAT (no directory); an existing file is kept")->required();
+  Options o;
+  addOptions(app, o);
   OGF_PARSE_COMMAND_LINE(app, argc, argv);
-  if (keygen->parsed()) {
-    if (auto st = ogf::mapper_daemon::createCommandKey(keygen_file); !st) {
-      std::fprintf(stderr, "keygen: %s\n", st.error().message.c_str());
-      return kExitFailed;
-    }
-    std::printf("wrote a new key to %s (mode 0600)\n", keygen_file.c_str());
-    return kExitOk;
-  }
+  if (o.keygen->parsed()) return keygen(o);
   std::optional<ogf::mapper_daemon::CommandKey> key;
-  if (!key_file.empty()) {
-    auto k = ogf::mapper_daemon::loadCommandKey(key_file);
-    if (!k) {
-      std::fprintf(stderr, "--key: %s\n", k.error().message.c_str());
-      return kExitUsage;
-    }
-    key = *k;
-  }
-  if (cell->parsed() && cell_xyz.size() % 3 != 0) {
-    std::fprintf(stderr, "cell: give X Y Z triples (%zu numbers given)\n", cell_xyz.size());
-    return kExitUsage;
-  }
-  if (!ogf::transport::setupLoggingAt("ogf-map-query", "--log-level", log_level)) return kExitUsage;
-  const std::string resolved = ogf::transport::withReceiveBuffer(ogf::transport::resolveLcmUrl(url));
+  if (auto stop = checkUsage(o, key)) return *stop;
+  if (!ogf::transport::setupLoggingAt("ogf-map-query", "--log-level", o.log_level)) return kExitUsage;
+  const std::string resolved = ogf::transport::withReceiveBuffer(ogf::transport::resolveLcmUrl(o.url));
   lcm::LCM lcm(resolved);
   if (!lcm.good()) {
     spdlog::error("cannot join the LCM bus {}", resolved);
     return kExitFailed;
   }
-  std::mt19937_64 rng(std::random_device{}());
-  const auto id = static_cast<std::int64_t>(rng() >> 1);
-  const std::string requester = "ogf-map-query:" + std::to_string(::getpid());
-
-  if (cell->parsed() || boxc->parsed()) {
-    ogf::map_query_t q{};
-    q.utime = nowUtime();
-    q.request_id = id;
-    q.requester = requester;
-    if (cell->parsed()) {
-      q.kind = ogf::map_query_t::KIND_CELLS;
-      for (std::size_t i = 0; i + 2 < cell_xyz.size(); i += 3) {
-        q.points.push_back({static_cast<float>(cell_xyz[i]), static_cast<float>(cell_xyz[i + 1]),
-                            static_cast<float>(cell_xyz[i + 2])});
-      }
-      q.num_points = static_cast<std::int32_t>(q.points.size());
-    } else {
-      q.kind = ogf::map_query_t::KIND_BOX;
-      for (int a = 0; a < 3; ++a) {
-        q.box_min[a] = static_cast<float>(box[static_cast<std::size_t>(a)]);
-        q.box_max[a] = static_cast<float>(box[static_cast<std::size_t>(a) + 3]);
-      }
-    }
-    const auto r = awaitReply<ogf::map_query_reply_t>(lcm, query_channel + "_REPLY", id, timeout_s,
-                                                      [&] { lcm.publish(query_channel, &q); });
-    if (!r) return noReply(query_channel, timeout_s, resolved);
-    if (r->status != ogf::map_query_reply_t::STATUS_OK) {
-      std::fprintf(stderr, "refused: %s\n", r->message.c_str());
-      return kExitFailed;
-    }
-    std::printf("map_id %lld seq %lld resolution %.3f\n", static_cast<long long>(r->map_id),
-                static_cast<long long>(r->seq), static_cast<double>(r->resolution));
-    if (cell->parsed()) {
-      std::printf("%10s %10s %10s %11s %6s %10s %10s %8s\n", "x", "y", "z", "probability", "class", "mean", "variance",
-                  "entropy");
-      for (std::size_t i = 0; i < static_cast<std::size_t>(r->num_cells); ++i) {
-        const char* cls = r->cell_class[i] > 0 ? "occ" : r->cell_class[i] < 0 ? "free" : "unk";
-        std::printf("%10.3f %10.3f %10.3f %11.4f %6s %10.4f %10.4f %8.4f\n", static_cast<double>(q.points[i][0]),
-                    static_cast<double>(q.points[i][1]), static_cast<double>(q.points[i][2]),
-                    static_cast<double>(r->probability[i]), cls, static_cast<double>(r->mean[i]),
-                    static_cast<double>(r->variance[i]), static_cast<double>(r->entropy[i]));
-      }
-    } else {
-      std::printf("cells %lld occupied %lld free %lld unknown %lld\n", static_cast<long long>(r->box_cells),
-                  static_cast<long long>(r->box_occupied), static_cast<long long>(r->box_free),
-                  static_cast<long long>(r->box_unknown));
-      std::printf("known_volume_m3 %.3f unknown_volume_m3 %.3f mean_entropy_bits %.4f mean_variance %.4f\n",
-                  r->known_volume_m3, r->unknown_volume_m3, r->mean_entropy_bits, r->mean_variance);
-    }
-    return kExitOk;
-  }
-
-  ogf::map_command_t c{};
-  c.utime = nowUtime();
-  c.request_id = id;
-  c.requester = requester;
-  for (const char* name : {"save", "reset", "export"}) {
-    if (app.got_subcommand(name)) c.command = name;
-  }
-  c.format = format;
-  c.path = path;
-  c.nonce = static_cast<std::int64_t>(rng());
-  // Unsigned without --key: the mapper refuses it, and says why.
-  if (key) ogf::mapper_daemon::signCommand(c, *key);
-  const auto r = awaitReply<ogf::map_command_reply_t>(lcm, command_channel + "_REPLY", id, timeout_s,
-                                                      [&] { lcm.publish(command_channel, &c); });
-  if (!r) return noReply(command_channel, timeout_s, resolved);
-  std::printf("%s: %s (map_id %lld seq %lld)\n", r->status == ogf::map_command_reply_t::STATUS_OK ? "done" : "not done",
-              r->message.c_str(), static_cast<long long>(r->map_id), static_cast<long long>(r->seq));
-  if (r->status == ogf::map_command_reply_t::STATUS_REFUSED && !key)
-    std::fprintf(stderr, "commands are signed with --key FILE (the mapper's services.key_file)\n");
-  return r->status == ogf::map_command_reply_t::STATUS_OK ? kExitOk : kExitFailed;
+  Request request;
+  if (o.cell->parsed() || o.box_command->parsed()) return query(o, lcm, resolved, request);
+  return command(app, o, lcm, resolved, request, key);
 }

@@ -5,7 +5,9 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "ogf/common/command_line.hpp"
 #include "ogf/sim/scene.hpp"
@@ -43,11 +45,7 @@ Outputs in --out DIR:
   sim.yaml             what was simulated (world, trajectory, sensor, extrinsic sensor->body, counts).
 )";
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"ogf-sim: a simulated VLP-16 in a known world, with odometry and ground truth"};
-  app.footer(kOutputs);
+struct Options {
   std::string world = "lab";
   std::string movers = "none";
   std::string trajectory;
@@ -57,98 +55,128 @@ int main(int argc, char** argv) {
   std::string odometry_error = "none";
   std::string log_level = "info";
   ogf::sim::SimulationConfig config;
-  app.add_option("--world", world, "World preset (" + join(ogf::sim::scenePresetNames()) + ") or scene YAML file")
+};
+
+void addOptions(CLI::App& app, Options& o) {
+  app.add_option("--world", o.world, "World preset (" + join(ogf::sim::scenePresetNames()) + ") or scene YAML file")
       ->capture_default_str();
-  app.add_option("--trajectory", trajectory,
+  app.add_option("--trajectory", o.trajectory,
                  "A trajectory of the world (static, loop, corridor) or a trajectory YAML file; "
                  "default: the world's default_trajectory");
-  app.add_option("--duration", config.duration_s, "Seconds of capture")->capture_default_str()->check(ogf::cli::positive());
-  app.add_option("--rpm", config.sensor.rpm, "Rotation rate, 300..1200 (600 or 1200 typical)")
+  app.add_option("--duration", o.config.duration_s, "Seconds of capture")->capture_default_str()->check(ogf::cli::positive());
+  app.add_option("--rpm", o.config.sensor.rpm, "Rotation rate, 300..1200 (600 or 1200 typical)")
       ->capture_default_str()
       ->check(ogf::cli::between(300.0, 1200.0));
-  app.add_option("--model", model_name, "Sensor: vlp16 (the VLP-16 of docs/wire-format.md) or hdl32e")
+  app.add_option("--model", o.model_name, "Sensor: vlp16 (the VLP-16 of docs/wire-format.md) or hdl32e")
       ->capture_default_str()
       ->check(CLI::IsMember({"vlp16", "hdl32e"}));
-  app.add_option("--return-mode", return_mode, "strongest|last|dual")
+  app.add_option("--return-mode", o.return_mode, "strongest|last|dual")
       ->capture_default_str()
       ->check(CLI::IsMember({"strongest", "last", "dual"}));
-  app.add_option("--seed", config.sensor.seed, "Seed of every random draw (same seed, same files)")->capture_default_str();
-  app.add_option("--out", out_dir, "Output folder (created if missing)")->required();
-  app.add_option("--range-noise", config.sensor.range_noise_m, "Gaussian range noise sigma, metres")
+  app.add_option("--seed", o.config.sensor.seed, "Seed of every random draw (same seed, same files)")->capture_default_str();
+  app.add_option("--out", o.out_dir, "Output folder (created if missing)")->required();
+  app.add_option("--range-noise", o.config.sensor.range_noise_m, "Gaussian range noise sigma, metres")
       ->capture_default_str()
       ->check(ogf::cli::nonNegative());
-  app.add_option("--dropout", config.sensor.dropout, "Probability that a firing returns nothing")
+  app.add_option("--dropout", o.config.sensor.dropout, "Probability that a firing returns nothing")
       ->capture_default_str()
       ->check(ogf::cli::between(0.0, 1.0));
-  app.add_option("--max-range", config.sensor.max_range_m, "Maximum range, metres")
+  app.add_option("--max-range", o.config.sensor.max_range_m, "Maximum range, metres")
       ->capture_default_str()
       ->check(ogf::cli::between(0.5, 130.0));
-  app.add_option("--odometry-error,--odometry-drift", odometry_error,
+  app.add_option("--odometry-error,--odometry-drift", o.odometry_error,
                  "Odometry error preset (" + join(ogf::sim::odometryErrorPresetNames()) +
                      "). Drift presets: wheel-slip = 3 % scale, 0.01 rad/m heading drift, random walks "
                      "0.02 m and 0.005 rad per sqrt(m); gyro-bias = 0.0035 rad/s (0.2 deg/s) heading bias; "
                      "slip-and-bias = both. Random parts follow --seed; trajectory_true.csv never changes")
       ->capture_default_str();
-  app.add_option("--odometry-rate", config.odometry_rate_hz, "Odometry samples per second")
+  app.add_option("--odometry-rate", o.config.odometry_rate_hz, "Odometry samples per second")
       ->capture_default_str()
       ->check(ogf::cli::between(1.0, 1000.0));
-  app.add_option("--truth-resolution", config.truth_resolution_m, "Ground-truth cell size, metres")
+  app.add_option("--truth-resolution", o.config.truth_resolution_m, "Ground-truth cell size, metres")
       ->capture_default_str()
       ->check(ogf::cli::between(0.02, 5.0));
-  app.add_option("--start-utime", config.start_utime, "Time of the first firing, us since the epoch")
+  app.add_option("--start-utime", o.config.start_utime, "Time of the first firing, us since the epoch")
       ->capture_default_str();
-  app.add_option("--movers", movers,
+  app.add_option("--movers", o.movers,
                  "Moving solids of the world (e.g. person: someone walking through the lab, then gone), or none; "
                  "the lidar sees them, truth.grid does not; swept.grid marks the cells they passed through")
       ->capture_default_str();
-  app.add_option("--log-level", log_level, "trace|debug|info|warn|error")->capture_default_str();
-  OGF_PARSE_COMMAND_LINE(app, argc, argv);
+  app.add_option("--log-level", o.log_level, "trace|debug|info|warn|error")->capture_default_str();
+}
 
-  if (!ogf::transport::setupLoggingAt("ogf-sim", "--log-level", log_level)) return EXIT_FAILURE;
+// What is simulated: the scene and the path the robot drives through it.
+struct Scenario {
+  ogf::sim::Scene scene;
+  ogf::sim::TrajectorySpec trajectory;
+};
 
-  auto scene = ogf::sim::resolveScene(world);
+// The scene and its trajectory, with the movers, the sensor and the odometry error put into `o.config`;
+// nullopt (after logging which flag was wrong) when one cannot be resolved.
+std::optional<Scenario> resolveScenario(Options& o) {
+  auto scene = ogf::sim::resolveScene(o.world);
   if (!scene) {
     spdlog::error("--world: {}", scene.error().message);
-    return EXIT_FAILURE;
+    return std::nullopt;
   }
-  auto spec = ogf::sim::resolveTrajectory(*scene, trajectory);
+  auto spec = ogf::sim::resolveTrajectory(*scene, o.trajectory);
   if (!spec) {
     spdlog::error("--trajectory: {}", spec.error().message);
-    return EXIT_FAILURE;
+    return std::nullopt;
   }
-  auto moving = ogf::sim::resolveMovers(*scene, movers);
+  auto moving = ogf::sim::resolveMovers(*scene, o.movers);
   if (!moving) {
     spdlog::error("--movers: {}", moving.error().message);
-    return EXIT_FAILURE;
+    return std::nullopt;
   }
+  auto& config = o.config;
   config.movers = *moving;
-  config.movers_label = movers;
-  auto model = ogf::sim::odometryErrorPreset(odometry_error);
+  config.movers_label = o.movers;
+  auto model = ogf::sim::odometryErrorPreset(o.odometry_error);
   if (!model) {
     spdlog::error("--odometry-error: {}", model.error().message);
-    return EXIT_FAILURE;
+    return std::nullopt;
   }
-  config.sensor.mode = *ogf::sim::vlp16::parseReturnMode(return_mode);
-  config.sensor.model = *ogf::sim::parseLidarModel(model_name);
+  config.sensor.mode = *ogf::sim::vlp16::parseReturnMode(o.return_mode);
+  config.sensor.model = *ogf::sim::parseLidarModel(o.model_name);
   config.odometry_error = *model;
-  config.odometry_error_name = odometry_error;
-  config.world_label = world;
-  config.trajectory_label = trajectory.empty() ? scene->default_trajectory : trajectory;
+  config.odometry_error_name = o.odometry_error;
+  config.world_label = o.world;
+  config.trajectory_label = o.trajectory.empty() ? scene->default_trajectory : o.trajectory;
+  return Scenario{std::move(*scene), std::move(*spec)};
+}
 
+void logReport(const Options& o, const Scenario& scenario, const ogf::sim::SimulationReport& report, double seconds) {
+  const auto& config = o.config;
+  spdlog::info("world {} ({} solids), trajectory {} ({:.1f} m path), {} {} s at {} rpm, {} returns",
+               scenario.scene.world.name, scenario.scene.world.solids.size(), config.trajectory_label,
+               report.path_length_m, ogf::sim::lidarModel(config.sensor.model).name, config.duration_s,
+               config.sensor.rpm, o.return_mode);
+  spdlog::info("wrote {}: {} data + {} position packets, {} odometry poses ({}), truth {}x{}x{} at {} m "
+               "({} occupied) in {:.2f} s",
+               o.out_dir, report.capture.data_packets, report.capture.position_packets, report.odometry_poses,
+               o.odometry_error, report.truth.size[0], report.truth.size[1], report.truth.size[2],
+               report.truth.resolution, report.truth.count(ogf::sim::CellClass::Occupied), seconds);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"ogf-sim: a simulated VLP-16 in a known world, with odometry and ground truth"};
+  app.footer(kOutputs);
+  Options o;
+  addOptions(app, o);
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
+  if (!ogf::transport::setupLoggingAt("ogf-sim", "--log-level", o.log_level)) return EXIT_FAILURE;
+
+  const auto scenario = resolveScenario(o);
+  if (!scenario) return EXIT_FAILURE;
   const auto started = std::chrono::steady_clock::now();
-  auto report = ogf::sim::runSimulation(*scene, *spec, config, out_dir);
+  auto report = ogf::sim::runSimulation(scenario->scene, scenario->trajectory, o.config, o.out_dir);
   if (!report) {
     spdlog::error("{}", report.error().message);
     return EXIT_FAILURE;
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  spdlog::info("world {} ({} solids), trajectory {} ({:.1f} m path), {} {} s at {} rpm, {} returns",
-               scene->world.name, scene->world.solids.size(), config.trajectory_label, report->path_length_m,
-               ogf::sim::lidarModel(config.sensor.model).name, config.duration_s, config.sensor.rpm, return_mode);
-  spdlog::info("wrote {}: {} data + {} position packets, {} odometry poses ({}), truth {}x{}x{} at {} m "
-               "({} occupied) in {:.2f} s",
-               out_dir, report->capture.data_packets, report->capture.position_packets, report->odometry_poses,
-               odometry_error, report->truth.size[0], report->truth.size[1], report->truth.size[2],
-               report->truth.resolution, report->truth.count(ogf::sim::CellClass::Occupied), seconds);
+  logReport(o, *scenario, *report, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
   return EXIT_SUCCESS;
 }

@@ -41,9 +41,9 @@
 #include "ogf/transport/logging.hpp"
 #include "ogf/transport/subscriber.hpp"
 #include "ogf/view/access_token.hpp"
-#include "ogf/view/cell_frame.hpp"
-#include "ogf/view/live_figures.hpp"
+#include "ogf/view/feed_state.hpp"
 #include "ogf/view/occupied_slots.hpp"
+#include "ogf/view/view_address.hpp"
 #include "ogf/view/view_server.hpp"
 #include "ogf/view/web_page.hpp"
 
@@ -53,55 +53,10 @@ constexpr int kExitOk = 0;
 constexpr int kExitFailure = 1;
 constexpr int kExitUsage = 2;
 
-std::optional<std::string> readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+// A step that cannot go on returns the exit code (after logging why); nullopt goes on.
+using Stop = std::optional<int>;
 
-// 128 random bits as 32 hex digits.
-std::optional<std::string> randomToken() {
-  unsigned char bytes[16];
-  if (::getrandom(bytes, sizeof bytes, 0) != static_cast<ssize_t>(sizeof bytes)) return std::nullopt;
-  std::string out;
-  for (const unsigned char b : bytes) out += fmt::format("{:02x}", b);
-  return out;
-}
-
-// The token of --token FILE: its first line without surrounding blanks; an error message when unusable.
-ogf::Result<std::string> tokenFromFile(const std::string& path) {
-  const auto text = readFile(path);
-  if (!text) return ogf::Error{"--token " + path + ": cannot read the file"};
-  std::string token = text->substr(0, text->find('\n'));
-  const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
-  while (!token.empty() && blank(token.back())) token.pop_back();
-  while (!token.empty() && blank(token.front())) token.erase(token.begin());
-  if (auto why = ogf::view::tokenProblem(token)) return ogf::Error{"--token " + path + ": " + *why};
-  struct stat st {};
-  if (::stat(path.c_str(), &st) == 0 && (st.st_mode & 077) != 0)
-    spdlog::warn("--token {}: other users can read the file (chmod 600 it)", path);
-  return token;
-}
-
-// A POSE channel carries ogf.odometry_t or bot_core.pose_t: decoded from the raw bytes.
-struct PoseSubscription {
-  ogf::view::PoseTrail* trail = nullptr;
-  std::uint64_t rejected = 0;
-  static void handle(const lcm::ReceiveBuffer* rbuf, const std::string&, PoseSubscription* self) {
-    auto pose = ogf::adapters::decodePose(rbuf->data, rbuf->data_size);
-    if (pose) {
-      self->trail->add(*pose);
-    } else {
-      ++self->rejected;
-    }
-  }
-};
-
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"Show the ogf map in a browser: follows OGF_MAP_DELTA (or shows a saved map) and serves a 3-D "
-               "page with a live WebSocket feed."};
+struct Options {
   std::string url;
   std::string map_path;
   std::string bind = "127.0.0.1";
@@ -121,70 +76,104 @@ int main(int argc, char** argv) {
   double client_timeout_s = 30.0;
   std::size_t memory_budget_mib = limits.memory_budget >> 20;
   std::string token_path;
-  app.add_option("--lcm-url", url, "LCM URL (default: $LCM_DEFAULT_URL, else LCM's default)");
-  app.add_option("--map", map_path, "Show this map file (ogf-map --out) or daemon snapshot instead of the bus")
+
+  bool live() const { return map_path.empty(); }
+};
+
+void addOptions(CLI::App& app, Options& o) {
+  app.add_option("--lcm-url", o.url, "LCM URL (default: $LCM_DEFAULT_URL, else LCM's default)");
+  app.add_option("--map", o.map_path, "Show this map file (ogf-map --out) or daemon snapshot instead of the bus")
       ->check(CLI::ExistingFile);
-  app.add_option("--bind", bind, "Address to serve on (0.0.0.0: every interface)")->capture_default_str();
-  app.add_option("--port", port, "TCP port to serve on (0: any free port, printed at start)")->capture_default_str();
-  app.add_option("--channel", delta_channel, "Delta channel")->capture_default_str();
-  app.add_option("--request-channel", request_channel, "Keyframe request channel")->capture_default_str();
-  app.add_option("--pose-channel", pose_channel, "Odometry channel (ogf.odometry_t or bot_core.pose_t)")
+  app.add_option("--bind", o.bind, "Address to serve on (0.0.0.0: every interface)")->capture_default_str();
+  app.add_option("--port", o.port, "TCP port to serve on (0: any free port, printed at start)")->capture_default_str();
+  app.add_option("--channel", o.delta_channel, "Delta channel")->capture_default_str();
+  app.add_option("--request-channel", o.request_channel, "Keyframe request channel")->capture_default_str();
+  app.add_option("--pose-channel", o.pose_channel, "Odometry channel (ogf.odometry_t or bot_core.pose_t)")
       ->capture_default_str();
-  app.add_option("--corrected-channel", corrected_channel, "Corrected pose channel")->capture_default_str();
-  app.add_option("--mapper-status-channel", mapper_status_channel, "Mapper status channel")->capture_default_str();
-  app.add_option("--driver-status-channel", driver_status_channel, "Driver status channel")->capture_default_str();
-  app.add_option("--rate", rate_hz, "Updates sent to the browsers per second")
+  app.add_option("--corrected-channel", o.corrected_channel, "Corrected pose channel")->capture_default_str();
+  app.add_option("--mapper-status-channel", o.mapper_status_channel, "Mapper status channel")->capture_default_str();
+  app.add_option("--driver-status-channel", o.driver_status_channel, "Driver status channel")->capture_default_str();
+  app.add_option("--rate", o.rate_hz, "Updates sent to the browsers per second")
       ->check(CLI::Range(0.2, 30.0))->capture_default_str();
-  app.add_option("--max-boxes", max_boxes,
+  app.add_option("--max-boxes", o.max_boxes,
                  "Most boxes drawn: beyond, a box stands for 2x2x2 cells (4x4x4, ...), the level of detail")
       ->check(CLI::Range(std::size_t{1000}, std::size_t{50000000}))->capture_default_str();
-  app.add_option("--keyframe-retry", keyframe_retry_s, "Seconds between keyframe requests while one is needed")
+  app.add_option("--keyframe-retry", o.keyframe_retry_s, "Seconds between keyframe requests while one is needed")
       ->check(ogf::cli::positive())->capture_default_str();
-  app.add_option("--three-dir", three_dir,
+  app.add_option("--three-dir", o.three_dir,
                  "Where three.js is installed (Debian's libjs-three): three.min.js and "
                  "examples/js/controls/OrbitControls.js")
       ->capture_default_str();
-  app.add_option("--max-clients", limits.max_clients,
+  app.add_option("--max-clients", o.limits.max_clients,
                  "Browsers served at once (each a WebSocket feed); the rest are refused with 503")
       ->check(CLI::Range(std::size_t{1}, std::size_t{10000}))->capture_default_str();
-  app.add_option("--client-timeout", client_timeout_s,
+  app.add_option("--client-timeout", o.client_timeout_s,
                  "Seconds of silence after which a connection is closed: an incomplete or idle HTTP request, a "
                  "feed whose browser answers no ping or takes no data")
       ->check(CLI::Range(1.0, 3600.0))->capture_default_str();
-  app.add_option("--memory-budget", memory_budget_mib,
+  app.add_option("--memory-budget", o.memory_budget_mib,
                  "MiB of frames kept for browsers that are behind, in all; beyond, the slowest is disconnected")
       ->check(CLI::Range(std::size_t{16}, std::size_t{1} << 20))->capture_default_str();
-  app.add_option("--token", token_path,
+  app.add_option("--token", o.token_path,
                  "File whose first line is the token every request must carry (?token=...); without it a "
                  "non-loopback --bind makes one and prints it in the address")
       ->check(CLI::ExistingFile);
-  app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
-  OGF_PARSE_COMMAND_LINE(app, argc, argv);
-  if (!map_path.empty() && !url.empty()) {
-    std::fprintf(stderr, "--map shows a file and joins no bus: drop --lcm-url\n");
-    return kExitUsage;
-  }
-  if (!ogf::transport::setupLoggingAt("ogf-view", "--log-level", log_level)) return kExitUsage;
-  limits.client_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(client_timeout_s * 1000.0));
-  limits.memory_budget = memory_budget_mib << 20;
-  if (!token_path.empty()) {
-    auto token = tokenFromFile(token_path);
+  app.add_option("--log-level", o.log_level, "trace, debug, info, warn, error")->capture_default_str();
+}
+
+std::optional<std::string> readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// 128 random bits as 32 hex digits.
+std::optional<std::string> randomToken() {
+  unsigned char bytes[16];
+  if (::getrandom(bytes, sizeof bytes, 0) != static_cast<ssize_t>(sizeof bytes)) return std::nullopt;
+  std::string out;
+  for (const unsigned char b : bytes) out += fmt::format("{:02x}", b);
+  return out;
+}
+
+// The token of --token FILE; an error message when unusable.
+ogf::Result<std::string> tokenFromFile(const std::string& path) {
+  const auto text = readFile(path);
+  if (!text) return ogf::Error{"--token " + path + ": cannot read the file"};
+  std::string token = ogf::view::tokenOfFileText(*text);
+  if (auto why = ogf::view::tokenProblem(token)) return ogf::Error{"--token " + path + ": " + *why};
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && (st.st_mode & 077) != 0)
+    spdlog::warn("--token {}: other users can read the file (chmod 600 it)", path);
+  return token;
+}
+
+// The server's limits from the flags, with the token: --token's, or one made at start off loopback.
+Stop resolveLimits(Options& o) {
+  o.limits.client_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(o.client_timeout_s * 1000.0));
+  o.limits.memory_budget = o.memory_budget_mib << 20;
+  if (!o.token_path.empty()) {
+    auto token = tokenFromFile(o.token_path);
     if (!token) {
       spdlog::error("{}", token.error().message);
       return kExitUsage;
     }
-    limits.token = *token;
-  } else if (!ogf::view::isLoopbackAddress(bind)) {
+    o.limits.token = *token;
+  } else if (!ogf::view::isLoopbackAddress(o.bind)) {
     auto token = randomToken();
     if (!token) {
       spdlog::error("cannot make a token (getrandom failed): give --token FILE");
       return kExitFailure;
     }
-    limits.token = *token;
+    o.limits.token = *token;
   }
+  return std::nullopt;
+}
 
-  const std::string three_path = three_dir + "/three.min.js";
-  const std::string controls_path = three_dir + "/examples/js/controls/OrbitControls.js";
+// The page and three.js, served as they are.
+Stop readPages(const Options& o, std::map<std::string, ogf::view::ViewServer::Page>& pages) {
+  const std::string three_path = o.three_dir + "/three.min.js";
+  const std::string controls_path = o.three_dir + "/examples/js/controls/OrbitControls.js";
   const auto three = readFile(three_path);
   const auto controls = readFile(controls_path);
   if (!three || !controls) {
@@ -192,204 +181,224 @@ int main(int argc, char** argv) {
                   !three ? three_path : controls_path);
     return kExitFailure;
   }
-
-  ogf::transport::DaemonLoop loop;
-  ogf::view::OccupiedSlots slots;
-  ogf::view::LiveFigures figures;
-  ogf::view::StreamFigures stream;
-  ogf::delta::MapReceiver receiver;
-  std::uint64_t decode_errors = 0;  // messages on the subscribed channels that did not decode
-
-  if (!map_path.empty()) {
-    auto loaded = ogf::map_formats::loadOgfMap(map_path);
-    if (!loaded) {
-      spdlog::error("{}", loaded.error().message);
-      return kExitFailure;
-    }
-    const auto cells = ogf::pipeline::publishedCellsOf(loaded->map);
-    slots.reset(cells, ogf::view::chooseLod(cells, max_boxes));
-    stream.source = map_path;
-    stream.seq = loaded->seq;
-    stream.cells = cells.size();
-    stream.consistent = true;
-    stream.resolution = loaded->map.config().resolution;
-    spdlog::info("{} ({}): {} cells, {} occupied, drawn as {} boxes of {} cells a side", map_path, loaded->kind,
-                 cells.size(), slots.occupiedCells(), slots.occupied(), slots.lod());
-  } else {
-    stream.source = "live";
-  }
-
-  using ogf::view::Frame;
-  const auto textFrame = [](std::string s) { return Frame{std::make_shared<const std::string>(std::move(s)), false}; };
-  const auto cellFrames = [&](std::span<const std::uint32_t> which, bool full) {
-    std::vector<Frame> out;
-    for (auto& bytes : ogf::view::encodeCellFrames(slots, which, full, stream.resolution * slots.lod()))
-      out.push_back(Frame{std::make_shared<const std::string>(bytes.begin(), bytes.end()), true});
-    return out;
-  };
-  const auto refreshStream = [&] {
-    stream.occupied = slots.occupiedCells();
-    stream.boxes = slots.occupied();
-    stream.lod = slots.lod();
-    if (map_path.empty()) {
-      stream.seq = receiver.appliedSeq();
-      stream.cells = receiver.map().size();
-      stream.gaps = receiver.gaps();
-      stream.keyframes = receiver.keyframesApplied();
-      stream.malformed = receiver.malformed() + decode_errors;
-      stream.consistent = receiver.consistent();
-      stream.waiting_for_keyframe = receiver.needsKeyframe();
-      stream.resolution = receiver.resolution();
-    }
-  };
-
-  std::map<std::string, ogf::view::ViewServer::Page> pages;
   pages["/"] = {"text/html; charset=utf-8", std::make_shared<const std::string>(ogf::view::indexHtml())};
   pages["/lib/three.min.js"] = {"text/javascript", std::make_shared<const std::string>(*three)};
   pages["/lib/OrbitControls.js"] = {"text/javascript", std::make_shared<const std::string>(*controls)};
-  // The whole state, made once and shared by every browser that joins or catches up: the cells until
-  // they change, the figures (with the whole trails) until the next tick.
-  std::vector<Frame> whole_cells;
-  std::optional<Frame> whole_figures;
-  const auto wholeState = [&] {
-    if (whole_cells.empty()) whole_cells = cellFrames(slots.filledSlots(), true);
-    if (!whole_figures) {
-      refreshStream();
-      whole_figures = textFrame(figures.json(stream, 0, 0));
+  return std::nullopt;
+}
+
+// --map: the saved map's cells and figures, shown as they are.
+Stop showSavedMap(const Options& o, ogf::view::FeedState& feed) {
+  if (o.live()) {
+    feed.stream().source = "live";
+    return std::nullopt;
+  }
+  auto loaded = ogf::map_formats::loadOgfMap(o.map_path);
+  if (!loaded) {
+    spdlog::error("{}", loaded.error().message);
+    return kExitFailure;
+  }
+  const auto cells = ogf::pipeline::publishedCellsOf(loaded->map);
+  auto& slots = feed.slots();
+  slots.reset(cells, ogf::view::chooseLod(cells, o.max_boxes));
+  auto& stream = feed.stream();
+  stream.source = o.map_path;
+  stream.seq = loaded->seq;
+  stream.cells = cells.size();
+  stream.consistent = true;
+  stream.resolution = loaded->map.config().resolution;
+  spdlog::info("{} ({}): {} cells, {} occupied, drawn as {} boxes of {} cells a side", o.map_path, loaded->kind,
+               cells.size(), slots.occupiedCells(), slots.occupied(), slots.lod());
+  return std::nullopt;
+}
+
+// A POSE channel carries ogf.odometry_t or bot_core.pose_t: decoded from the raw bytes.
+struct PoseSubscription {
+  ogf::view::PoseTrail* trail = nullptr;
+  std::uint64_t rejected = 0;
+  static void handle(const lcm::ReceiveBuffer* rbuf, const std::string&, PoseSubscription* self) {
+    auto pose = ogf::adapters::decodePose(rbuf->data, rbuf->data_size);
+    if (pose) {
+      self->trail->add(*pose);
+    } else {
+      ++self->rejected;
     }
-    std::vector<Frame> out = whole_cells;
-    out.push_back(*whole_figures);
-    return out;
-  };
-  auto server = ogf::view::ViewServer::start(loop.io(), bind, port, std::move(pages), wholeState, limits);
+  }
+};
+
+// The bus: the delta stream into the feed's receiver (a keyframe asked for at start and after every gap),
+// the two status channels into the figures, the poses into the trails.
+class BusFeed {
+ public:
+  BusFeed(const Options& o, ogf::view::FeedState& feed)
+      : o_(o), feed_(feed), raw_poses_{&feed.figures().trail(false)}, corrected_poses_{&feed.figures().trail(true)} {}
+
+  Stop join(boost::asio::io_context& io) {
+    const std::string resolved = ogf::transport::withReceiveBuffer(ogf::transport::resolveLcmUrl(o_.url));
+    lcm_ = std::make_unique<lcm::LCM>(resolved);
+    if (!lcm_->good()) {
+      spdlog::error("cannot join the LCM bus {}", resolved);
+      return kExitFailure;
+    }
+    feed_.receiver().onDeltaCell([this](const ogf::delta::PublishedCell& c) { feed_.slots().set(c); });
+    subscribe();
+    bridge_ = std::make_unique<ogf::transport::LcmAsioBridge>(io, *lcm_);
+    requestKeyframe();
+    return std::nullopt;
+  }
+
+  // Every tick: a keyframe asked for again while one is needed, and a coarser level of detail when the
+  // map outgrew the box budget.
+  void tick() {
+    if (!lcm_) return;
+    auto& receiver = feed_.receiver();
+    if (receiver.needsKeyframe() &&
+        std::chrono::steady_clock::now() - last_request_ > std::chrono::duration<double>(o_.keyframe_retry_s))
+      requestKeyframe();
+    auto& slots = feed_.slots();
+    if (slots.occupied() > o_.max_boxes) {
+      const auto cells = receiver.map().sortedCells();
+      slots.reset(cells, ogf::view::chooseLod(cells, o_.max_boxes));
+      spdlog::info("{} occupied cells: drawn as {} boxes of {} cells a side", slots.occupiedCells(), slots.occupied(),
+                   slots.lod());
+    }
+  }
+
+ private:
+  void requestKeyframe() {
+    const ogf::map_request_t req = ogf::delta::keyframeRequest(feed_.receiver(), requester_);
+    lcm_->publish(o_.request_channel, &req);
+    last_request_ = std::chrono::steady_clock::now();
+  }
+
+  void onDelta(const ogf::map_delta_t& m) {
+    auto& receiver = feed_.receiver();
+    ++feed_.stream().messages;
+    const bool needed_before = receiver.needsKeyframe();
+    const auto outcome = receiver.accept(m);
+    if (outcome == ogf::delta::MapReceiver::Outcome::kGap)
+      spdlog::warn("gap in the delta stream after seq {}: asking for a keyframe", receiver.appliedSeq());
+    if (receiver.keyframesApplied() != keyframes_seen_) {
+      keyframes_seen_ = receiver.keyframesApplied();
+      const auto cells = receiver.map().sortedCells();
+      auto& slots = feed_.slots();
+      slots.reset(cells, ogf::view::chooseLod(cells, o_.max_boxes));
+      spdlog::info("keyframe applied: map {} seq {} cells {} occupied {} boxes {} of {} cells a side",
+                   receiver.mapId().value_or(-1), receiver.appliedSeq(), receiver.map().size(),
+                   slots.occupiedCells(), slots.occupied(), slots.lod());
+    }
+    if (receiver.needsKeyframe() && !needed_before) requestKeyframe();
+  }
+
+  void subscribe() {
+    const auto on_error = [this](const std::string& channel, std::size_t size, std::string_view why) {
+      feed_.countDecodeError();
+      if (auto n = malformed_log_.allow()) spdlog::warn("message on {} ({} bytes) {} ({} more)", channel, size, why, *n);
+    };
+    auto& figures = feed_.figures();
+    subscriptions_.push_back(std::make_shared<ogf::transport::Subscriber<ogf::map_delta_t>>(
+        *lcm_, o_.delta_channel,
+        [this](const ogf::map_delta_t& m, const lcm::ReceiveBuffer&, const std::string&) { onDelta(m); }, on_error));
+    subscriptions_.push_back(std::make_shared<ogf::transport::Subscriber<ogf::mapper_status_t>>(
+        *lcm_, o_.mapper_status_channel,
+        [&figures](const ogf::mapper_status_t& m, const lcm::ReceiveBuffer&, const std::string&) { figures.mapperStatus(m); },
+        on_error));
+    subscriptions_.push_back(std::make_shared<ogf::transport::Subscriber<ogf::driver_status_t>>(
+        *lcm_, o_.driver_status_channel,
+        [&figures](const ogf::driver_status_t& m, const lcm::ReceiveBuffer&, const std::string&) { figures.driverStatus(m); },
+        on_error));
+    lcm_->subscribeFunction(o_.pose_channel, &PoseSubscription::handle, &raw_poses_)
+        ->setQueueCapacity(ogf::transport::kSubscriptionQueueCapacity);
+    lcm_->subscribeFunction(o_.corrected_channel, &PoseSubscription::handle, &corrected_poses_)
+        ->setQueueCapacity(ogf::transport::kSubscriptionQueueCapacity);
+  }
+
+  const Options& o_;
+  ogf::view::FeedState& feed_;
+  std::unique_ptr<lcm::LCM> lcm_;
+  std::vector<std::shared_ptr<void>> subscriptions_;
+  std::unique_ptr<ogf::transport::LcmAsioBridge> bridge_;
+  PoseSubscription raw_poses_;
+  PoseSubscription corrected_poses_;
+  std::chrono::steady_clock::time_point last_request_{};
+  const std::string requester_ = ogf::delta::requesterName() + ":ogf-view";
+  std::uint64_t keyframes_seen_ = 0;
+  ogf::transport::LogRateLimiter malformed_log_;
+};
+
+// Every 1/rate s: what changed goes to the browsers, then the figures; the server's figures in the log
+// once a minute when they changed.
+class Ticker {
+ public:
+  Ticker(const Options& o, boost::asio::io_context& io, ogf::view::FeedState& feed, BusFeed* bus,
+         ogf::view::ViewServer& server)
+      : feed_(feed), bus_(bus), server_(server), timer_(io),
+        period_(std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(1.0 / o.rate_hz))) {}
+
+  void tick() {
+    if (bus_) bus_->tick();
+    server_.broadcast(feed_.takeUpdate());
+    server_.maintain();
+    if (const auto now = std::chrono::steady_clock::now(); now - last_server_log_ > std::chrono::minutes(1)) {
+      if (auto json = server_.statusJson(); json != last_server_status_) {
+        spdlog::info("server: {}", json.substr(0, json.size() - 1));
+        last_server_status_ = std::move(json);
+      }
+      last_server_log_ = now;
+    }
+    timer_.expires_after(period_);
+    timer_.async_wait([this](const boost::system::error_code& ec) { if (!ec) tick(); });
+  }
+
+ private:
+  ogf::view::FeedState& feed_;
+  BusFeed* bus_;
+  ogf::view::ViewServer& server_;
+  boost::asio::steady_timer timer_;
+  std::chrono::steady_clock::duration period_;
+  std::chrono::steady_clock::time_point last_server_log_ = std::chrono::steady_clock::now();
+  std::string last_server_status_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Show the ogf map in a browser: follows OGF_MAP_DELTA (or shows a saved map) and serves a 3-D "
+               "page with a live WebSocket feed."};
+  Options o;
+  addOptions(app, o);
+  OGF_PARSE_COMMAND_LINE(app, argc, argv);
+  if (!o.map_path.empty() && !o.url.empty()) {
+    std::fprintf(stderr, "--map shows a file and joins no bus: drop --lcm-url\n");
+    return kExitUsage;
+  }
+  if (!ogf::transport::setupLoggingAt("ogf-view", "--log-level", o.log_level)) return kExitUsage;
+  if (auto stop = resolveLimits(o)) return *stop;
+  std::map<std::string, ogf::view::ViewServer::Page> pages;
+  if (auto stop = readPages(o, pages)) return *stop;
+
+  ogf::transport::DaemonLoop loop;
+  ogf::view::FeedState feed(o.live());
+  if (auto stop = showSavedMap(o, feed)) return *stop;
+  auto server = ogf::view::ViewServer::start(loop.io(), o.bind, o.port, std::move(pages),
+                                             [&feed] { return feed.wholeState(); }, o.limits);
   if (!server) {
     spdlog::error("{}", server.error().message);
     return kExitFailure;
   }
-  auto& srv = **server;
-
-  // The bus, unless a file is shown.
-  std::unique_ptr<lcm::LCM> lcm;
-  std::vector<std::shared_ptr<void>> subscriptions;
-  std::unique_ptr<ogf::transport::LcmAsioBridge> bridge;
-  PoseSubscription raw_poses{&figures.trail(false)};
-  PoseSubscription corrected_poses{&figures.trail(true)};
-  auto last_request = std::chrono::steady_clock::time_point{};
-  const std::string requester = ogf::delta::requesterName() + ":ogf-view";
-  const auto requestKeyframe = [&] {
-    const ogf::map_request_t req = ogf::delta::keyframeRequest(receiver, requester);
-    lcm->publish(request_channel, &req);
-    last_request = std::chrono::steady_clock::now();
-  };
-  if (map_path.empty()) {
-    const std::string resolved = ogf::transport::withReceiveBuffer(ogf::transport::resolveLcmUrl(url));
-    lcm = std::make_unique<lcm::LCM>(resolved);
-    if (!lcm->good()) {
-      spdlog::error("cannot join the LCM bus {}", resolved);
-      return kExitFailure;
-    }
-    receiver.onDeltaCell([&](const ogf::delta::PublishedCell& c) { slots.set(c); });
-    std::uint64_t keyframes_seen = 0;
-    ogf::transport::LogRateLimiter malformed_log;
-    const auto on_error = [&](const std::string& channel, std::size_t size, std::string_view why) {
-      ++decode_errors;
-      if (auto n = malformed_log.allow()) spdlog::warn("message on {} ({} bytes) {} ({} more)", channel, size, why, *n);
-    };
-    subscriptions.push_back(std::make_shared<ogf::transport::Subscriber<ogf::map_delta_t>>(
-        *lcm, delta_channel,
-        [&, keyframes_seen](const ogf::map_delta_t& m, const lcm::ReceiveBuffer&, const std::string&) mutable {
-          ++stream.messages;
-          const bool needed_before = receiver.needsKeyframe();
-          const auto outcome = receiver.accept(m);
-          if (outcome == ogf::delta::MapReceiver::Outcome::kGap)
-            spdlog::warn("gap in the delta stream after seq {}: asking for a keyframe", receiver.appliedSeq());
-          if (receiver.keyframesApplied() != keyframes_seen) {
-            keyframes_seen = receiver.keyframesApplied();
-            const auto cells = receiver.map().sortedCells();
-            slots.reset(cells, ogf::view::chooseLod(cells, max_boxes));
-            spdlog::info("keyframe applied: map {} seq {} cells {} occupied {} boxes {} of {} cells a side",
-                         receiver.mapId().value_or(-1), receiver.appliedSeq(), receiver.map().size(),
-                         slots.occupiedCells(), slots.occupied(), slots.lod());
-          }
-          if (receiver.needsKeyframe() && !needed_before) requestKeyframe();
-        },
-        on_error));
-    subscriptions.push_back(std::make_shared<ogf::transport::Subscriber<ogf::mapper_status_t>>(
-        *lcm, mapper_status_channel,
-        [&](const ogf::mapper_status_t& m, const lcm::ReceiveBuffer&, const std::string&) { figures.mapperStatus(m); },
-        on_error));
-    subscriptions.push_back(std::make_shared<ogf::transport::Subscriber<ogf::driver_status_t>>(
-        *lcm, driver_status_channel,
-        [&](const ogf::driver_status_t& m, const lcm::ReceiveBuffer&, const std::string&) { figures.driverStatus(m); },
-        on_error));
-    lcm->subscribeFunction(pose_channel, &PoseSubscription::handle, &raw_poses)
-        ->setQueueCapacity(ogf::transport::kSubscriptionQueueCapacity);
-    lcm->subscribeFunction(corrected_channel, &PoseSubscription::handle, &corrected_poses)
-        ->setQueueCapacity(ogf::transport::kSubscriptionQueueCapacity);
-    bridge = std::make_unique<ogf::transport::LcmAsioBridge>(loop.io(), *lcm);
-    requestKeyframe();
+  std::optional<BusFeed> bus;  // the bus, unless a file is shown
+  if (o.live()) {
+    bus.emplace(o, feed);
+    if (auto stop = bus->join(loop.io())) return *stop;
   }
+  Ticker ticker(o, loop.io(), feed, bus ? &*bus : nullptr, **server);
+  ticker.tick();
 
-  // Every 1/rate s: what changed goes to the browsers, then the figures.
-  boost::asio::steady_timer tick(loop.io());
-  std::size_t raw_sent = 0;
-  std::size_t corrected_sent = 0;
-  const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(1.0 / rate_hz));
-  auto last_server_log = std::chrono::steady_clock::now();
-  std::string last_server_status;
-  std::function<void()> flush = [&] {
-    if (lcm && receiver.needsKeyframe() &&
-        std::chrono::steady_clock::now() - last_request > std::chrono::duration<double>(keyframe_retry_s))
-      requestKeyframe();
-    if (lcm && slots.occupied() > max_boxes) {  // the map outgrew the box budget: a coarser level of detail
-      const auto cells = receiver.map().sortedCells();
-      slots.reset(cells, ogf::view::chooseLod(cells, max_boxes));
-      spdlog::info("{} occupied cells: drawn as {} boxes of {} cells a side", slots.occupiedCells(), slots.occupied(),
-                   slots.lod());
-    }
-    refreshStream();
-    const bool full = slots.takeFullPending();
-    const auto changed = slots.takeChanged();
-    std::vector<Frame> update;
-    if (full) {
-      whole_cells = cellFrames(slots.filledSlots(), true);
-      update = whole_cells;
-    } else if (!changed.empty()) {
-      whole_cells.clear();
-      update = cellFrames(changed, false);
-    }
-    whole_figures.reset();
-    update.push_back(textFrame(figures.json(stream, raw_sent, corrected_sent)));
-    srv.broadcast(update);
-    raw_sent = figures.trail(false).points().size();
-    corrected_sent = figures.trail(true).points().size();
-    srv.maintain();
-    if (const auto now = std::chrono::steady_clock::now(); now - last_server_log > std::chrono::minutes(1)) {
-      if (auto json = srv.statusJson(); json != last_server_status) {
-        spdlog::info("server: {}", json.substr(0, json.size() - 1));
-        last_server_status = std::move(json);
-      }
-      last_server_log = now;
-    }
-    tick.expires_after(period);
-    tick.async_wait([&](const boost::system::error_code& ec) { if (!ec) flush(); });
-  };
-  flush();
-
-  const std::string host = bind == "0.0.0.0" ? "127.0.0.1" : bind.find(':') != std::string::npos ? "[" + bind + "]" : bind;
-  if (limits.token.empty()) {
-    std::printf("ogf-view: http://%s:%u/\n", host.c_str(), static_cast<unsigned>(srv.port()));
-  } else if (token_path.empty()) {
-    std::printf("ogf-view: http://%s:%u/?token=%s\n", host.c_str(), static_cast<unsigned>(srv.port()),
-                limits.token.c_str());
-  } else {
-    std::printf("ogf-view: http://%s:%u/ (add ?token= and the token in %s)\n", host.c_str(),
-                static_cast<unsigned>(srv.port()), token_path.c_str());
-  }
+  std::fputs(ogf::view::addressLine(o.bind, (*server)->port(), o.limits.token, o.token_path).c_str(), stdout);
   std::fflush(stdout);
-  loop.ready(map_path.empty() ? "following " + delta_channel : "showing " + map_path);
+  loop.ready(o.live() ? "following " + o.delta_channel : "showing " + o.map_path);
   const int rc = loop.run();
-  const auto json = srv.statusJson();
+  const auto json = (*server)->statusJson();
   spdlog::info("stopped: {}", json.substr(0, json.size() - 1));
   return rc;
 }

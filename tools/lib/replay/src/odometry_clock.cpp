@@ -34,4 +34,14 @@ OdometryClock resolveOdometryClock(OdometryClock requested, const GpsTimeProbe& 
   return probe.hasGpsTime() ? OdometryClock::kCapture : OdometryClock::kHost;
 }
 
+std::string odometryClockReason(OdometryClock requested, const std::string& input, const GpsTimeProbe& probe) {
+  if (requested == OdometryClock::kHost) return "--odometry-clock host";
+  if (requested != OdometryClock::kAuto) return "--odometry-clock capture";
+  return std::string("--odometry-clock auto: ") + input +
+         (probe.hasGpsTime() ? " has PPS-locked GPS time, which ogf-driver stamps the packets with"
+                             : " has no PPS-locked GPS time (" + std::to_string(probe.positionPackets()) +
+                                   " position packets looked at), so ogf-driver stamps the replayed "
+                                   "packets on the host clock");
+}
+
 }  // namespace ogf::replay

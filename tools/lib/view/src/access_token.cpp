@@ -67,4 +67,12 @@ std::optional<std::string> tokenProblem(std::string_view token) {
   return std::nullopt;
 }
 
+std::string tokenOfFileText(std::string_view text) {
+  std::string token(text.substr(0, text.find('\n')));
+  const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+  while (!token.empty() && blank(token.back())) token.pop_back();
+  while (!token.empty() && blank(token.front())) token.erase(token.begin());
+  return token;
+}
+
 }  // namespace ogf::view

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 
 namespace ogf::replay {
@@ -43,5 +44,9 @@ class GpsTimeProbe {
 
 // `auto` resolved: host unless the capture has GPS time.
 OdometryClock resolveOdometryClock(OdometryClock requested, const GpsTimeProbe& probe);
+
+// Why the odometry is on the clock it is on, for the log: the flag as given, or for `auto` what the probe
+// found in `input` (the capture's name).
+std::string odometryClockReason(OdometryClock requested, const std::string& input, const GpsTimeProbe& probe);
 
 }  // namespace ogf::replay

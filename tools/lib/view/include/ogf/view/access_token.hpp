@@ -31,4 +31,7 @@ std::optional<std::string_view> tokenInCookie(std::string_view cookie_header);
 // nullopt when it is fine. Letters, digits and "-._~" are allowed.
 std::optional<std::string> tokenProblem(std::string_view token);
 
+// The token a --token file holds: its first line without the blanks (spaces, tabs, CR) around it.
+std::string tokenOfFileText(std::string_view text);
+
 }  // namespace ogf::view
