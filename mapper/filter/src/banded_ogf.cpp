@@ -264,6 +264,102 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   return stats;
 }
 
+// Runs of consecutive measurements in one block (a scan's come block by block), each run's block looked up
+// once: where each starts, then the batch's end.
+inline void BandedOgf::findRuns(std::span<const Measurement> batch) {
+  std::vector<std::size_t>& runs = scratch_.runs;
+  runs.clear();
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    if (i == 0 || !(blockKeyOf(batch[i].key) == blockKeyOf(batch[i - 1].key))) {
+      runs.push_back(i);
+    }
+  }
+  runs.push_back(batch.size());
+}
+
+// The blocks of the runs ahead of run r asked of the CPU in stages, the table's slot, then the block's
+// header, then its marks: a scan reaches thousands of blocks, far more than the cache holds.
+inline void BandedOgf::prefetchRunsAhead(std::span<const Measurement> batch, std::size_t r,
+                                         std::array<const Block*, kRunHeaderAhead>& foundAhead) const {
+  const std::vector<std::size_t>& runs = scratch_.runs;
+  const std::size_t runCount = runs.size() - 1;
+  const auto runBlock = [&](std::size_t q) { return blockKeyOf(batch[runs[q]].key); };
+  if (r + kRunSlotAhead < runCount) {
+    storage_.prefetch(runBlock(r + kRunSlotAhead));
+  }
+  if (r + kRunHeaderAhead < runCount) {
+    const Block* b = storage_.find(runBlock(r + kRunHeaderAhead));
+    foundAhead[(r + kRunHeaderAhead) % kRunHeaderAhead] = b;
+    if (b != nullptr) {
+      __builtin_prefetch(b, 1);
+    }
+  }
+  if (prioritisesOccupied() && r + kRunMarksAhead < runCount) {
+    // Found kRunHeaderAhead − kRunMarksAhead runs ago (null for the first runs, which had no stage).
+    if (const Block* b = foundAhead[(r + kRunMarksAhead) % kRunHeaderAhead]; b != nullptr) {
+      const std::span<const std::uint8_t> marks = b->marks();
+      for (std::size_t line = 0; line < marks.size(); line += 64) {
+        __builtin_prefetch(marks.data() + line, 1);
+      }
+    }
+  }
+}
+
+// The measurements of run r: its group (made at its first accepted measurement), each accepted one's group
+// and code from `accepted` on, the neighbouring blocks they reach and their count (Group::end for now).
+inline void BandedOgf::groupRun(std::span<const Measurement> batch, std::size_t r, std::vector<Group>& groups,
+                                std::size_t& accepted, UpdateStats& stats) {
+  Batch& work = scratch_;
+  const bool flat = config_.dimensions == 2;
+  const bool readsExisting = readsBlocks();
+  const bool occupiedPriority = prioritisesOccupied();
+  std::size_t next = accepted;  // in a register through the loop, not through the reference
+  const CellKey block = blockKeyOf(batch[work.runs[r]].key);
+  std::uint32_t group = BlockKeyTable::kAbsent;
+  std::uint32_t neighbours = 0;
+  std::size_t count = 0;
+  std::uint8_t* marks = nullptr;
+  for (std::size_t i = work.runs[r]; i < work.runs[r + 1]; ++i) {
+    const Measurement& m = batch[i];
+    if ((m.y != 1 && m.y != -1) || (flat && m.key.z != 0)) {
+      ++stats.rejected;
+      continue;
+    }
+    if (group == BlockKeyTable::kAbsent) {
+      bool inserted = false;
+      group = work.blocks.findOrInsert(block, static_cast<std::uint32_t>(groups.size()), inserted);
+      if (inserted) {
+        Block* existing = readsExisting ? work.touched[lookUp(block)].block : nullptr;
+        std::uint8_t* existingMarks = nullptr;
+        if (existing != nullptr && occupiedPriority) {
+          existing->changed();  // holding back free measurements counts on the marks
+          existingMarks = existing->marks().data();
+        }
+        groups.push_back({block, colourOf(block), 0, 0, 0, existingMarks,
+                          existing != nullptr ? existing->data() : nullptr});
+      }
+      marks = groups[group].marks;
+    }
+    const std::size_t local = localIndexOf(m.key);
+    // A cell's marks before the batch decide (occupied measurements mark it in obtainNeighbourhoods), so the
+    // outcome does not depend on the order of the batch.
+    if (m.y < 0 && marks != nullptr && holdBackFree(marks[local])) {
+      ++stats.heldBack;
+      continue;
+    }
+    neighbours |= neighbourMask_[local];
+    ++count;
+    work.groupOf[next] = group;
+    work.codes[next] = static_cast<std::uint16_t>((local << 1) | (m.y > 0 ? 1U : 0U));
+    ++next;
+  }
+  accepted = next;
+  if (group != BlockKeyTable::kAbsent) {
+    groups[group].neighbours |= neighbours;
+    groups[group].end += count;  // the count for now
+  }
+}
+
 // 1. The blocks of the batch (a group each), and per measurement its group and a code (position in the
 //    block, y); measurements that are not ±1 (or off the 2-D slice) rejected, free ones held back.
 std::vector<BandedOgf::Group> BandedOgf::groupByBlock(std::span<const Measurement> batch,
@@ -292,98 +388,6 @@ std::vector<BandedOgf::Group> BandedOgf::groupByBlock(std::span<const Measuremen
   work.groupOf.resize(accepted);
   work.codes.resize(accepted);
   return groups;
-}
-
-// Runs of consecutive measurements in one block (a scan's come block by block), each run's block looked up
-// once: where each starts, then the batch's end.
-void BandedOgf::findRuns(std::span<const Measurement> batch) {
-  std::vector<std::size_t>& runs = scratch_.runs;
-  runs.clear();
-  for (std::size_t i = 0; i < batch.size(); ++i) {
-    if (i == 0 || !(blockKeyOf(batch[i].key) == blockKeyOf(batch[i - 1].key))) {
-      runs.push_back(i);
-    }
-  }
-  runs.push_back(batch.size());
-}
-
-// The blocks of the runs ahead of run r asked of the CPU in stages, the table's slot, then the block's
-// header, then its marks: a scan reaches thousands of blocks, far more than the cache holds.
-void BandedOgf::prefetchRunsAhead(std::span<const Measurement> batch, std::size_t r,
-                                  std::array<const Block*, kRunHeaderAhead>& foundAhead) const {
-  const std::vector<std::size_t>& runs = scratch_.runs;
-  const std::size_t runCount = runs.size() - 1;
-  const auto runBlock = [&](std::size_t q) { return blockKeyOf(batch[runs[q]].key); };
-  if (r + kRunSlotAhead < runCount) {
-    storage_.prefetch(runBlock(r + kRunSlotAhead));
-  }
-  if (r + kRunHeaderAhead < runCount) {
-    const Block* b = storage_.find(runBlock(r + kRunHeaderAhead));
-    foundAhead[(r + kRunHeaderAhead) % kRunHeaderAhead] = b;
-    if (b != nullptr) {
-      __builtin_prefetch(b, 1);
-    }
-  }
-  if (prioritisesOccupied() && r + kRunMarksAhead < runCount) {
-    // Found kRunHeaderAhead − kRunMarksAhead runs ago (null for the first runs, which had no stage).
-    if (const Block* b = foundAhead[(r + kRunMarksAhead) % kRunHeaderAhead]; b != nullptr) {
-      const std::span<const std::uint8_t> marks = b->marks();
-      for (std::size_t line = 0; line < marks.size(); line += 64) {
-        __builtin_prefetch(marks.data() + line, 1);
-      }
-    }
-  }
-}
-
-// The measurements of run r: its group (made at its first accepted measurement), each accepted one's group
-// and code from `accepted` on, the neighbouring blocks they reach and their count (Group::end for now).
-void BandedOgf::groupRun(std::span<const Measurement> batch, std::size_t r, std::vector<Group>& groups,
-                         std::size_t& accepted, UpdateStats& stats) {
-  Batch& work = scratch_;
-  const bool flat = config_.dimensions == 2;
-  const CellKey block = blockKeyOf(batch[work.runs[r]].key);
-  std::uint32_t group = BlockKeyTable::kAbsent;
-  std::uint32_t neighbours = 0;
-  std::size_t count = 0;
-  std::uint8_t* marks = nullptr;
-  for (std::size_t i = work.runs[r]; i < work.runs[r + 1]; ++i) {
-    const Measurement& m = batch[i];
-    if ((m.y != 1 && m.y != -1) || (flat && m.key.z != 0)) {
-      ++stats.rejected;
-      continue;
-    }
-    if (group == BlockKeyTable::kAbsent) {
-      bool inserted = false;
-      group = work.blocks.findOrInsert(block, static_cast<std::uint32_t>(groups.size()), inserted);
-      if (inserted) {
-        Block* existing = readsBlocks() ? work.touched[lookUp(block)].block : nullptr;
-        std::uint8_t* existingMarks = nullptr;
-        if (existing != nullptr && prioritisesOccupied()) {
-          existing->changed();  // holding back free measurements counts on the marks
-          existingMarks = existing->marks().data();
-        }
-        groups.push_back({block, colourOf(block), 0, 0, 0, existingMarks,
-                          existing != nullptr ? existing->data() : nullptr});
-      }
-      marks = groups[group].marks;
-    }
-    const std::size_t local = localIndexOf(m.key);
-    // A cell's marks before the batch decide (occupied measurements mark it in obtainNeighbourhoods), so the
-    // outcome does not depend on the order of the batch.
-    if (m.y < 0 && marks != nullptr && holdBackFree(marks[local])) {
-      ++stats.heldBack;
-      continue;
-    }
-    neighbours |= neighbourMask_[local];
-    ++count;
-    work.groupOf[accepted] = group;
-    work.codes[accepted] = static_cast<std::uint16_t>((local << 1) | (m.y > 0 ? 1U : 0U));
-    ++accepted;
-  }
-  if (group != BlockKeyTable::kAbsent) {
-    groups[group].neighbours |= neighbours;
-    groups[group].end += count;  // the count for now
-  }
 }
 
 // 2. The deterministic order: colour, block key, position in the block (then y). Groups are sorted, the
