@@ -243,26 +243,31 @@ inline bool BandedOgf::holdBackFree(std::uint8_t& mark) const {
   return false;
 }
 
+// The stages of a batch, in order; the change detection (recordChangeableCells, reportChanges) only with a
+// sink.
 UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* sink) {
   UpdateStats stats;
-  const bool flat = config_.dimensions == 2;
+  std::vector<Group> groups = groupByBlock(batch, stats);
+  if (dropsClampedFree_ && skipsClampedEarly_ && std::isfinite(freeClampZ_)) {
+    dropClampedFree(groups, stats);
+  }
+  const std::vector<Group> sorted = orderGroups(groups);
+  obtainNeighbourhoods(sorted, stats);
+  scratch_.touchedOrder.clear();
+  if (sink != nullptr) {
+    recordChangeableCells(sorted);
+  }
+  applyColours(sorted, stats);
+  if (sink != nullptr) {
+    reportChanges(*sink);
+  }
+  return stats;
+}
 
-  // 1. The blocks of the batch (a group each), and per measurement its group and a code (position in the
-  //    block, y).
-  Batch& batchWork = scratch_;
-  batchWork.blocks.clear();
-  batchWork.touchedIndex.clear();
-  batchWork.touched.clear();
-  batchWork.groupOf.resize(batch.size());
-  batchWork.codes.resize(batch.size());
-  std::size_t accepted = 0;
-  std::vector<Group> groups;
-  const bool occupiedPriority = config_.occupiedPriority == OccupiedPriority::kMap;
-  const bool readsBlocks = occupiedPriority || dropsClampedFree_;
-  // Runs of consecutive measurements in one block (a scan's come block by block), each run's block looked
-  // up once. The blocks of the runs ahead are asked of the CPU in stages, the table's slot, then the
-  // block's header, then its marks: a scan reaches thousands of blocks, far more than the cache holds.
-  std::vector<std::size_t>& runs = batchWork.runs;
+// Runs of consecutive measurements in one block (a scan's come block by block), each run's block looked up
+// once: where each starts, then the batch's end.
+inline void BandedOgf::findRuns(std::span<const Measurement> batch) {
+  std::vector<std::size_t>& runs = scratch_.runs;
   runs.clear();
   for (std::size_t i = 0; i < batch.size(); ++i) {
     if (i == 0 || !(blockKeyOf(batch[i].key) == blockKeyOf(batch[i - 1].key))) {
@@ -270,87 +275,125 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
     }
   }
   runs.push_back(batch.size());
+}
+
+// The blocks of the runs ahead of run r asked of the CPU in stages, the table's slot, then the block's
+// header, then its marks: a scan reaches thousands of blocks, far more than the cache holds.
+inline void BandedOgf::prefetchRunsAhead(std::span<const Measurement> batch, std::size_t r,
+                                         std::array<const Block*, kRunHeaderAhead>& foundAhead) const {
+  const std::vector<std::size_t>& runs = scratch_.runs;
   const std::size_t runCount = runs.size() - 1;
-  const auto runBlock = [&](std::size_t r) { return blockKeyOf(batch[runs[r]].key); };
+  const auto runBlock = [&](std::size_t q) { return blockKeyOf(batch[runs[q]].key); };
+  if (r + kRunSlotAhead < runCount) {
+    storage_.prefetch(runBlock(r + kRunSlotAhead));
+  }
+  if (r + kRunHeaderAhead < runCount) {
+    const Block* b = storage_.find(runBlock(r + kRunHeaderAhead));
+    foundAhead[(r + kRunHeaderAhead) % kRunHeaderAhead] = b;
+    if (b != nullptr) {
+      __builtin_prefetch(b, 1);
+    }
+  }
+  if (prioritisesOccupied() && r + kRunMarksAhead < runCount) {
+    // Found kRunHeaderAhead − kRunMarksAhead runs ago (null for the first runs, which had no stage).
+    if (const Block* b = foundAhead[(r + kRunMarksAhead) % kRunHeaderAhead]; b != nullptr) {
+      const std::span<const std::uint8_t> marks = b->marks();
+      for (std::size_t line = 0; line < marks.size(); line += 64) {
+        __builtin_prefetch(marks.data() + line, 1);
+      }
+    }
+  }
+}
+
+// The measurements of run r: its group (made at its first accepted measurement), each accepted one's group
+// and code from `accepted` on, the neighbouring blocks they reach and their count (Group::end for now).
+inline void BandedOgf::groupRun(std::span<const Measurement> batch, std::size_t r, std::vector<Group>& groups,
+                                std::size_t& accepted, UpdateStats& stats) {
+  Batch& work = scratch_;
+  const bool flat = config_.dimensions == 2;
+  const bool readsExisting = readsBlocks();
+  const bool occupiedPriority = prioritisesOccupied();
+  std::size_t next = accepted;  // in a register through the loop, not through the reference
+  const CellKey block = blockKeyOf(batch[work.runs[r]].key);
+  std::uint32_t group = BlockKeyTable::kAbsent;
+  std::uint32_t neighbours = 0;
+  std::size_t count = 0;
+  std::uint8_t* marks = nullptr;
+  for (std::size_t i = work.runs[r]; i < work.runs[r + 1]; ++i) {
+    const Measurement& m = batch[i];
+    if ((m.y != 1 && m.y != -1) || (flat && m.key.z != 0)) {
+      ++stats.rejected;
+      continue;
+    }
+    if (group == BlockKeyTable::kAbsent) {
+      bool inserted = false;
+      group = work.blocks.findOrInsert(block, static_cast<std::uint32_t>(groups.size()), inserted);
+      if (inserted) {
+        Block* existing = readsExisting ? work.touched[lookUp(block)].block : nullptr;
+        std::uint8_t* existingMarks = nullptr;
+        if (existing != nullptr && occupiedPriority) {
+          existing->changed();  // holding back free measurements counts on the marks
+          existingMarks = existing->marks().data();
+        }
+        groups.push_back({block, colourOf(block), 0, 0, 0, existingMarks,
+                          existing != nullptr ? existing->data() : nullptr});
+      }
+      marks = groups[group].marks;
+    }
+    const std::size_t local = localIndexOf(m.key);
+    // A cell's marks before the batch decide (occupied measurements mark it in obtainNeighbourhoods), so the
+    // outcome does not depend on the order of the batch.
+    if (m.y < 0 && marks != nullptr && holdBackFree(marks[local])) {
+      ++stats.heldBack;
+      continue;
+    }
+    neighbours |= neighbourMask_[local];
+    ++count;
+    work.groupOf[next] = group;
+    work.codes[next] = static_cast<std::uint16_t>((local << 1) | (m.y > 0 ? 1U : 0U));
+    ++next;
+  }
+  accepted = next;
+  if (group != BlockKeyTable::kAbsent) {
+    groups[group].neighbours |= neighbours;
+    groups[group].end += count;  // the count for now
+  }
+}
+
+// 1. The blocks of the batch (a group each), and per measurement its group and a code (position in the
+//    block, y); measurements that are not ±1 (or off the 2-D slice) rejected, free ones held back.
+std::vector<BandedOgf::Group> BandedOgf::groupByBlock(std::span<const Measurement> batch,
+                                                      UpdateStats& stats) {
+  Batch& work = scratch_;
+  work.blocks.clear();
+  work.touchedIndex.clear();
+  work.touched.clear();
+  work.groupOf.resize(batch.size());
+  work.codes.resize(batch.size());
+  std::vector<Group> groups;
+  findRuns(batch);
+  const std::size_t runCount = work.runs.size() - 1;
   // Only for batches in runs (a scan's): in a batch in no order of blocks, a run is a measurement, and
   // the look-ups ahead would double those the measurements make themselves.
-  const bool prefetchRuns = readsBlocks && runCount * kMinRunForPrefetch <= batch.size();
+  const bool prefetchRuns = readsBlocks() && runCount * kMinRunForPrefetch <= batch.size();
   // The blocks found at the header stage, by run mod kRunHeaderAhead, for the marks stage to reuse.
   std::array<const Block*, kRunHeaderAhead> foundAhead{};
+  std::size_t accepted = 0;
   for (std::size_t r = 0; r < runCount; ++r) {
     if (prefetchRuns) {
-      if (r + kRunSlotAhead < runCount) {
-        storage_.prefetch(runBlock(r + kRunSlotAhead));
-      }
-      if (r + kRunHeaderAhead < runCount) {
-        const Block* b = storage_.find(runBlock(r + kRunHeaderAhead));
-        foundAhead[(r + kRunHeaderAhead) % kRunHeaderAhead] = b;
-        if (b != nullptr) {
-          __builtin_prefetch(b, 1);
-        }
-      }
-      if (occupiedPriority && r + kRunMarksAhead < runCount) {
-        // Found kRunHeaderAhead − kRunMarksAhead runs ago (null for the first runs, which had no stage).
-        if (const Block* b = foundAhead[(r + kRunMarksAhead) % kRunHeaderAhead]; b != nullptr) {
-          const std::span<const std::uint8_t> marks = b->marks();
-          for (std::size_t line = 0; line < marks.size(); line += 64) {
-            __builtin_prefetch(marks.data() + line, 1);
-          }
-        }
-      }
+      prefetchRunsAhead(batch, r, foundAhead);
     }
-    const CellKey block = runBlock(r);
-    std::uint32_t group = BlockKeyTable::kAbsent;
-    std::uint32_t neighbours = 0;
-    std::size_t count = 0;
-    std::uint8_t* marks = nullptr;
-    for (std::size_t i = runs[r]; i < runs[r + 1]; ++i) {
-      const Measurement& m = batch[i];
-      if ((m.y != 1 && m.y != -1) || (flat && m.key.z != 0)) {
-        ++stats.rejected;
-        continue;
-      }
-      if (group == BlockKeyTable::kAbsent) {
-        bool inserted = false;
-        group = batchWork.blocks.findOrInsert(block, static_cast<std::uint32_t>(groups.size()), inserted);
-        if (inserted) {
-          Block* existing = readsBlocks ? batchWork.touched[lookUp(block)].block : nullptr;
-          std::uint8_t* existingMarks = nullptr;
-          if (existing != nullptr && occupiedPriority) {
-            existing->changed();  // holding back free measurements counts on the marks
-            existingMarks = existing->marks().data();
-          }
-          groups.push_back({block, colourOf(block), 0, 0, 0, existingMarks,
-                            existing != nullptr ? existing->data() : nullptr});
-        }
-        marks = groups[group].marks;
-      }
-      const std::size_t local = localIndexOf(m.key);
-      // A cell's marks before the batch decide (occupied measurements mark it in step 3), so the outcome
-      // does not depend on the order of the batch.
-      if (m.y < 0 && marks != nullptr && holdBackFree(marks[local])) {
-        ++stats.heldBack;
-        continue;
-      }
-      neighbours |= neighbourMask_[local];
-      ++count;
-      batchWork.groupOf[accepted] = group;
-      batchWork.codes[accepted] = static_cast<std::uint16_t>((local << 1) | (m.y > 0 ? 1U : 0U));
-      ++accepted;
-    }
-    if (group != BlockKeyTable::kAbsent) {
-      groups[group].neighbours |= neighbours;
-      groups[group].end += count;  // the count for now
-    }
+    groupRun(batch, r, groups, accepted, stats);
   }
-  batchWork.groupOf.resize(accepted);
-  batchWork.codes.resize(accepted);
-  if (dropsClampedFree_ && skipsClampedEarly_ && std::isfinite(freeClampZ_)) {
-    dropClampedFree(groups, stats);
-  }
+  work.groupOf.resize(accepted);
+  work.codes.resize(accepted);
+  return groups;
+}
 
-  // 2. The deterministic order: colour, block key, position in the block (then y). Groups are sorted, the
-  //    measurements placed by counting, then each group's few codes sorted.
+// 2. The deterministic order: colour, block key, position in the block (then y). Groups are sorted, the
+//    measurements placed by counting (into scratch_.sorted), then each group's few codes sorted.
+std::vector<BandedOgf::Group> BandedOgf::orderGroups(std::vector<Group>& groups) {
+  Batch& work = scratch_;
   std::vector<std::uint32_t> order(groups.size());
   for (std::uint32_t g = 0; g < order.size(); ++g) {
     order[g] = g;
@@ -368,19 +411,25 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
     g.end = placed;  // the cursor while placing
     placed += count;
   }
-  batchWork.sorted.resize(placed);
-  for (std::size_t i = 0; i < batchWork.codes.size(); ++i) {
-    batchWork.sorted[groups[batchWork.groupOf[i]].end++] = batchWork.codes[i];
+  work.sorted.resize(placed);
+  for (std::size_t i = 0; i < work.codes.size(); ++i) {
+    work.sorted[groups[work.groupOf[i]].end++] = work.codes[i];
   }
   for (std::uint32_t r = 0; r < order.size(); ++r) {
     sorted[r] = groups[order[r]];
-    sortCodes(std::span<std::uint16_t>(batchWork.sorted).subspan(sorted[r].begin, sorted[r].end - sorted[r].begin));
+    sortCodes(
+        std::span<std::uint16_t>(work.sorted).subspan(sorted[r].begin, sorted[r].end - sorted[r].begin));
   }
+  return sorted;
+}
 
-  // 3. Every block the batch touches, allocated up front (serially, in order); each group's neighbourhood
-  //    of block data kept for step 5, and the blocks' numbers for step 4.
-  batchWork.neighbourhoods.assign(sorted.size() * 27, nullptr);
-  batchWork.groupTouched.resize(sorted.size() * 27);
+// 3. Every block the batch touches, allocated up front (serially, in order); each group's neighbourhood of
+//    block data kept for applyColours, the blocks' numbers for recordChangeableCells, and the occupied
+//    measurements marked (OccupiedPriority::kMap).
+void BandedOgf::obtainNeighbourhoods(std::span<const Group> sorted, UpdateStats& stats) {
+  Batch& work = scratch_;
+  work.neighbourhoods.assign(sorted.size() * 27, nullptr);
+  work.groupTouched.resize(sorted.size() * 27);
   // The neighbourhoods ahead: the table slots of their blocks asked of the CPU kGroupSlotAhead groups
   // early, the blocks looked up (and numbered) kGroupLookAhead groups early and their headers asked for,
   // as each is marked written below. A scan's blocks are far more than the cache holds.
@@ -394,8 +443,8 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
     for (std::uint32_t rest = g.neighbours; rest != 0; rest &= rest - 1) {
       const auto d = static_cast<unsigned>(std::countr_zero(rest));
       const std::uint32_t t = lookUp(neighbourOf(g.block, d));
-      batchWork.groupTouched[q * 27 + d] = t;
-      const TouchedBlock& ahead = batchWork.touched[t];
+      work.groupTouched[q * 27 + d] = t;
+      const TouchedBlock& ahead = work.touched[t];
       if (ahead.block != nullptr && !ahead.written) {
         __builtin_prefetch(ahead.block, 1);
       }
@@ -407,6 +456,7 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
   for (std::size_t q = 0; q < std::min(kGroupLookAhead, sorted.size()); ++q) {
     lookUpNeighbourhood(q);
   }
+  const bool occupiedPriority = prioritisesOccupied();
   for (std::size_t r = 0; r < sorted.size(); ++r) {
     if (r + kGroupSlotAhead < sorted.size()) {
       prefetchSlots(sorted[r + kGroupSlotAhead]);
@@ -418,8 +468,8 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
     for (unsigned d = 0; d < 27; ++d) {
       if ((g.neighbours >> d) & 1U) {
         const CellKey key = neighbourOf(g.block, d);
-        const std::uint32_t t = batchWork.groupTouched[r * 27 + d];
-        TouchedBlock& touched = batchWork.touched[t];
+        const std::uint32_t t = work.groupTouched[r * 27 + d];
+        TouchedBlock& touched = work.touched[t];
         if (!touched.written) {
           if (touched.block == nullptr) {
             touched.block = &obtainBlock(key, stats.blocksAllocated);
@@ -429,241 +479,283 @@ UpdateStats BandedOgf::update(std::span<const Measurement> batch, ChangeSink* si
           touched.written = true;
         }
         Block& block = *touched.block;
-        batchWork.neighbourhoods[r * 27 + d] = block.data();
+        work.neighbourhoods[r * 27 + d] = block.data();
         if (d == kOwnBlock && occupiedPriority) {
-          markOccupied(block, std::span<const std::uint16_t>(batchWork.sorted).subspan(g.begin, g.end - g.begin));
+          markOccupied(block, std::span<const std::uint16_t>(work.sorted).subspan(g.begin, g.end - g.begin));
         }
       }
     }
   }
+}
 
-  // 4. With a sink: the cells the updates can change (the stencils of the measurements), and their mean and
-  //    variance before, to find what changed. Blocks in key order, cells in position order.
-  std::vector<std::uint32_t>& touchedOrder = batchWork.touchedOrder;
-  std::vector<float>& meansBefore = batchWork.meansBefore;
-  std::vector<std::uint32_t>& variancesBefore = batchWork.variancesBefore;
-  touchedOrder.clear();
-  if (sink != nullptr) {
-    // Per neighbour (of the 3×3×3 blocks) and z layer, the group's cells the stencil reaches; kept zero
-    // between groups.
-    std::array<std::array<std::uint64_t, 8>, 27> reached{};
-    std::vector<std::array<std::uint64_t, 3>>& alongX = batchWork.alongX;
-    for (std::size_t r = 0; r < sorted.size(); ++r) {
-      // The group's measured positions, dilated by the stencil a row of it at a time: along x once per
-      // set of dx (dilatedAlongX), then shifted by the row's dy and dz as whole 8-bit rows and layers.
-      std::array<std::uint64_t, 8> measured{};
-      for (std::size_t i = sorted[r].begin; i < sorted[r].end; ++i) {
-        const std::size_t l = batchWork.sorted[i] >> 1;
-        measured[l >> 6] |= std::uint64_t{1} << (l & 63U);
+// 4. With a sink: the cells the updates can change (the stencils of the measurements), and their mean and
+//    variance before, to find what changed. Blocks in key order, cells in position order.
+void BandedOgf::recordChangeableCells(std::span<const Group> sorted) {
+  Batch& work = scratch_;
+  // Per neighbour (of the 3×3×3 blocks) and z layer, the group's cells the stencil reaches; kept zero
+  // between groups.
+  std::array<std::array<std::uint64_t, 8>, 27> reached{};
+  for (std::size_t r = 0; r < sorted.size(); ++r) {
+    markStencilReach(sorted[r], &work.groupTouched[r * 27], reached);
+  }
+  std::vector<std::uint32_t>& touchedOrder = work.touchedOrder;
+  touchedOrder.resize(work.touched.size());
+  for (std::uint32_t t = 0; t < touchedOrder.size(); ++t) {
+    touchedOrder[t] = t;
+  }
+  std::sort(touchedOrder.begin(), touchedOrder.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return work.touched[a].key < work.touched[b].key; });
+  if (compact()) {
+    copyTouchedLayers(work);
+  } else {
+    copyTouchedCells(work);
+  }
+}
+
+// The cells the stencils of group g's measurements reach, added to the TouchedBlock::cells of its
+// neighbourhood (`touchedOfGroup`: the touched block number of each of its 27 neighbours); `reached` is
+// zero before and after.
+void BandedOgf::markStencilReach(const Group& g, const std::uint32_t* touchedOfGroup,
+                                 std::array<std::array<std::uint64_t, 8>, 27>& reached) {
+  Batch& work = scratch_;
+  std::vector<std::array<std::uint64_t, 3>>& alongX = work.alongX;
+  // The group's measured positions, dilated by the stencil a row of it at a time: along x once per set of
+  // dx (dilatedAlongX), then shifted by the row's dy and dz as whole 8-bit rows and layers.
+  std::array<std::uint64_t, 8> measured{};
+  for (std::size_t i = g.begin; i < g.end; ++i) {
+    const std::size_t l = work.sorted[i] >> 1;
+    measured[l >> 6] |= std::uint64_t{1} << (l & 63U);
+  }
+  alongX.resize(stencilRowSets_.size() * 8);
+  for (std::size_t k = 0; k < stencilRowSets_.size(); ++k) {
+    for (std::size_t z = 0; z < 8; ++z) {
+      alongX[k * 8 + z] =
+          measured[z] == 0 ? std::array<std::uint64_t, 3>{} : dilatedAlongX(measured[z], stencilRowSets_[k]);
+    }
+  }
+  std::uint32_t reachedBlocks = 0;
+  for (const StencilRow& row : stencilRows_) {
+    for (int z = 0; z < 8; ++z) {
+      if (measured[static_cast<std::size_t>(z)] == 0) {
+        continue;
       }
-      alongX.resize(stencilRowSets_.size() * 8);
-      for (std::size_t k = 0; k < stencilRowSets_.size(); ++k) {
-        for (std::size_t z = 0; z < 8; ++z) {
-          alongX[k * 8 + z] = measured[z] == 0 ? std::array<std::uint64_t, 3>{}
-                                               : dilatedAlongX(measured[z], stencilRowSets_[k]);
+      const int zz = z + row.dz;
+      const int dzb = zz < 0 ? -1 : (zz >= 8 ? 1 : 0);
+      const auto layer = static_cast<std::size_t>(zz - 8 * dzb);
+      const std::array<std::uint64_t, 3>& parts = alongX[row.set * 8 + static_cast<std::size_t>(z)];
+      for (int dxb = -1; dxb <= 1; ++dxb) {
+        const std::uint64_t bx = parts[static_cast<std::size_t>(dxb + 1)];
+        if (bx == 0) {
+          continue;
         }
-      }
-      std::uint32_t reachedBlocks = 0;
-      for (const StencilRow& row : stencilRows_) {
-        for (int z = 0; z < 8; ++z) {
-          if (measured[static_cast<std::size_t>(z)] == 0) {
-            continue;
-          }
-          const int zz = z + row.dz;
-          const int dzb = zz < 0 ? -1 : (zz >= 8 ? 1 : 0);
-          const auto layer = static_cast<std::size_t>(zz - 8 * dzb);
-          const std::array<std::uint64_t, 3>& parts = alongX[row.set * 8 + static_cast<std::size_t>(z)];
-          for (int dxb = -1; dxb <= 1; ++dxb) {
-            const std::uint64_t bx = parts[static_cast<std::size_t>(dxb + 1)];
-            if (bx == 0) {
-              continue;
-            }
-            // Along y: whole rows of 8 bits, in this block's row of blocks and the next (or previous) one.
-            const unsigned here = static_cast<unsigned>((dxb + 1) + 3 + 9 * (dzb + 1));
-            const unsigned next = row.dy >= 0 ? here + 3 : here - 3;
-            // |dy| = 8 (a 2-D stencil's reach) moves every row into the next row of blocks.
-            const std::uint64_t stay =
-                row.dy >= 8 || row.dy <= -8 ? 0 : (row.dy >= 0 ? bx << (8 * row.dy) : bx >> (-8 * row.dy));
-            const std::uint64_t cross =
-                row.dy > 0 ? bx >> (64 - 8 * row.dy) : (row.dy < 0 ? bx << (64 + 8 * row.dy) : 0);
-            reached[here][layer] |= stay;
-            reached[next][layer] |= cross;
-            reachedBlocks |= (std::uint32_t{stay != 0} << here) | (std::uint32_t{cross != 0} << next);
-          }
-        }
-      }
-      for (std::uint32_t rest = reachedBlocks; rest != 0; rest &= rest - 1) {
-        const auto d = static_cast<unsigned>(std::countr_zero(rest));
-        if (((sorted[r].neighbours >> d) & 1U) != 0) {
-          std::array<std::uint64_t, 8>& cells = batchWork.touched[batchWork.groupTouched[r * 27 + d]].cells;
-          for (std::size_t layer = 0; layer < 8; ++layer) {
-            cells[layer] |= reached[d][layer];
-          }
-        }
-        reached[d] = {};
+        // Along y: whole rows of 8 bits, in this block's row of blocks and the next (or previous) one.
+        const unsigned here = static_cast<unsigned>((dxb + 1) + 3 + 9 * (dzb + 1));
+        const unsigned next = row.dy >= 0 ? here + 3 : here - 3;
+        // |dy| = 8 (a 2-D stencil's reach) moves every row into the next row of blocks.
+        const std::uint64_t stay =
+            row.dy >= 8 || row.dy <= -8 ? 0 : (row.dy >= 0 ? bx << (8 * row.dy) : bx >> (-8 * row.dy));
+        const std::uint64_t cross =
+            row.dy > 0 ? bx >> (64 - 8 * row.dy) : (row.dy < 0 ? bx << (64 + 8 * row.dy) : 0);
+        reached[here][layer] |= stay;
+        reached[next][layer] |= cross;
+        reachedBlocks |= (std::uint32_t{stay != 0} << here) | (std::uint32_t{cross != 0} << next);
       }
     }
-    touchedOrder.resize(batchWork.touched.size());
-    for (std::uint32_t t = 0; t < touchedOrder.size(); ++t) {
-      touchedOrder[t] = t;
+  }
+  for (std::uint32_t rest = reachedBlocks; rest != 0; rest &= rest - 1) {
+    const auto d = static_cast<unsigned>(std::countr_zero(rest));
+    if (((g.neighbours >> d) & 1U) != 0) {
+      std::array<std::uint64_t, 8>& cells = work.touched[touchedOfGroup[d]].cells;
+      for (std::size_t layer = 0; layer < 8; ++layer) {
+        cells[layer] |= reached[d][layer];
+      }
     }
-    std::sort(touchedOrder.begin(), touchedOrder.end(), [&](std::uint32_t a, std::uint32_t b) {
-      return batchWork.touched[a].key < batchWork.touched[b].key;
+    reached[d] = {};
+  }
+}
+
+void BandedOgf::copyTouchedCells(Batch& work) const {
+  // Banded storage: the touched cells' means and stored variances, blocks in key order.
+  std::size_t cells = 0;
+  for (const TouchedBlock& block : work.touched) {
+    for (const std::uint64_t word : block.cells) {
+      cells += static_cast<std::size_t>(std::popcount(word));
+    }
+  }
+  work.meansBefore.resize(cells);
+  work.variancesBefore.resize(cells);
+  std::size_t visited = 0;
+  for (const std::uint32_t t : work.touchedOrder) {
+    const TouchedBlock& block = work.touched[t];
+    const float* data = block.block->data();
+    forEachBit(block.cells, [&](std::size_t l) {
+      work.meansBefore[visited] = meanAt(data, l);
+      work.variancesBefore[visited] = storedVarianceAt(data, l);
+      ++visited;
     });
-    if (compact()) {
-      copyTouchedLayers(batchWork);
-    } else {
-      std::size_t cells = 0;
-      for (const TouchedBlock& block : batchWork.touched) {
-        for (const std::uint64_t word : block.cells) {
-          cells += static_cast<std::size_t>(std::popcount(word));
-        }
-      }
-      meansBefore.resize(cells);
-      variancesBefore.resize(cells);
-      std::size_t visited = 0;
-      for (std::size_t k = 0; k < touchedOrder.size(); ++k) {
-        const TouchedBlock& block = batchWork.touched[touchedOrder[k]];
-        const float* data = block.block->data();
-        forEachBit(block.cells, [&](std::size_t l) {
-          meansBefore[visited] = meanAt(data, l);
-          variancesBefore[visited] = storedVarianceAt(data, l);
-          ++visited;
-        });
-      }
-    }
   }
+}
 
-  // 5. Colour by colour; blocks of one colour in parallel.
-  const std::size_t ringSize = kRingSlots * band_.pointers;
+// 5. The updates of eq. (5), colour by colour: the groups of one colour touch disjoint state, and run in
+//    parallel when there are threads (applyColourInParallel).
+void BandedOgf::applyColours(std::span<const Group> sorted, UpdateStats& stats) {
+  Batch& work = scratch_;
   for (std::size_t g0 = 0; g0 < sorted.size();) {
     std::size_t g1 = g0;
     while (g1 < sorted.size() && sorted[g1].colour == sorted[g0].colour) {
       ++g1;
     }
     const std::size_t count = g1 - g0;
-    const auto workers = static_cast<std::size_t>(config_.threads);
-    if (workers > 1 && parallelSafe_ && count > 1) {
-      std::atomic<std::size_t> next{g0};
-      std::vector<UpdateStats> partial(std::min(workers, count));
-      auto work = [&](std::size_t w) {
-        std::vector<float*> ring(ringSize);
-        for (std::size_t g = next.fetch_add(1); g < g1; g = next.fetch_add(1)) {
-          applyRun(std::span<const Group>(sorted).subspan(g, 1), batchWork.sorted,
-                   &batchWork.neighbourhoods[g * 27], ring, partial[w]);
-        }
-      };
-      {
-        std::vector<std::jthread> pool;
-        for (std::size_t w = 1; w < partial.size(); ++w) {
-          pool.emplace_back(work, w);
-        }
-        work(0);
-      }
-      for (const UpdateStats& p : partial) {
-        stats.applied += p.applied;
-        stats.skipped += p.skipped;
-      }
+    if (config_.threads > 1 && parallelSafe_ && count > 1) {
+      applyColourInParallel(sorted, g0, g1, stats);
     } else {
-      ring_.resize(ringSize);
-      applyRun(std::span<const Group>(sorted).subspan(g0, count), batchWork.sorted,
-               &batchWork.neighbourhoods[g0 * 27], ring_, stats);
+      ring_.resize(kRingSlots * band_.pointers);
+      applyRun(sorted.subspan(g0, count), work.sorted, &work.neighbourhoods[g0 * 27], ring_, stats);
     }
     g0 = g1;
   }
+}
 
-  // 6. Report the cells whose class or quantised probability changed.
-  if (sink != nullptr) {
-    // The cells whose stored values changed, a chunk at a time (collected without a branch on the
-    // comparison): their states after and before in one call each, then compared.
-    constexpr std::size_t kChunk = 512;
-    std::array<float, kChunk> means1;
-    std::array<float, kChunk> variances1;
-    std::array<float, kChunk> means0;
-    std::array<float, kChunk> variances0;
-    std::array<std::uint32_t, kChunk> stored1;  // the variances as stored, decoded in flush()
-    std::array<std::uint32_t, kChunk> stored0;
-    std::array<std::uint32_t, kChunk> where;  // touched block << 9 | position
-    std::array<PublishedState, kChunk> now;
-    std::array<PublishedState, kChunk> was;
-    std::array<CellChange, kChunk> changes;
-    std::size_t n = 0;
-    const auto flush = [&] {
-      for (std::size_t i = 0; i < n; ++i) {
-        variances1[i] = varianceOfStored(stored1[i]);
-        variances0[i] = varianceOfStored(stored0[i]);
-      }
-      published_.statesOf(std::span(means1).first(n), std::span(variances1).first(n), std::span(now).first(n));
-      published_.statesOf(std::span(means0).first(n), std::span(variances0).first(n), std::span(was).first(n));
-      std::size_t changed = 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        CellChange& c = changes[changed];
-        c.key = storage_.cellKey(batchWork.touched[where[i] >> 9].key, where[i] & 511U);
-        c.mean = means1[i];
-        c.variance = variances1[i];
-        c.quantisedProbability = now[i].quantisedProbability;
-        c.occupancyClass = now[i].occupancyClass;
-        changed += static_cast<std::size_t>(!(now[i] == was[i]));
-      }
-      sink->cellsChanged(std::span(changes).first(changed));
-      n = 0;
-    };
-    if (compact()) {
-      // A layer at a time: the cells whose mean or code differ from the copy, found in vectors, then only
-      // those read.
-      const std::size_t cellsPerBlock = storage_.cellsPerBlock();
-      const std::vector<TouchedLayer>& layers = batchWork.touchedLayers;
-      for (std::size_t e = 0; e < layers.size(); ++e) {
-        if (e + 1 < layers.size() && layers[e + 1].touched != layers[e].touched) {
-          prefetchTouchedLayers(batchWork, e + 1);
-        }
-        const TouchedLayer& layer = layers[e];
-        const float* data = batchWork.touched[layer.touched].block->data();
-        const float* means = data + layer.layer * kLayerCells;
-        const auto* codes =
-            reinterpret_cast<const std::uint16_t*>(data + cellsPerBlock) + layer.layer * kLayerCells;
-        const float* meansCopy = batchWork.layerMeansBefore.data() + e * kLayerCells;
-        const std::uint16_t* codesCopy = batchWork.layerCodesBefore.data() + e * kLayerCells;
-        const std::uint32_t base = layer.touched << 9 | layer.layer * static_cast<std::uint32_t>(kLayerCells);
-        for (std::uint64_t rest = layer.cells & layerChanges_(means, codes, meansCopy, codesCopy); rest != 0;
-             rest &= rest - 1) {
-          const auto j = static_cast<std::size_t>(std::countr_zero(rest));
-          means1[n] = means[j];
-          stored1[n] = codes[j];
-          means0[n] = meansCopy[j];
-          stored0[n] = codesCopy[j];
-          where[n] = base | static_cast<std::uint32_t>(j);
-          if (++n == kChunk) {
-            flush();
-          }
-        }
-      }
-    } else {
-      std::size_t visited = 0;
-      for (std::size_t k = 0; k < touchedOrder.size(); ++k) {
-        const std::uint32_t t = touchedOrder[k];
-        const TouchedBlock& block = batchWork.touched[t];
-        const float* data = block.block->data();
-        forEachBit(block.cells, [&](std::size_t l) {
-          const float mean = meanAt(data, l);
-          const std::uint32_t stored = storedVarianceAt(data, l);
-          means1[n] = mean;
-          stored1[n] = stored;
-          means0[n] = meansBefore[visited];
-          stored0[n] = variancesBefore[visited];
-          where[n] = t << 9 | static_cast<std::uint32_t>(l);
-          n +=
-              static_cast<std::size_t>(!(mean == meansBefore[visited] && stored == variancesBefore[visited]));
-          ++visited;
-          if (n == kChunk) {
-            flush();
-          }
-        });
+// Groups [g0, g1) of one colour on config_.threads threads (the calling one among them), each taking the
+// next group as it finishes one.
+void BandedOgf::applyColourInParallel(std::span<const Group> sorted, std::size_t g0, std::size_t g1,
+                                      UpdateStats& stats) {
+  Batch& work = scratch_;
+  const std::size_t ringSize = kRingSlots * band_.pointers;
+  std::atomic<std::size_t> next{g0};
+  std::vector<UpdateStats> partial(std::min(static_cast<std::size_t>(config_.threads), g1 - g0));
+  auto run = [&](std::size_t w) {
+    std::vector<float*> ring(ringSize);
+    for (std::size_t g = next.fetch_add(1); g < g1; g = next.fetch_add(1)) {
+      applyRun(sorted.subspan(g, 1), work.sorted, &work.neighbourhoods[g * 27], ring, partial[w]);
+    }
+  };
+  {
+    std::vector<std::jthread> pool;
+    for (std::size_t w = 1; w < partial.size(); ++w) {
+      pool.emplace_back(run, w);
+    }
+    run(0);
+  }
+  for (const UpdateStats& p : partial) {
+    stats.applied += p.applied;
+    stats.skipped += p.skipped;
+  }
+}
+
+// The cells whose stored values changed, gathered a chunk at a time (without a branch on the comparison)
+// for flushChanges: where each is (touched block << 9 | position), its mean and stored variance after and
+// before.
+struct BandedOgf::ChangeChunk {
+  static constexpr std::size_t kCells = 512;
+  std::array<float, kCells> means1;
+  std::array<float, kCells> variances1;
+  std::array<float, kCells> means0;
+  std::array<float, kCells> variances0;
+  std::array<std::uint32_t, kCells> stored1;  // the variances as stored, decoded in flushChanges
+  std::array<std::uint32_t, kCells> stored0;
+  std::array<std::uint32_t, kCells> where;
+  std::array<PublishedState, kCells> now;
+  std::array<PublishedState, kCells> was;
+  std::array<CellChange, kCells> changes;
+  std::size_t n = 0;
+};
+
+// 6. Reports the cells whose class or quantised probability changed.
+void BandedOgf::reportChanges(ChangeSink& sink) {
+  ChangeChunk chunk;
+  if (compact()) {
+    collectLayerChanges(chunk, sink);
+  } else {
+    collectCellChanges(chunk, sink);
+  }
+  flushChanges(chunk, sink);
+}
+
+// Compact storage, a layer at a time: the cells whose mean or code differ from the copy, found in vectors,
+// then only those read.
+void BandedOgf::collectLayerChanges(ChangeChunk& chunk, ChangeSink& sink) {
+  const Batch& work = scratch_;
+  const std::size_t cellsPerBlock = storage_.cellsPerBlock();
+  const std::vector<TouchedLayer>& layers = work.touchedLayers;
+  for (std::size_t e = 0; e < layers.size(); ++e) {
+    if (e + 1 < layers.size() && layers[e + 1].touched != layers[e].touched) {
+      prefetchTouchedLayers(work, e + 1);
+    }
+    const TouchedLayer& layer = layers[e];
+    const float* data = work.touched[layer.touched].block->data();
+    const float* means = data + layer.layer * kLayerCells;
+    const auto* codes =
+        reinterpret_cast<const std::uint16_t*>(data + cellsPerBlock) + layer.layer * kLayerCells;
+    const float* meansCopy = work.layerMeansBefore.data() + e * kLayerCells;
+    const std::uint16_t* codesCopy = work.layerCodesBefore.data() + e * kLayerCells;
+    const std::uint32_t base = layer.touched << 9 | layer.layer * static_cast<std::uint32_t>(kLayerCells);
+    for (std::uint64_t rest = layer.cells & layerChanges_(means, codes, meansCopy, codesCopy); rest != 0;
+         rest &= rest - 1) {
+      const auto j = static_cast<std::size_t>(std::countr_zero(rest));
+      std::size_t& n = chunk.n;
+      chunk.means1[n] = means[j];
+      chunk.stored1[n] = codes[j];
+      chunk.means0[n] = meansCopy[j];
+      chunk.stored0[n] = codesCopy[j];
+      chunk.where[n] = base | static_cast<std::uint32_t>(j);
+      if (++n == ChangeChunk::kCells) {
+        flushChanges(chunk, sink);
       }
     }
-    flush();
   }
-  return stats;
+}
+
+// Banded storage: every touched cell compared with its copy.
+void BandedOgf::collectCellChanges(ChangeChunk& chunk, ChangeSink& sink) {
+  const Batch& work = scratch_;
+  std::size_t visited = 0;
+  for (const std::uint32_t t : work.touchedOrder) {
+    const TouchedBlock& block = work.touched[t];
+    const float* data = block.block->data();
+    forEachBit(block.cells, [&](std::size_t l) {
+      const float mean = meanAt(data, l);
+      const std::uint32_t stored = storedVarianceAt(data, l);
+      std::size_t& n = chunk.n;
+      chunk.means1[n] = mean;
+      chunk.stored1[n] = stored;
+      chunk.means0[n] = work.meansBefore[visited];
+      chunk.stored0[n] = work.variancesBefore[visited];
+      chunk.where[n] = t << 9 | static_cast<std::uint32_t>(l);
+      n += static_cast<std::size_t>(
+          !(mean == work.meansBefore[visited] && stored == work.variancesBefore[visited]));
+      ++visited;
+      if (n == ChangeChunk::kCells) {
+        flushChanges(chunk, sink);
+      }
+    });
+  }
+}
+
+// The chunk's states after and before in one call each, then compared: the cells whose state differs go to
+// the sink.
+void BandedOgf::flushChanges(ChangeChunk& chunk, ChangeSink& sink) const {
+  const std::size_t n = chunk.n;
+  for (std::size_t i = 0; i < n; ++i) {
+    chunk.variances1[i] = varianceOfStored(chunk.stored1[i]);
+    chunk.variances0[i] = varianceOfStored(chunk.stored0[i]);
+  }
+  published_.statesOf(std::span(chunk.means1).first(n), std::span(chunk.variances1).first(n),
+                      std::span(chunk.now).first(n));
+  published_.statesOf(std::span(chunk.means0).first(n), std::span(chunk.variances0).first(n),
+                      std::span(chunk.was).first(n));
+  std::size_t changed = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    CellChange& c = chunk.changes[changed];
+    c.key = storage_.cellKey(scratch_.touched[chunk.where[i] >> 9].key, chunk.where[i] & 511U);
+    c.mean = chunk.means1[i];
+    c.variance = chunk.variances1[i];
+    c.quantisedProbability = chunk.now[i].quantisedProbability;
+    c.occupancyClass = chunk.now[i].occupancyClass;
+    changed += static_cast<std::size_t>(!(chunk.now[i] == chunk.was[i]));
+  }
+  sink.cellsChanged(std::span(chunk.changes).first(changed));
+  chunk.n = 0;
 }
 
 void BandedOgf::copyTouchedLayers(Batch& work) const {

@@ -238,19 +238,46 @@ class BandedOgf {
   static void markOccupied(Block& block, std::span<const std::uint16_t> codes);
   static constexpr unsigned kOwnBlock = 13;  // (0, 0, 0) in the 3×3×3 neighbourhood's numbering
   static constexpr std::size_t kPrefetchAhead = 4;
-  // update()'s first step asks for the table slot, the header and the marks of the block this many runs
-  // ahead; dropClampedFree for the mean and code of the measurement kDropAhead places ahead.
+  // prefetchRunsAhead asks for the table slot, the header and the marks of the block this many runs ahead;
+  // dropClampedFree for the mean and code of the measurement kDropAhead places ahead.
   static constexpr std::size_t kRunSlotAhead = 8;
   static constexpr std::size_t kRunHeaderAhead = 4;
   static constexpr std::size_t kRunMarksAhead = 2;
   static_assert(kRunMarksAhead < kRunHeaderAhead && kRunHeaderAhead < kRunSlotAhead);
   static constexpr std::size_t kMinRunForPrefetch = 8;  // measurements per run, on average
   static constexpr std::size_t kDropAhead = 96;
-  // Its third step's: table slots, then look-ups and headers, this many groups ahead.
+  // obtainNeighbourhoods': table slots, then look-ups and headers, this many groups ahead.
   static constexpr std::size_t kGroupSlotAhead = 16;
   static constexpr std::size_t kGroupLookAhead = 6;
   static constexpr std::size_t kRingSlots = 8;  // a power of two above kPrefetchAhead
   static_assert(std::has_single_bit(kRingSlots) && kRingSlots > kPrefetchAhead);
+
+  // update()'s stages, in order (each says what it does where it is defined).
+  bool prioritisesOccupied() const { return config_.occupiedPriority == OccupiedPriority::kMap; }
+  // Whether grouping the batch reads the blocks it has (their marks, or the means dropClampedFree tests).
+  bool readsBlocks() const { return prioritisesOccupied() || dropsClampedFree_; }
+  std::vector<Group> groupByBlock(std::span<const Measurement> batch, UpdateStats& stats);
+  void findRuns(std::span<const Measurement> batch);
+  void prefetchRunsAhead(std::span<const Measurement> batch, std::size_t r,
+                         std::array<const Block*, kRunHeaderAhead>& foundAhead) const;
+  void groupRun(std::span<const Measurement> batch, std::size_t r, std::vector<Group>& groups,
+                std::size_t& accepted, UpdateStats& stats);
+  std::vector<Group> orderGroups(std::vector<Group>& groups);
+  void obtainNeighbourhoods(std::span<const Group> sorted, UpdateStats& stats);
+  void recordChangeableCells(std::span<const Group> sorted);
+  void markStencilReach(const Group& g, const std::uint32_t* touchedOfGroup,
+                        std::array<std::array<std::uint64_t, 8>, 27>& reached);
+  // Banded storage: copies the means and stored variances of the touched cells (the change detection's
+  // state before the batch).
+  void copyTouchedCells(Batch& work) const;
+  void applyColours(std::span<const Group> sorted, UpdateStats& stats);
+  void applyColourInParallel(std::span<const Group> sorted, std::size_t g0, std::size_t g1,
+                             UpdateStats& stats);
+  struct ChangeChunk;
+  void reportChanges(ChangeSink& sink);
+  void collectLayerChanges(ChangeChunk& chunk, ChangeSink& sink);
+  void collectCellChanges(ChangeChunk& chunk, ChangeSink& sink);
+  void flushChanges(ChangeChunk& chunk, ChangeSink& sink) const;
 
   FilterConfig config_;
   PriorCovariance prior_;
