@@ -9,11 +9,10 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <string>
 
 #include "ogf/common/atomic_file.hpp"
+#include "ogf/common/read_file.hpp"
 #include "ogf/filter/map_checksum.hpp"
 
 namespace ogf::filter {
@@ -343,15 +342,10 @@ Status saveMapFile(const BandedOgf& map, const std::filesystem::path& path) {
 }
 
 Result<BandedOgf> loadMapFile(const std::filesystem::path& path, int threads) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    return Error::system(path.string() + ": cannot open");
-  }
-  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  if (file.bad()) {
-    return Error::io(path.string() + ": read failed");
-  }
-  return decodeMap(bytes, path.string(), threads);
+  auto bytes = readWholeFile(path);
+  if (!bytes) return bytes.error();
+  const std::span<const std::uint8_t> raw(reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size());
+  return decodeMap(raw, path.string(), threads);
 }
 
 }  // namespace ogf::filter

@@ -1,21 +1,18 @@
 // Loading a map file or a daemon snapshot: see map_loader.hpp.
 #include "ogf/map_formats/map_loader.hpp"
 
+#include <ogf/common/read_file.hpp>
 #include <ogf/filter/map_file.hpp>
 #include <ogf/persistence/map_pager.hpp>
 #include <ogf/persistence/state_directory.hpp>
-
-#include <fstream>
-#include <iterator>
 #include <vector>
 
 namespace ogf::map_formats {
 
 Result<LoadedMap> loadOgfMap(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Error{path.string() + ": cannot open"};
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::span<const std::byte> raw(reinterpret_cast<const std::byte*>(bytes.data()), bytes.size());
+  auto bytes = readWholeFile(path);
+  if (!bytes) return bytes.error();
+  const std::span<const std::byte> raw(*bytes);
   if (auto snap = persistence::decodeSnapshot(raw, path.string())) {
     auto map = filter::decodeMap(snap->map_bytes, path.string());
     if (!map) return Error{path.string() + ": snapshot holds a bad map: " + map.error().message};
@@ -30,7 +27,8 @@ Result<LoadedMap> loadOgfMap(const std::filesystem::path& path) {
     }
     return LoadedMap{std::move(*map), "snapshot", snap->seq};
   } else {
-    auto map = filter::decodeMap(bytes, path.string());
+    auto map = filter::decodeMap({reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size()},
+                                 path.string());
     if (map) return LoadedMap{std::move(*map), "map file", -1};
     return Error{path.string() + ": neither a map file (" + map.error().message + ") nor a snapshot (" +
                  snap.error().message + ")"};
