@@ -4,8 +4,8 @@
 //   makes of the same scans with each source's extrinsic, and the status counts each by name;
 // - two robots, each placed with its own odometry in the shared frame: the same, and each sensor's trail
 //   follows its own robot;
-// - a source whose scans are dated in 2100 and a silent one never stop a working one: its scans are all
-//   mapped, to the map it makes alone, and the status names the faulty sources;
+// - a source whose scans are dated in 2100, one sending forged bytes and a silent one never stop a working
+//   one: its scans are all mapped, to the map it makes alone, and the status names the faulty sources;
 // - a source of raw packets decoded in the mapper maps a real capture as the driver's scans of it do.
 #include <gtest/gtest.h>
 
@@ -118,7 +118,10 @@ class MapperSourcesTest : public ::testing::Test {
       std::this_thread::sleep_for(20ms);
       for (int w = 0; w < 400; ++w) {
         const auto s = mapper.latestStatus();
-        if (!s || s->scans_in - s->scans_mapped - s->scans_dropped_behind - s->scans_refused_time < 3) break;
+        if (!s || s->scans_in - s->scans_mapped - s->scans_dropped_behind - s->scans_refused_time -
+                          s->scans_rejected - s->scans_dropped_no_pose <
+                      3)
+          break;
         std::this_thread::sleep_for(5ms);
       }
     }
@@ -220,12 +223,13 @@ TEST_F(MapperSourcesTest, TwoRobotsArePlacedEachWithItsOwnOdometryInTheSharedFra
   EXPECT_TRUE(mapper->stop());
 }
 
-TEST_F(MapperSourcesTest, ASourceDatedIn2100AndASilentOneNeverStopAWorkingOneAndAreNamed) {
+TEST_F(MapperSourcesTest, ASourceDatedIn2100AForgedOneAndASilentOneNeverStopAWorkingOneAndAreNamed) {
   const std::string url = ogf::testing::loopbackUdpmUrl(103);
   auto mapper = startMapper(url,
                             "sources:\n"
                             "  - {name: good, scan_channel: SCAN_GOOD}\n"
                             "  - {name: future, scan_channel: SCAN_FUTURE}\n"
+                            "  - {name: forged, scan_channel: SCAN_FORGED}\n"
                             "  - {name: silent, scan_channel: SCAN_SILENT}\n");
   ASSERT_TRUE(mapper->reportsStatus(10s));
   lcm::LCM lcm(url);
@@ -241,6 +245,8 @@ TEST_F(MapperSourcesTest, ASourceDatedIn2100AndASilentOneNeverStopAWorkingOneAnd
                     &future.host_utime_end})
       *t += ahead;
     lcm.publish("SCAN_FUTURE", &future);
+    const std::string forged = "not a scan, but 40 bytes of something else";
+    lcm.publish("SCAN_FORGED", forged.data(), static_cast<unsigned>(forged.size()));
   });
   const auto done = mapper->waitForStatus(
       [](const Status& s) {
@@ -251,7 +257,11 @@ TEST_F(MapperSourcesTest, ASourceDatedIn2100AndASilentOneNeverStopAWorkingOneAnd
   ASSERT_TRUE(done) << mapper->log();
   const auto* good = sourceNamed(*done, "good");
   const auto* future = sourceNamed(*done, "future");
-  ASSERT_TRUE(good && future);
+  const auto* forged = sourceNamed(*done, "forged");
+  ASSERT_TRUE(good && future && forged);
+  EXPECT_EQ(forged->scans_in, kSteps);
+  EXPECT_EQ(forged->scans_rejected, kSteps);
+  EXPECT_EQ(forged->scans_mapped, 0);
   EXPECT_EQ(good->scans_mapped, kSteps);
   EXPECT_EQ(good->inputs, Status::INPUTS_OK);
   EXPECT_EQ(future->scans_mapped, 0);
@@ -264,6 +274,7 @@ TEST_F(MapperSourcesTest, ASourceDatedIn2100AndASilentOneNeverStopAWorkingOneAnd
       << "the working source's map is the one it makes alone";
   EXPECT_TRUE(mapper->stop());
   EXPECT_NE(mapper->log().find("source future: scan at"), std::string::npos) << mapper->log();
+  EXPECT_NE(mapper->log().find("source forged: scan on SCAN_FORGED ("), std::string::npos) << mapper->log();
   EXPECT_NE(mapper->log().find("source silent: inputs: poses arrive on POSE but no scan on SCAN_SILENT"),
             std::string::npos)
       << mapper->log();
