@@ -92,6 +92,7 @@ const char* const kDescription =
 struct Options {
   std::string map_path, truth_dir, png_dir, octomap_in, octomap_out, ply_out, log_level = "info";
   std::string odometry_path, corrected_path, config_path, pcap, calib, time_base;
+  std::vector<std::string> alone_paths;  // maps of the same run's sources alone (--alone)
   double max_range = 30.0, min_range = 0.4, resolution = 0.2, held_out_share = 0.1;
   std::uint64_t seed = 1;
   bool held_out = false, is_static = false;
@@ -145,6 +146,10 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--export-ply", o.ply_out, "Write the OGF map's occupied cells as PLY");
   o.max_opt = app.add_option("--max-range", o.max_range, "Ray cut for the recomputed measurements (use the mapper's), metres")->capture_default_str();
   o.min_opt = app.add_option("--min-range", o.min_range, "Minimum range for the recomputed measurements, metres")->capture_default_str();
+  app.add_option("--alone", o.alone_paths,
+                 "A map of the same world made by some of the sources alone (a lidar of a rig, one robot), "
+                 "repeatable: each is scored beside --map, with the coverage of their union")
+      ->check(CLI::ExistingFile)->needs(truth_opt);
   app.add_option("--odometry", o.odometry_path, "Raw odometry poses to score (CSV, e.g. the run's odometry.csv)")
       ->check(CLI::ExistingFile);
   app.add_option("--corrected", o.corrected_path, "Corrected poses to score (CSV utime,x,y,z,qw,qx,qy,qz)")
@@ -473,6 +478,43 @@ bool writeOutputs(const Options& o, const ogf::sim::GroundTruth& truth, const Sc
 
 // A simulator run: the map and OctoMap scored against its truth, then the held-out test, the
 // trajectories and the outputs asked for.
+// The maps of the sources alone (--alone): a column each beside the map's, and the lines that compare the
+// map with them: the coverage of their union, and the better one's accuracy.
+struct AloneMaps {
+  std::vector<ev::MapColumn> columns;
+  std::vector<std::vector<ev::CellEstimate>> estimates;
+};
+
+Stop scoreAlone(const Options& o, const ogf::sim::GroundTruth& truth, const RunMeasurements& run, AloneMaps& alone) {
+  for (const auto& path : o.alone_paths) {
+    auto l = ogf::map_formats::loadOgfMap(path);
+    if (!l) {
+      spdlog::error("--alone: {}", l.error().message);
+      return kExitFailed;
+    }
+    if (std::abs(l->map.config().resolution - truth.resolution) > 1e-9) {
+      spdlog::error("--alone {}: resolution {} m differs from the truth's {} m", path, l->map.config().resolution,
+                    truth.resolution);
+      return kExitFailed;
+    }
+    const auto& map = l->map;
+    alone.estimates.push_back(ev::classifyTruth(truth, [&](const ogf::CellKey& k) { return ev::ogfEstimate(map, k); }));
+    alone.columns.push_back(ev::makeColumn(fs::path(path).stem().string(), truth, alone.estimates.back(), run.ray_end,
+                                           fmt::format("{}", map.allocatedCells())));
+  }
+  return std::nullopt;
+}
+
+void printAloneComparison(const ogf::sim::GroundTruth& truth, const ev::MapColumn& combined, const AloneMaps& alone) {
+  if (alone.columns.empty()) return;
+  double better = 0;
+  for (const auto& c : alone.columns) better = std::max(better, c.scores.accuracy);
+  std::printf("\nthe map against its sources alone\n");
+  std::printf("  coverage: %.4f, the union of the sources alone %.4f\n", combined.scores.coverage,
+              ev::unionCoverage(truth.cells, alone.estimates));
+  std::printf("  accuracy: %.4f, the better source alone %.4f\n", combined.scores.accuracy, better);
+}
+
 int scoreSimRun(const Options& o, const Settings& s, const Trajectories& trajectories) {
   auto truth = ogf::sim::readGroundTruth((fs::path(o.truth_dir) / "truth.grid").string());
   if (!truth) {
@@ -487,7 +529,13 @@ int scoreSimRun(const Options& o, const Settings& s, const Trajectories& traject
   logScoredMap(o, scored, *truth);
 
   const TruthEstimates est = estimateTruth(*truth, scored, run);
-  std::fputs(ev::scoreTable(scoreColumns(o, *truth, scored, run, est), run.gaps).c_str(), stdout);
+  AloneMaps alone;
+  if (auto stop = scoreAlone(o, *truth, run, alone)) return *stop;
+  auto columns = scoreColumns(o, *truth, scored, run, est);
+  const ev::MapColumn combined = columns.front();
+  columns.insert(columns.begin() + 1, alone.columns.begin(), alone.columns.end());
+  std::fputs(ev::scoreTable(columns, run.gaps).c_str(), stdout);
+  printAloneComparison(*truth, combined, alone);
   if (auto stop = scoreHeldOut(o, s, scored)) return *stop;
 
   int rc = kExitOk;

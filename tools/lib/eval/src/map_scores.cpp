@@ -91,4 +91,19 @@ SweptScores scoreSwept(std::span<const std::uint8_t> truth, std::span<const std:
   return s;
 }
 
+double unionCoverage(std::span<const std::uint8_t> truth, const std::vector<std::vector<CellEstimate>>& maps) {
+  std::int64_t known = 0, classified = 0;
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    if (truth[i] > 1) continue;  // unobservable
+    ++known;
+    for (const auto& map : maps) {
+      if (map[i].cell_class != 0) {
+        ++classified;
+        break;
+      }
+    }
+  }
+  return known > 0 ? static_cast<double>(classified) / static_cast<double>(known) : 0.0;
+}
+
 }  // namespace ogf::eval

@@ -17,6 +17,7 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 namespace ogf::eval {
 
@@ -56,6 +57,11 @@ struct SweptScores {
 };
 SweptScores scoreSwept(std::span<const std::uint8_t> truth, std::span<const std::uint8_t> swept,
                        std::span<const CellEstimate> estimates);
+
+// Several maps of one world, each from some of the sources (lidars, robots) alone: the share of the known
+// truth cells that at least one of them classifies (class != 0), the coverage of their union; each of
+// `maps` aligned with `truth`. 0 when nothing is known.
+double unionCoverage(std::span<const std::uint8_t> truth, const std::vector<std::vector<CellEstimate>>& maps);
 
 // ROC AUC of scores: the probability that a random positive scores above a random negative, ties half.
 // 0.5 when either set is empty.
