@@ -17,7 +17,8 @@
 #   --vxlan    adds an Ethernet tunnel (VXLAN, VNI 77, UDP 4789) between all hosts over whichever network
 #              was chosen, each with overlay address 10.78.0.N/24 and one flood entry per other host
 #              (head-end replication, so the underlay needs only unicast); LCM's multicast is routed into
-#              the tunnel and so reaches every host, even over --routed.
+#              the tunnel and so reaches every host, even over --routed. Its MTU is 1450: the 50 bytes
+#              of VXLAN, UDP, IP and Ethernet headers then fit a 1500-byte frame of the network below.
 # On every host: lo up, multicast on, the route 224.0.0.0/4 on the interface LCM must use (LCM has no
 # interface option: the routing table chooses). net.core.rmem_max is the machine's (not per namespace):
 # raise it once, `sysctl -w net.core.rmem_max=16777216`, for the recv_buf_size=8388608 the URLs ask for.
@@ -109,7 +110,7 @@ up() {
       ip netns exec "$ns" bridge fdb append 00:00:00:00:00:00 dev vx0 dst "$other" || die "cannot add $other to $h's tunnel"
     done
     ip -n "$ns" addr add "10.78.0.$i/24" dev vx0 &&
-      ip -n "$ns" link set vx0 up multicast on &&
+      ip -n "$ns" link set vx0 mtu 1450 up multicast on &&
       ip -n "$ns" route add 224.0.0.0/4 dev vx0 || die "cannot route multicast into the tunnel on $h"
   done
   i=0

@@ -68,32 +68,35 @@ fi
 url="udpm://239.255.76.67:7667?ttl=1&recv_buf_size=8388608"
 
 # What a user checks first (docs/multi-host.md): ogf-bus-check publishes every message type on driver,
-# lcm-logger on mapper records what arrives. Prints how many probe messages mapper heard.
+# lcm-logger on mapper records what arrives. Sets heard to how many probe messages mapper heard. (Long
+# steps run in the background and are waited for, so that a signal stops the test at once.)
 probe_heard() {
   local log=$work/probe-$1.lcmlog
   ip netns exec "$ns_b" lcm-logger --lcm-url="$url" --channel='PROBE_.*' "$log" >"$work/probe-logger.log" 2>&1 &
   local logger=$!
+  pids+=("$logger")
   sleep 0.5
-  ip netns exec "$ns_a" "$bin/ogf-bus-check" --lcm-url "$url" --channel-prefix PROBE_ --timeout 2 >"$work/probe-$1.log" 2>&1 ||
-    fail "ogf-bus-check on driver failed ($1)"
+  ip netns exec "$ns_a" "$bin/ogf-bus-check" --lcm-url "$url" --channel-prefix PROBE_ --timeout 2 >"$work/probe-$1.log" 2>&1 &
+  local check=$!
+  pids+=("$check")
+  wait "$check" || fail "ogf-bus-check on driver failed ($1)"
   sleep 0.5
   kill -INT "$logger"; wait "$logger"
-  python3 -c 'import sys; sys.path.insert(0, sys.argv[1]); from lcm_log_check import events; print(sum(1 for _ in events(sys.argv[2])))' \
-    "$here/../../scripts" "$log" 2>/dev/null || echo 0
+  heard=$(python3 -c 'import sys; sys.path.insert(0, sys.argv[1]); from lcm_log_check import events; print(sum(1 for _ in events(sys.argv[2])))' \
+    "$here/../../scripts" "$log" 2>/dev/null || echo 0)
 }
 if [ "$topology" = vxlan ]; then
   # Control: over the routed network itself (multicast routed out of eth0), nothing reaches mapper.
   ip -n "$ns_a" route replace 224.0.0.0/4 dev eth0 || fail "cannot move driver's multicast route"
-  heard=$(probe_heard routed)
+  probe_heard routed
   [ "$heard" -eq 0 ] || fail "mapper heard $heard probe messages over the router: the control does not hold"
   echo "without the tunnel: mapper heard 0 messages of driver's ogf-bus-check"
   ip -n "$ns_a" route replace 224.0.0.0/4 dev vx0 || fail "cannot route driver's multicast back into the tunnel"
 fi
-heard=$(probe_heard "$topology")
+probe_heard "$topology"
 [ "$heard" -gt 0 ] || fail "mapper heard none of driver's ogf-bus-check messages"
 echo "$topology: mapper heard $heard messages of driver's ogf-bus-check"
 # (Background processes are started with `ip netns exec` itself, which execs them: $! is then their pid.)
-in_a() { ip netns exec "$ns_a" "$@"; }
 
 "$bin/ogf-sim" --world lab --duration "${OGF_HOSTS_SECONDS:-3}" --out "$work/sim" \
   --start-utime "$(( $(date +%s) * 1000000 ))" --log-level warn >"$work/sim.log" 2>&1 || fail "ogf-sim failed"
@@ -112,8 +115,10 @@ ip netns exec "$ns_a" "$bin/ogf-driver" --lcm-url "$url" --bind-address 127.0.0.
   --no-packets --log-level warn >"$work/driver.log" 2>&1 &
 driver=$!; pids+=("$driver")
 sleep 1
-in_a "$bin/ogf-replay" --pcap "$work/sim/capture.pcap" --dest 127.0.0.1 --data-port 12368 --position-port 18308 \
-  --odometry "$work/sim/odometry.csv" --lcm-url "$url" --start-delay 1 >"$work/replay.log" 2>&1 || fail "ogf-replay failed"
+ip netns exec "$ns_a" "$bin/ogf-replay" --pcap "$work/sim/capture.pcap" --dest 127.0.0.1 --data-port 12368 --position-port 18308 \
+  --odometry "$work/sim/odometry.csv" --lcm-url "$url" --start-delay 1 >"$work/replay.log" 2>&1 &
+replay=$!; pids+=("$replay")
+wait "$replay" || fail "ogf-replay failed"
 sleep 0.5
 kill -TERM "$driver"; wait "$driver" || fail "ogf-driver exited $?"
 
@@ -140,6 +145,15 @@ rejected=$(status mapper.scans_rejected)
 [ "$in" -eq "$published" ] || fail "the mapper received $in of the $published scans published on driver"
 [ "$mapped" -gt 0 ] && [ "$mapped" -eq "$in" ] || fail "the mapper mapped $mapped of $in scans"
 [ "$rejected" -eq 0 ] || fail "the mapper rejected $rejected scans"
+for k in packets_lost bad_size bad_block_flag foreign_sender bad_other; do
+  [ "$(status driver.$k)" = 0 ] || fail "the driver counted $k $(status driver.$k)"
+done
+for k in scans_dropped_behind scans_dropped_no_pose scans_late poses_rejected; do
+  [ "$(status mapper.$k)" = 0 ] || fail "the mapper counted $k $(status mapper.$k)"
+done
+rows=$(grep -c '^[0-9]' "$work/sim/odometry.csv")
+[ "$(status mapper.poses_in)" = "$rows" ] || fail "the mapper received $(status mapper.poses_in) of the $rows odometry rows"
+grep -q ' gaps 0 keyframes 1 ' <<<"$line" || fail "the client saw a gap or more than one keyframe: $line"
 checksum=$(sed -n 's/.* published_checksum \([0-9a-f]*\) mapper_published_checksum.*/\1/p' <<<"$line")
 server=$(sed -n 's/.* mapper_published_checksum \([0-9a-f]*\) .*/\1/p' <<<"$line")
 [ -n "$checksum" ] && [ "$checksum" = "$server" ] ||
