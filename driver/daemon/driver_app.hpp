@@ -21,7 +21,7 @@
 #include "ogf/transport/daemon_loop.hpp"
 #include "ogf/transport/logging.hpp"
 #include "ogf/velodyne/packet_stream.hpp"
-#include "scan_message.hpp"
+#include "ogf/driver_messages/scan_message.hpp"
 
 namespace ogf::driver {
 

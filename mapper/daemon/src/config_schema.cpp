@@ -48,6 +48,64 @@ std::string yamlText(const std::string& text) {
 
 namespace {
 
+Status readVector(const YAML::Node& n, const Locate& where, std::string_view subkey, std::size_t size, double* out) {
+  const char* form = size == 3 ? "expected [x, y, z]" : "expected [w, x, y, z]";
+  if (!n.IsSequence() || n.size() != size) return Error::configuration(where(n, subkey) + ": " + form);
+  for (std::size_t i = 0; i < size; ++i) {
+    if (!n[i].IsScalar()) return Error::configuration(where(n[i], subkey) + ": " + form);
+    try {
+      out[i] = n[i].as<double>();
+    } catch (const YAML::Exception&) {
+      return Error::configuration(where(n[i], subkey) + ": cannot read '" + n[i].Scalar() + "' as a number");
+    }
+    if (!std::isfinite(out[i])) return Error::configuration(where(n[i], subkey) + ": must be finite, got " + n[i].Scalar());
+  }
+  return okStatus();
+}
+
+std::string yamlVector(std::initializer_list<double> values) {
+  std::string s = "[";
+  for (const double v : values) s += (s.size() > 1 ? ", " : "") + yamlNumber(v);
+  return s + "]";
+}
+
+}  // namespace
+
+Status readPose(const YAML::Node& n, const Locate& where, std::string_view prefix, fusion::ExtrinsicConfig& pose) {
+  const auto sub = [&](const std::string& name) { return prefix.empty() ? name : std::string(prefix) + "." + name; };
+  if (!n.IsMap())
+    return Error::configuration(where(n, prefix) + ": expected {translation: [x, y, z], rpy: [r, p, y]}");
+  for (const auto& kv : n) {
+    const std::string name = kv.first.IsScalar() ? kv.first.Scalar() : std::string("?");
+    if (name == "translation") {
+      if (auto st = readVector(kv.second, where, sub(name), 3, pose.translation_m.data()); !st) return st;
+    } else if (name == "rpy") {
+      if (auto st = readVector(kv.second, where, sub(name), 3, pose.rpy_rad.data()); !st) return st;
+    } else if (name == "quaternion") {
+      double q[4];
+      if (auto st = readVector(kv.second, where, sub(name), 4, q); !st) return st;
+      pose.quaternion = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+    } else {
+      return Error::configuration(where(kv.first, sub(name)) + ": unknown key (translation, rpy, quaternion)");
+    }
+  }
+  return okStatus();
+}
+
+std::string showPose(const fusion::ExtrinsicConfig& pose) {
+  const Eigen::Vector3d& t = pose.translation_m;
+  std::string s = "{translation: " + yamlVector({t.x(), t.y(), t.z()});
+  if (pose.quaternion) {
+    const Eigen::Quaterniond& q = *pose.quaternion;
+    s += ", quaternion: " + yamlVector({q.w(), q.x(), q.y(), q.z()});
+  } else {
+    s += ", rpy: " + yamlVector({pose.rpy_rad.x(), pose.rpy_rad.y(), pose.rpy_rad.z()});
+  }
+  return s + "}";
+}
+
+namespace {
+
 constexpr unsigned kMapper = kUsedByMapper;
 constexpr unsigned kOffline = kUsedByMapper | kUsedByMap;  // the programs that map from odometry or a pose
 constexpr unsigned kAll = kUsedByMapper | kUsedByMap | kUsedByEval;
@@ -206,64 +264,15 @@ ConfigKey choiceKey(std::string path, std::string meaning, unsigned users,
           ""};
 }
 
-Status readVector(const YAML::Node& n, const Locate& where, std::string_view subkey, std::size_t size, double* out) {
-  const char* form = size == 3 ? "expected [x, y, z]" : "expected [w, x, y, z]";
-  if (!n.IsSequence() || n.size() != size) return Error::configuration(where(n, subkey) + ": " + form);
-  for (std::size_t i = 0; i < size; ++i) {
-    if (!n[i].IsScalar()) return Error::configuration(where(n[i], subkey) + ": " + form);
-    try {
-      out[i] = n[i].as<double>();
-    } catch (const YAML::Exception&) {
-      return Error::configuration(where(n[i], subkey) + ": cannot read '" + n[i].Scalar() + "' as a number");
-    }
-    if (!std::isfinite(out[i])) return Error::configuration(where(n[i], subkey) + ": must be finite, got " + n[i].Scalar());
-  }
-  return okStatus();
-}
-
-std::string yamlVector(std::initializer_list<double> values) {
-  std::string s = "[";
-  for (const double v : values) s += (s.size() > 1 ? ", " : "") + yamlNumber(v);
-  return s + "]";
-}
-
 // A rigid transform: {translation: [x, y, z], rpy: [roll, pitch, yaw]} or {translation, quaternion: [w, x,
 // y, z]} (the quaternion replaces rpy). Sub-keys not given keep their values.
 template <class Access>
 ConfigKey poseKey(std::string path, std::string meaning, unsigned users, Access at) {
   return {std::move(path), "{translation, rpy or quaternion}", "m, rad", std::move(meaning), users,
           [at](const YAML::Node& n, MapperOptions& o, const Locate& where) -> Status {
-            if (!n.IsMap()) return Error::configuration(where(n, "") + ": expected {translation: [x, y, z], rpy: [r, p, y]}");
-            fusion::ExtrinsicConfig& pose = at(o);
-            for (const auto& kv : n) {
-              const std::string sub = kv.first.IsScalar() ? kv.first.Scalar() : std::string("?");
-              if (sub == "translation") {
-                if (auto st = readVector(kv.second, where, sub, 3, pose.translation_m.data()); !st) return st;
-              } else if (sub == "rpy") {
-                if (auto st = readVector(kv.second, where, sub, 3, pose.rpy_rad.data()); !st) return st;
-              } else if (sub == "quaternion") {
-                double q[4];
-                if (auto st = readVector(kv.second, where, sub, 4, q); !st) return st;
-                pose.quaternion = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
-              } else {
-                return Error::configuration(where(kv.first, sub) + ": unknown key (translation, rpy, quaternion)");
-              }
-            }
-            return okStatus();
+            return readPose(n, where, "", at(o));
           },
-          [at](const MapperOptions& o) {
-            const fusion::ExtrinsicConfig& pose = at(o);
-            const Eigen::Vector3d& t = pose.translation_m;
-            std::string s = "{translation: " + yamlVector({t.x(), t.y(), t.z()});
-            if (pose.quaternion) {
-              const Eigen::Quaterniond& q = *pose.quaternion;
-              s += ", quaternion: " + yamlVector({q.w(), q.x(), q.y(), q.z()});
-            } else {
-              s += ", rpy: " + yamlVector({pose.rpy_rad.x(), pose.rpy_rad.y(), pose.rpy_rad.z()});
-            }
-            return s + "}";
-          },
-          ""};
+          [at](const MapperOptions& o) { return showPose(at(o)); }, ""};
 }
 
 // A channel name: LCM allows 63 characters; a service's reply adds "_REPLY", leaving it 57.
@@ -520,6 +529,7 @@ std::vector<ConfigKey> declare() {
   std::vector<ConfigKey> k;
   declareBus(k);
   declarePoseSource(k);
+  k.push_back(sourcesKey());
   declarePersistence(k);
   declarePublishing(k);
   declareMap(k);

@@ -44,6 +44,14 @@ struct RenamedKey {
 };
 std::span<const RenamedKey> renamedKeys();
 
+// A rigid transform's sub-keys (translation, rpy, quaternion) read into `pose` (those not given keep their
+// values); errors name `prefix` + "." + the sub-key. showPose gives it back as YAML flow text.
+Status readPose(const YAML::Node& node, const Locate& where, std::string_view prefix, fusion::ExtrinsicConfig& pose);
+std::string showPose(const fusion::ExtrinsicConfig& pose);
+
+// The `sources:` list (source_keys.cpp).
+ConfigKey sourcesKey();
+
 // A number as YAML text, as short as reads back to the same double.
 std::string yamlNumber(double value);
 // A text as a YAML scalar: plain when that reads back the same, else double-quoted.

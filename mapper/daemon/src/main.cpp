@@ -129,6 +129,20 @@ bool lockStateDirectory(const MapperOptions& options, std::optional<ogf::persist
 
 // What the mapper maps, said once it runs, and systemd told it is ready.
 void announce(const MapperOptions& options, const std::string& bus, ogf::transport::DaemonLoop& loop) {
+  if (!options.sources.empty()) {
+    const auto sources = ogf::mapper_daemon::resolveSources(options);  // validated before the daemon started
+    if (!sources) return;
+    std::string listed;
+    for (const auto& s : *sources)
+      listed += fmt::format("{}{} ({} {} of robot {}{})", listed.empty() ? "" : ", ", s.name, s.packets ? "packets on" : "scans on",
+                            s.channel, s.robot,
+                            options.pose_source == ogf::mapper_daemon::PoseSource::kStatic ? ", static pose"
+                                                                                         : " on " + s.pose_channel);
+    spdlog::info("mapping {} sources on {} at {} m: {}; deltas on {}", options.sources.size(), bus,
+                 options.map.filter.resolution, listed, options.delta_channel);
+    loop.ready("mapping");
+    return;
+  }
   if (options.pose_source == ogf::mapper_daemon::PoseSource::kStatic) {
     const Eigen::Isometry3d body = options.static_pose.bodyFromSensor();
     const Eigen::Quaterniond q(body.linear());

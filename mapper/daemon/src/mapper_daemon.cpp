@@ -38,21 +38,22 @@ Result<std::unique_ptr<MapperDaemon>> MapperDaemon::create(const MapperOptions& 
     if (!k) return k.error().within("services.key_file");
     key = *k;
   }
-  std::unique_ptr<MapperDaemon> d(
-      new MapperDaemon(options, lcm, loop, std::move(*mapper), std::move(correction), std::move(key)));
+  auto sources = ScanIntake::prepare(options);
+  if (!sources) return sources.error();
+  std::unique_ptr<MapperDaemon> d(new MapperDaemon(options, lcm, loop, std::move(*mapper), std::move(correction),
+                                                   std::move(key), std::move(*sources)));
   d->restore();
   return d;
 }
 
 MapperDaemon::MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, transport::DaemonLoop& loop,
                            pipeline::ScanMapper mapper, std::optional<correction::ScanPoseCorrection> correction,
-                           std::optional<CommandKey> key)
+                           std::optional<CommandKey> key, ScanIntake::Sources sources)
     : options_(options),
-      static_map_from_sensor_(options.static_pose.bodyFromSensor() * options.map.fusion.extrinsic.bodyFromSensor()),
       mapper_(std::move(mapper)),
       correction_(std::move(correction)),
       deltas_({options.map.filter.resolution, newMapId(), ogf::messages::kMaxDeltaCellsPerMessage}),
-      intake_(options_, lcm, shared_),
+      intake_(options_, lcm, shared_, std::move(sources), loop.io()),
       persistence_(options_, mapper_, deltas_, shared_),
       services_(options_, lcm, shared_, mapper_, deltas_, persistence_, std::move(key),
                 {[this] { resetMap(); }, [this] { refreshMapFigures(); }}),
@@ -147,17 +148,19 @@ bool MapperDaemon::mapReadyScans(std::unique_lock<std::mutex>& lk) {
     // on the way.
     auto entry = intake_.nextScan(steadyUtime());
     if (!entry) return false;
-    const ScanPtr scan = std::move(entry->payload);
+    SourceIntake& source = *entry->source;
+    const ScanPtr scan = std::move(entry->entry.payload);
     const auto t0 = std::chrono::steady_clock::now();
-    const fusion::ScanPoints points = adapters::scanPointsOf(*scan, options_.time_base);
+    const fusion::ScanPoints points = adapters::scanPointsOf(*scan, source.source().time_base);
+    mapper_.setBodyFromSensor(source.source().body_from_sensor);
     // With pose correction only the placing needs the pose buffer's lock; the correction (an RBPF may
     // take a while) runs after it is released, so odometry and scans keep arriving meanwhile.
     fusion::PoseCoverage coverage = fusion::PoseCoverage::kCovered;
     if (!staticPose())
-      coverage = correction_ ? mapper_.place(points, intake_.poses()) : mapper_.measure(points, intake_.poses());
+      coverage = correction_ ? mapper_.place(points, source.poses()) : mapper_.measure(points, source.poses());
     lk.unlock();
     const bool covered = coverage == fusion::PoseCoverage::kCovered;
-    if (covered) mapPlaced(points, scan);
+    if (covered) mapPlaced(points, scan, source);
     const double ms = msSince(t0);
     lk.lock();
     shared_.worker_heartbeat = steadyUtime();
@@ -167,14 +170,15 @@ bool MapperDaemon::mapReadyScans(std::unique_lock<std::mutex>& lk) {
   return false;
 }
 
-void MapperDaemon::mapPlaced(const fusion::ScanPoints& points, const ScanPtr& scan) {
-  if (staticPose()) mapper_.measureStatic(points, static_map_from_sensor_);
+void MapperDaemon::mapPlaced(const fusion::ScanPoints& points, const ScanPtr& scan, SourceIntake& source) {
+  // With a static pose, the sensor in the map frame is static_pose after the source's extrinsic.
+  if (staticPose()) mapper_.measureStatic(points, options_.static_pose.bodyFromSensor() * source.source().body_from_sensor);
   if (correction_) {
     correction::ScanCorrection applied;
     mapper_.measurePlaced(*correction_, &applied);
     publisher_.publishCorrectedPose(mapper_.referencePose().utime, applied);
   }
-  mapScan(scan);
+  mapScan(scan, source);
 }
 
 bool MapperDaemon::dueBetweenScans() {
@@ -194,7 +198,7 @@ bool MapperDaemon::betweenScans(bool keyframe_requested) {
   return services_waiting;
 }
 
-void MapperDaemon::mapScan(const ScanPtr& scan) {
+void MapperDaemon::mapScan(const ScanPtr& scan, SourceIntake& source) {
   const auto measurements = mapper_.measurements();
   // Write-ahead: the journal holds the scan before the map changes, so what a client is told exists on disk.
   persistence_.journal(deltas_.seq() + 1, scan->utime, measurements);
@@ -207,6 +211,7 @@ void MapperDaemon::mapScan(const ScanPtr& scan) {
   std::lock_guard lk(shared_.mu);
   ++shared_.stats.scans_mapped;
   shared_.stats.measurements += static_cast<std::int64_t>(measurements.size());
+  source.scanMapped(static_cast<std::int64_t>(measurements.size()), mapper_.sensorOrigin());
   shared_.stats.delta_seq = deltas_.seq();
   fillMapFigures();
 }

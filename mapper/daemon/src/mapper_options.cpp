@@ -60,7 +60,8 @@ struct Reader {
       const std::string key = section_path.empty() ? kv.first.Scalar() : section_path + "." + kv.first.Scalar();
       if (const auto* k = findKey(key)) {
         const schema::Locate locate = [this, &key](const YAML::Node& at, std::string_view sub) {
-          return where(at, sub.empty() ? key : key + "." + std::string(sub));
+          // A list's entry ("[1].name") follows its key without a dot.
+          return where(at, sub.empty() ? key : key + (sub.front() == '[' ? "" : ".") + std::string(sub));
         };
         if (kv.second.IsNull()) return Error::configuration(where(kv.first, key) + ": needs a value");
         if (auto st = k->read(kv.second, options, locate); !st) return st;
@@ -132,6 +133,12 @@ Status MapperOptions::validate() const {
   for (const auto* ch : {&query_channel, &command_channel}) {
     if (ch->size() > 57) return Error::configuration("channels: '" + *ch + "' must be 1 to 57 characters (its reply adds _REPLY)");
   }
+  const auto sources_in_force = resolveSources(*this);
+  if (!sources_in_force) return sources_in_force.error();
+  if (pose_correction.corrector.mode != slam::CorrectionMode::kNone &&
+      std::any_of(sources_in_force->begin(), sources_in_force->end(),
+                  [&](const ResolvedSource& s) { return s.robot != sources_in_force->front().robot; }))
+    return Error::configuration("pose_correction.mode: corrects one robot's odometry; the sources name several robots");
   if (!(snapshot_interval_s > 0)) return Error::configuration("snapshot_interval_s: must be > 0");
   if (!(page_out_distance_m >= 0) || !std::isfinite(page_out_distance_m))
     return Error::configuration("page_out_distance_m: must be >= 0 (0 keeps the whole map in memory)");

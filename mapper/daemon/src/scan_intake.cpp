@@ -1,72 +1,54 @@
-// ogf-mapper's intake of scans, poses and keyframe requests (scan_intake.hpp): the Asio thread's side,
-// which checks and queues, and the worker's, which takes the scans that are ready.
+// ogf-mapper's intake of scans, poses and keyframe requests (scan_intake.hpp): the sources and robots it
+// is made of, the choice of the next scan among them, and their sums in the status.
 #include "ogf/mapper_daemon/scan_intake.hpp"
 
 #include <spdlog/spdlog.h>
 
-#include "ogf/adapters/message_adapters.hpp"
+#include <algorithm>
+
 #include "ogf/mapper_daemon/daemon_time.hpp"
 
 namespace ogf::mapper_daemon {
 
-using adapters::decodePose;
-using adapters::scanPointsOf;
-using adapters::validateScan;
-
-namespace {
-
-// Seconds between two microsecond times, for the log.
-double secondsBetween(std::int64_t later, std::int64_t earlier) { return static_cast<double>(later - earlier) * 1e-6; }
-
-// Whether a message whose clock TimeSanity judged (before check() took it in) goes on; logs a refusal
-// (rate-limited) with the times it was judged against, or a followed jump.
-bool timePlausible(const char* what, fusion::TimeVerdict verdict, const fusion::TimeSanity& clock,
-                   std::optional<std::int64_t> expected, std::int64_t utime, std::int64_t wall_utime,
-                   transport::LogRateLimiter& log) {
-  using fusion::TimeVerdict;
-  if (verdict == TimeVerdict::kAccept) return true;
-  if (verdict == TimeVerdict::kFollowJump) {
-    spdlog::warn("{} clock jumped from {} to {} (host clock {}): followed after consistent messages", what,
-                 clock.timeBeforeLastJump() ? std::to_string(*clock.timeBeforeLastJump()) : "none", utime, wall_utime);
-    return true;
+Result<ScanIntake::Sources> ScanIntake::prepare(const MapperOptions& options) {
+  auto resolved = resolveSources(options);
+  if (!resolved) return resolved.error();
+  Sources sources;
+  for (const ResolvedSource& source : *resolved) {
+    auto packets = packetStreamFor(source);
+    if (!packets) return packets.error();
+    sources.packets.push_back(std::move(*packets));
   }
-  const auto n = log.allow();
-  if (!n) return false;
-  const double max_ahead_s = static_cast<double>(clock.maxAheadUs()) * 1e-6;
-  std::string why;
-  if (verdict == TimeVerdict::kAheadOfHost) {
-    why = fmt::format("{:.3f} s ahead of the host clock {} (at most {} s is plausible)", secondsBetween(utime, wall_utime),
-                      wall_utime, max_ahead_s);
-  } else if (verdict == TimeVerdict::kAheadOfStream && expected) {
-    why = fmt::format("{:.3f} s ahead of the stream, which is expected at {} (its newest time {} plus the host time "
-                      "since; at most {} s beyond is plausible)",
-                      secondsBetween(utime, *expected), *expected, clock.reference().value_or(0), max_ahead_s);
-  } else {
-    why = fmt::format("{:.3f} s behind the stream's newest time {} (at most {} s is plausible)",
-                      secondsBetween(clock.reference().value_or(utime), utime), clock.reference().value_or(0),
-                      static_cast<double>(clock.maxBehindUs()) * 1e-6);
-  }
-  spdlog::warn("{} at {} refused: {}; host clock {} ({} more)", what, utime, why, wall_utime, *n);
-  return false;
+  sources.resolved = std::move(*resolved);
+  return sources;
 }
 
-}  // namespace
-
-ScanIntake::ScanIntake(const MapperOptions& options, lcm::LCM& lcm, SharedState& shared)
-    : options_(options),
-      lcm_(lcm),
-      shared_(shared),
-      poses_(options.map.fusion.pose_buffer),
-      pending_(options.map.fusion.pending),
-      pose_clock_(options.map.fusion.time_sanity),
-      scan_clock_(options.map.fusion.time_sanity),
-      inputs_(inputWatchConfig(), steadyUtime()) {}
+ScanIntake::ScanIntake(const MapperOptions& options, lcm::LCM& lcm, SharedState& shared, Sources sources,
+                       boost::asio::io_context& io)
+    : options_(options), lcm_(lcm), shared_(shared) {
+  const auto& resolved = sources.resolved;
+  // With several sources (or robots) every log line says whose it is; one source logs as it always has.
+  const bool several_sources = resolved.size() > 1;
+  for (std::size_t i = 0; i < resolved.size(); ++i) {
+    const ResolvedSource& source = resolved[i];
+    RobotOdometry* robot = nullptr;
+    for (const auto& r : robots_)
+      if (r->robot() == source.robot) robot = r.get();
+    if (robot == nullptr) {
+      const bool several_robots = std::any_of(resolved.begin(), resolved.end(),
+                                              [&](const ResolvedSource& s) { return s.robot != source.robot; });
+      robots_.push_back(std::make_unique<RobotOdometry>(
+          source.robot, source.pose_channel, several_robots ? "robot " + source.robot + ": " : "", options, shared));
+      robot = robots_.back().get();
+    }
+    const std::string label = several_sources ? "source " + source.name + ": " : "";
+    sources_.push_back(
+        std::make_unique<SourceIntake>(source, label, std::move(sources.packets[i]), options, *robot, shared, io));
+  }
+}
 
 void ScanIntake::subscribe() {
-  scan_sub_ = std::make_unique<transport::Subscriber<ogf::lidar_scan_t>>(
-      lcm_, options_.scan_channel,
-      [this](const ogf::lidar_scan_t& s, const lcm::ReceiveBuffer&, const std::string&) { onScan(s); },
-      [this](const std::string& ch, std::size_t size, std::string_view why) { onMalformedScan(ch, size, why); });
+  for (auto& s : sources_) s->subscribe(lcm_);
   request_sub_ = std::make_unique<transport::Subscriber<ogf::map_request_t>>(
       lcm_, options_.request_channel,
       [this](const ogf::map_request_t& r, const lcm::ReceiveBuffer&, const std::string&) { onRequest(r); },
@@ -74,23 +56,39 @@ void ScanIntake::subscribe() {
 }
 
 void ScanIntake::subscribePoses() {
-  pose_sub_ = lcm_.subscribeFunction(
-      options_.pose_channel,
-      +[](const lcm::ReceiveBuffer* rb, const std::string&, ScanIntake* self) { self->onPose(*rb); }, this);
-  if (pose_sub_ != nullptr) pose_sub_->setQueueCapacity(transport::kSubscriptionQueueCapacity);
+  for (auto& robot : robots_) {
+    std::vector<SourceIntake*> mine;
+    for (auto& s : sources_)
+      if (s->source().robot == robot->robot()) mine.push_back(s.get());
+    robot->subscribe(lcm_, [mine](std::int64_t steady) {
+      for (SourceIntake* s : mine) s->poseArrived(steady);
+    });
+  }
 }
 
 void ScanIntake::unsubscribe() {
-  if (pose_sub_ != nullptr) lcm_.unsubscribe(pose_sub_);
-  pose_sub_ = nullptr;
-  scan_sub_.reset();
+  for (auto& r : robots_) r->unsubscribe();
+  for (auto& s : sources_) s->unsubscribe();
   request_sub_.reset();
 }
 
-void ScanIntake::restartInputWatch() { inputs_ = fusion::InputWatch(inputWatchConfig(), steadyUtime()); }
+void ScanIntake::restartInputWatch() {
+  const std::int64_t now = steadyUtime();
+  for (auto& s : sources_) s->restartInputWatch(now);
+}
 
-std::optional<ScanIntake::Pending::Entry> ScanIntake::nextScan(std::int64_t now) {
-  return staticPose() ? pending_.popOldest() : pending_.popReady(poses_, now);
+std::optional<ScanIntake::ReadyScan> ScanIntake::nextScan(std::int64_t now) {
+  SourceIntake* first = nullptr;
+  std::int64_t first_begin = 0;
+  for (auto& s : sources_) {
+    const auto* entry = s->readyFront(now);
+    if (entry != nullptr && (first == nullptr || entry->span.begin_utime < first_begin)) {
+      first = s.get();
+      first_begin = entry->span.begin_utime;
+    }
+  }
+  if (first == nullptr) return std::nullopt;
+  return ReadyScan{first, first->popFront()};
 }
 
 bool ScanIntake::takeKeyframeRequest() {
@@ -99,63 +97,80 @@ bool ScanIntake::takeKeyframeRequest() {
   return requested;
 }
 
+void ScanIntake::watchInputs() {
+  const std::int64_t now = steadyUtime();
+  for (auto& s : sources_) s->watchInputs(now);
+}
+
+std::int64_t ScanIntake::scansIn() const {
+  std::int64_t n = 0;
+  for (const auto& s : sources_) n += s->scansIn();
+  return n;
+}
+
+fusion::PendingScansCounts ScanIntake::pendingCounts() const {
+  fusion::PendingScansCounts sum;
+  for (const auto& s : sources_) sum += s->pendingCounts();
+  return sum;
+}
+
 void ScanIntake::fillStatus(ogf::mapper_status_t& s) const {
-  const auto& pc = pending_.counts();
-  s.scans_in = pc.scans_in + malformed_scans_;
+  const std::int64_t now = steadyUtime();
+  s.sources.clear();
+  for (const auto& source : sources_) s.sources.push_back(source->status(now));
+  s.num_sources = static_cast<std::int16_t>(s.sources.size());
+  fillSums(s);
+  fillInputs(s);
+  s.requests_in = requests_ + malformed_requests_;
+  s.requests_rejected = malformed_requests_;
+}
+
+void ScanIntake::fillSums(ogf::mapper_status_t& s) const {
+  const auto pc = pendingCounts();
+  std::int64_t malformed = 0, refused = 0, scan_jumps = 0;
+  for (const auto& source : sources_) {
+    malformed += source->malformedScans();
+    refused += source->scansRefusedTime();
+    scan_jumps += source->clockJumps();
+  }
+  s.scans_refused_time = refused;
+  s.scans_in = pc.scans_in + malformed + refused;
   s.scans_dropped_behind = pc.scans_dropped_behind;
   s.scans_dropped_no_pose = pc.scans_dropped_no_pose;
   s.scans_late = pc.scans_late;
-  s.scans_rejected = pc.scans_rejected + malformed_scans_;
-  s.poses_in = poses_.counts().accepted + poses_.counts().rejected() + malformed_poses_;
-  s.poses_rejected = poses_.counts().rejected() + malformed_poses_;
-  s.requests_in = requests_ + malformed_requests_;
-  s.requests_rejected = malformed_requests_;
-  s.scans_refused_time = scan_clock_.counts().refused();
-  s.poses_refused_time = pose_clock_.counts().refused();
-  s.clock_jumps = scan_clock_.counts().jumps_followed + pose_clock_.counts().jumps_followed;
-  s.pose_jumps = poses_.counts().jumps;
+  s.scans_rejected = pc.scans_rejected + malformed;
   s.scans_dropped_pose_jump = pc.scans_dropped_pose_jump;
-  s.scans_in += s.scans_refused_time;
-  s.poses_in += s.poses_refused_time;
-  fillClockStatus(s);
-  fillInputStatus(s);
+  OdometryCounts poses;
+  for (const auto& r : robots_) poses += r->counts();
+  s.poses_in = poses.poses_in;
+  s.poses_rejected = poses.poses_rejected;
+  s.poses_refused_time = poses.poses_refused_time;
+  s.clock_jumps = scan_jumps + poses.clock_jumps;
+  s.pose_jumps = poses.pose_jumps;
+  s.poses_ignored = poses.poses_ignored;
 }
 
-void ScanIntake::onMalformedScan(const std::string& channel, std::size_t size, std::string_view why) {
-  {
-    std::lock_guard lk(shared_.mu);
-    ++malformed_scans_;
-    inputs_.scanArrived(steadyUtime());
-  }
-  if (auto n = bad_scan_log_.allow()) spdlog::warn("scan on {} ({} bytes) {} ({} more)", channel, size, why, *n);
-}
-
-void ScanIntake::onScan(const ogf::lidar_scan_t& scan) {
-  if (auto st = validateScan(scan); !st) {
-    {
-      std::lock_guard lk(shared_.mu);
-      ++malformed_scans_;
-      inputs_.scanArrived(steadyUtime());
+void ScanIntake::fillInputs(ogf::mapper_status_t& s) const {
+  // The whole is OK only when every source is; else it says the first source that is not. The clocks are
+  // those of that source (or the first), the ages the freshest of any source.
+  const SourceIntake* shown = sources_.front().get();
+  for (const auto& source : sources_) {
+    if (source->inputState() != fusion::InputState::kOk) {
+      shown = source.get();
+      break;
     }
-    if (auto n = bad_scan_log_.allow()) spdlog::warn("scan seq {} rejected: {} ({} more)", scan.seq, st.error().message, *n);
-    return;
   }
-  auto owned = std::make_shared<const ogf::lidar_scan_t>(scan);
-  const fusion::ScanTimeSpan span = fusion::timeSpanOf(scanPointsOf(*owned, options_.time_base));
-  std::lock_guard lk(shared_.mu);
-  const std::int64_t wall = wallUtime(), steady = steadyUtime();
-  inputs_.scanArrived(steady);
-  watchClocks(scan);  // before the time checks: a scan on another clock than the odometry is told apart
-  const auto expected = scan_clock_.expectedAt(steady);
-  const auto verdict = scan_clock_.check(span.end_utime, wall, steady);
-  if (!timePlausible("scan", verdict, scan_clock_, expected, span.end_utime, wall, bad_time_log_)) return;
-  if (verdict == fusion::TimeVerdict::kFollowJump) pending_.restartClock();
-  const auto outcome = pending_.push({span.begin_utime, span.end_utime, static_cast<std::size_t>(scan.num_points)},
-                                     std::move(owned), poses_, steady);
-  if (outcome == fusion::PushOutcome::kLate) {
-    if (auto n = bad_scan_log_.allow()) spdlog::warn("scan seq {} arrived after a newer one: dropped ({} more)", scan.seq, *n);
+  s.inputs = inputsCode(shown->inputState());
+  shown->fillClocks(s.clocks, s.scan_clock, s.clock_offset_us);
+  const auto freshest = [](float a, float b) { return a < 0 ? b : (b < 0 ? a : std::min(a, b)); };
+  s.last_scan_age_s = -1.0f;
+  s.last_pose_age_s = -1.0f;
+  for (const auto& st : s.sources) {
+    s.last_scan_age_s = freshest(s.last_scan_age_s, st.last_scan_age_s);
+    s.last_pose_age_s = freshest(s.last_pose_age_s, st.last_pose_age_s);
   }
-  shared_.wake();
+  s.pose_source = options_.pose_source == PoseSource::kStatic ? ogf::mapper_status_t::POSE_SOURCE_STATIC
+                                                              : ogf::mapper_status_t::POSE_SOURCE_ODOMETRY;
 }
 
 void ScanIntake::onRequest(const ogf::map_request_t& r) {
@@ -173,53 +188,6 @@ void ScanIntake::onMalformedRequest(const std::string& channel, std::size_t size
   }
   if (auto n = bad_request_log_.allow()) {
     spdlog::warn("map request on {} ({} bytes) {} ({} more)", channel, size, why, *n);
-  }
-}
-
-void ScanIntake::onPose(const lcm::ReceiveBuffer& rb) {
-  if (staticPose()) {
-    std::lock_guard lk(shared_.mu);
-    inputs_.poseArrived(steadyUtime());
-    poseIgnored();
-    return;
-  }
-  auto pose = decodePose(rb.data, rb.data_size);
-  if (!pose) {
-    {
-      std::lock_guard lk(shared_.mu);
-      ++malformed_poses_;
-      inputs_.poseArrived(steadyUtime());
-    }
-    if (auto n = bad_pose_log_.allow())
-      spdlog::warn("message on {} ({} bytes): {} ({} more)", options_.pose_channel, rb.data_size, pose.error().message, *n);
-    return;
-  }
-  fusion::PoseInsertResult r;
-  {
-    std::lock_guard lk(shared_.mu);
-    // A pose refused for its content is counted as such by insert(), whatever its time.
-    const std::int64_t wall = wallUtime(), steady = steadyUtime();
-    inputs_.poseArrived(steady);
-    const auto expected = pose_clock_.expectedAt(steady);
-    const auto verdict = poses_.contentRejection(*pose) == fusion::PoseRejection::kNone
-                             ? pose_clock_.check(pose->utime, wall, steady)
-                             : fusion::TimeVerdict::kAccept;
-    if (!timePlausible("pose", verdict, pose_clock_, expected, pose->utime, wall, bad_time_log_)) return;
-    if (verdict == fusion::TimeVerdict::kFollowJump) poses_.clear();
-    r = poses_.insert(*pose);
-    if (r.accepted()) last_pose_steady_ = steadyUtime();
-    shared_.wake();
-  }
-  if (!r.accepted()) {
-    static constexpr const char* kWhy[] = {"",         "out of order",          "at a duplicate time",
-                                           "not finite", "not a unit quaternion", "absurdly far from the origin"};
-    if (auto n = bad_pose_log_.allow())
-      spdlog::warn("pose at {} rejected: {} ({} more)", pose->utime, kWhy[static_cast<int>(r.rejection)], *n);
-  } else if (r.jump) {
-    if (auto n = jump_log_.allow())
-      spdlog::warn("odometry jumped {:.3f} m / {:.3f} rad at {}: beyond max_pose_jump, scans spanning it are dropped ({} more)",
-                   r.step_translation_m, r.step_rotation_rad,
-                   pose->utime, *n);
   }
 }
 

@@ -62,7 +62,8 @@ class MapperDaemon {
   using ScanPtr = ScanIntake::ScanPtr;
 
   MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, transport::DaemonLoop& loop, pipeline::ScanMapper mapper,
-               std::optional<correction::ScanPoseCorrection> correction, std::optional<CommandKey> key);
+               std::optional<correction::ScanPoseCorrection> correction, std::optional<CommandKey> key,
+               ScanIntake::Sources sources);
   void restore();
   void workerLoop();
   // Maps the scans that are ready (shared_.mu held by `lk`); true when it left with scans still ready,
@@ -70,7 +71,7 @@ class MapperDaemon {
   bool mapReadyScans(std::unique_lock<std::mutex>& lk);
   // Measures a scan the poses cover (placed, unless the pose is static), corrects its pose when
   // correction is on, and maps it (shared_.mu not held).
-  void mapPlaced(const fusion::ScanPoints& points, const ScanPtr& scan);
+  void mapPlaced(const fusion::ScanPoints& points, const ScanPtr& scan, SourceIntake& source);
   // Whether something waits that comes between two scans (shared_.mu held).
   bool dueBetweenScans();
   // Keyframes, map services and snapshots, between two scans (shared_.mu not held); true when service
@@ -78,7 +79,7 @@ class MapperDaemon {
   bool betweenScans(bool keyframe_requested);
   // A measured scan's path: journalled, the regions it reaches brought in, folded into the filter, its
   // deltas cut, far regions paged out, the deltas published, the status' counters updated.
-  void mapScan(const ScanPtr& scan);
+  void mapScan(const ScanPtr& scan, SourceIntake& source);
   void resetMap();
   // The map's figures in the status (shared_.mu held); refreshMapFigures takes the lock.
   void fillMapFigures();
@@ -86,9 +87,6 @@ class MapperDaemon {
   bool staticPose() const { return options_.pose_source == PoseSource::kStatic; }
 
   MapperOptions options_;
-
-  // With pose_source static: the sensor in the map frame, static_pose after the extrinsic.
-  Eigen::Isometry3d static_map_from_sensor_;
 
   SharedState shared_;
   // Owned by the worker once started.

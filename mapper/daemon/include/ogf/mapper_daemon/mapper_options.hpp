@@ -16,6 +16,7 @@
 #include "ogf/adapters/message_adapters.hpp"
 #include "ogf/common/result.hpp"
 #include "ogf/correction/scan_pose_correction.hpp"
+#include "ogf/mapper_daemon/source_options.hpp"
 #include "ogf/pipeline/mapper_config.hpp"
 
 namespace ogf::mapper_daemon {
@@ -67,6 +68,10 @@ struct MapperOptions {
   // With pose_source kStatic: the body in the map frame (the extrinsic still places the sensor on the
   // body); identity by default.
   fusion::ExtrinsicConfig static_pose;
+
+  // Several lidars, several robots (source_options.hpp); empty: one source on scan_channel and pose_channel,
+  // timed by time_base and placed by map.fusion.extrinsic.
+  std::vector<SourceOptions> sources;
 
   pipeline::MapperConfig map;
   // The optional stage between odometry and the OGF: none, scan-match or rbpf.

@@ -40,6 +40,17 @@ struct PendingScansCounts {
   std::int64_t scans_late = 0;             // arrived after a newer scan (span begins no later)
   std::int64_t scans_rejected = 0;         // malformed span (end before begin)
   std::int64_t scans_dropped_pose_jump = 0;  // spans a split of the trajectory
+
+  // Sums the counts of several queues (one per source of scans).
+  PendingScansCounts& operator+=(const PendingScansCounts& o) {
+    scans_in += o.scans_in;
+    scans_dropped_behind += o.scans_dropped_behind;
+    scans_dropped_no_pose += o.scans_dropped_no_pose;
+    scans_late += o.scans_late;
+    scans_rejected += o.scans_rejected;
+    scans_dropped_pose_jump += o.scans_dropped_pose_jump;
+    return *this;
+  }
 };
 
 enum class PushOutcome { kQueued, kLate, kRejected, kTooLarge };
@@ -85,18 +96,14 @@ class PendingScans {
     return PushOutcome::kQueued;
   }
 
-  // The oldest scan whose span the poses cover, or nothing while the oldest still waits. Scans that can
-  // no longer be covered, or have waited longer than max_pose_wait_s, are dropped on the way.
-  std::optional<Entry> popReady(const PoseBuffer& poses, std::int64_t now_utime) {
+  // The oldest scan, when the poses cover its span; nothing while it still waits. Scans that can no longer
+  // be covered, or have waited longer than max_pose_wait_s, are dropped on the way. The scan stays queued
+  // (popFront() takes it), so a caller with several queues can map the oldest of their ready scans first.
+  const Entry* readyFront(const PoseBuffer& poses, std::int64_t now_utime) {
     while (!queue_.empty()) {
       Entry& front = queue_.front();
       const PoseCoverage c = poses.coverage(front.span.begin_utime, front.span.end_utime);
-      if (c == PoseCoverage::kCovered) {
-        std::optional<Entry> ready(std::move(front));
-        points_ -= ready->span.points;
-        queue_.pop_front();
-        return ready;
-      }
+      if (c == PoseCoverage::kCovered) return &front;
       if (c == PoseCoverage::kBroken) {
         dropFront(counts_.scans_dropped_pose_jump);
         continue;
@@ -105,18 +112,32 @@ class PendingScans {
         dropFront(counts_.scans_dropped_no_pose);
         continue;
       }
-      return std::nullopt;  // still waiting; later scans wait behind it to keep arrival order
+      return nullptr;  // still waiting; later scans wait behind it to keep arrival order
     }
-    return std::nullopt;
+    return nullptr;
   }
 
   // The oldest scan whatever the poses, for a sensor whose pose is fixed (nothing to wait for).
+  const Entry* oldest() const { return queue_.empty() ? nullptr : &queue_.front(); }
+
+  // Takes the oldest scan out; the queue must not be empty.
+  Entry popFront() {
+    Entry front(std::move(queue_.front()));
+    points_ -= front.span.points;
+    queue_.pop_front();
+    return front;
+  }
+
+  // readyFront() and popFront() in one step.
+  std::optional<Entry> popReady(const PoseBuffer& poses, std::int64_t now_utime) {
+    if (readyFront(poses, now_utime) == nullptr) return std::nullopt;
+    return popFront();
+  }
+
+  // oldest() and popFront() in one step.
   std::optional<Entry> popOldest() {
     if (queue_.empty()) return std::nullopt;
-    std::optional<Entry> oldest(std::move(queue_.front()));
-    points_ -= oldest->span.points;
-    queue_.pop_front();
-    return oldest;
+    return popFront();
   }
 
   // The scans' clock jumped (TimeSanity followed it): a scan is late only against scans on the new clock.

@@ -28,6 +28,10 @@ class ScanMapper {
  public:
   static Result<ScanMapper> create(const MapperConfig& config);
 
+  // Where the sensor of the scans measured next sits on the body (the configuration's extrinsic until
+  // set): a mapper fed by several lidars sets it for each scan.
+  void setBodyFromSensor(const Eigen::Isometry3d& body_from_sensor) { deskew_ = fusion::Deskew(body_from_sensor); }
+
   // Places the scan with the poses and builds its measurement set. On kCovered, measurements() holds it
   // until the next measure call; otherwise it is empty and the coverage says wait (kNotYet) or drop
   // (kTooOld).

@@ -1,4 +1,4 @@
-#include "scan_message.hpp"
+#include "ogf/driver_messages/scan_message.hpp"
 
 namespace ogf::driver {
 
