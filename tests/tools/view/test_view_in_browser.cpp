@@ -24,7 +24,9 @@
 #include "ogf/pipeline/published_cells.hpp"
 #include "png_image.hpp"
 #include "support/child_process.hpp"
+#include "support/daemon_process.hpp"
 #include "support/multicast.hpp"
+#include "two_robots.hpp"
 #include "support/source_status.hpp"
 #include "view_process.hpp"
 
@@ -292,6 +294,47 @@ TEST(ViewInBrowser, SourceTrailsAreDrawnInTheirRobotsColourAndListedByName) {
   EXPECT_NE(panel.find("r2/rear"), std::string::npos) << panel;
   EXPECT_NE(panel.find("40 of 42"), std::string::npos) << panel;
   EXPECT_NE(panel.find("25 of 27"), std::string::npos) << panel;
+}
+
+// A real ogf-mapper mapping two robots (sensor front on r1, rear on r2, each robot with its own odometry,
+// 20 m apart): the page draws both trails and lists both sources with what the mapper counted.
+TEST(ViewInBrowser, ARealMappersTwoRobotsAreDrawnAsTwoTrailsAndListedWithTheirCounts) {
+  if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << *why;
+  HeadlessChromium browser;
+  if (auto why = browser.start(kWidth, kHeight)) GTEST_SKIP() << "chromium cannot run here: " << *why;
+
+  const std::string bus = ogf::testing::loopbackUdpmUrl(26);
+  const fs::path config = fs::temp_directory_path() / ("ogf-view-two-robots-" + std::to_string(::getpid()) + ".yaml");
+  std::ofstream(config) << "status_interval_s: 0.1\n" << ogf::testing::kTwoRobotsSources;
+  using Mapper = ogf::testing::DaemonProcess<ogf::mapper_status_t>;
+  Mapper mapper({std::string(OGF_BIN_DIR) + "/ogf-mapper", "--lcm-url", bus, "--config", config.string(), "--in-memory"},
+                (screenshotDir() / "two-robots-mapper.log").string(), bus, ogf::testing::kMapperStatusChannel);
+  ASSERT_TRUE(mapper.reportsStatus(std::chrono::seconds(10)));
+  ViewProcess view({"--lcm-url", bus, "--port", "0", "--rate", "5"}, "two-robots");
+  const std::string url = view.url();
+  ASSERT_FALSE(url.empty());
+
+  constexpr int kSteps = 15;
+  lcm::LCM lcm(bus);
+  ogf::testing::feedTwoRobots(lcm, mapper, kSteps, 20.0);
+  const auto done = mapper.waitForStatus([](const ogf::mapper_status_t& s) { return s.scans_mapped == 2 * kSteps; },
+                                         std::chrono::seconds(30));
+  fs::remove(config);
+  ASSERT_TRUE(done) << mapper.log();
+
+  ASSERT_TRUE(browser.open(url));
+  const std::string title = browser.waitForTitle("source trails 2", std::chrono::seconds(30));
+  if (title.find("no WebGL") != std::string::npos) GTEST_SKIP() << "chromium has no WebGL here: " << title;
+  ASSERT_NE(title.find("source trails 2"), std::string::npos) << "title: " << title << "\n" << view.log();
+  const RgbImage img = screenshot(browser, "two-robots.png");
+  EXPECT_GT(cellPixels(img), 2000u) << "the map is not on the screen";
+  const std::string panel = browser.evaluate("document.getElementById('sources').innerText");
+  EXPECT_NE(panel.find("r1/front"), std::string::npos) << panel;
+  EXPECT_NE(panel.find("r2/rear"), std::string::npos) << panel;
+  const std::string mapped = std::to_string(kSteps) + " of " + std::to_string(kSteps);
+  ASSERT_NE(panel.find(mapped), std::string::npos) << "each source should show " << mapped << " scans mapped: " << panel;
+  EXPECT_NE(panel.rfind(mapped), panel.find(mapped)) << "each source should show " << mapped << " scans mapped: " << panel;
+  EXPECT_TRUE(mapper.stop());
 }
 
 TEST(ViewProgram, ExitCodesSayUsageOrFailure) {

@@ -14,7 +14,7 @@ inline const char* inputsName(std::int8_t inputs) {
     case mapper_status_t::INPUTS_OK: return "ok";
     case mapper_status_t::INPUTS_WAITING_FOR_POSES: return "waiting_for_poses";
     case mapper_status_t::INPUTS_WAITING_FOR_SCANS: return "waiting_for_scans";
-    default: return "none";
+    default: return "silent";  // INPUTS_NONE: neither scans nor poses arrive
   }
 }
 
