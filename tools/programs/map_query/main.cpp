@@ -61,8 +61,7 @@ void printSources(const ogf::mapper_status_t& m) {
     }
     std::printf("%-12s %-12s %-24s %-7s %-14s %-17s %-8s %8lld %8lld %8lld %8lld %8lld %26s %5zu\n", s.robot.c_str(),
                 s.name.c_str(), s.scan_channel.c_str(), s.packets ? "packets" : "scans",
-                s.pose_channel.empty() ? "-" : s.pose_channel.c_str(), inputsName(s.inputs),
-                clocksName(s.clocks),
+                s.pose_channel.empty() ? "-" : s.pose_channel.c_str(), inputsName(s.inputs), clocksName(s.clocks),
                 static_cast<long long>(s.scans_in), static_cast<long long>(s.scans_mapped),
                 static_cast<long long>(scansDropped(s)), static_cast<long long>(s.scans_rejected),
                 static_cast<long long>(s.poses_in), last, s.trail.size());
