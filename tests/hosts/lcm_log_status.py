@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Prints the last OGF_MAPPER_STATUS and VELODYNE_STATUS counters found in an LCM log file (lcm-logger's
+"""Prints the last OGF_MAPPER_STATUS and VELODYNE_STATUS* counters found in an LCM log file (lcm-logger's
 format: per event a 0xEDA1DA01 sync word, event number, timestamp, channel and data lengths, channel, data;
 lcm/eventlog.c), as `key value` lines. The fields are read at their offsets in messages/lcmtypes: after the
 8-byte fingerprint, mapper_status_t holds 10 int64 (utime .. measurements), 3 floats, then int64 cells,
@@ -35,8 +35,8 @@ last = {}
 for channel, _, payload in events(sys.argv[1]):
     if channel == "OGF_MAPPER_STATUS":
         last["mapper"] = mapper_status(payload)
-    elif channel == "VELODYNE_STATUS":
-        last["driver"] = driver_status(payload)
+    elif channel.startswith("VELODYNE_STATUS"):  # VELODYNE_STATUS_R2: driver_R2
+        last["driver" + channel[len("VELODYNE_STATUS"):]] = driver_status(payload)
 for who, values in sorted(last.items()):
     for key, value in values.items():
         print(f"{who}.{key} {value}")

@@ -1,9 +1,10 @@
 // The figures beside the map: the robot's trail keeps positions 5 cm apart, the JSON frame carries only
 // the trail points a browser lacks, the mapper's scan rate comes from two statuses, and figures not yet
-// known are null.
+// known are null; the mapper's sources arrive with their robot, state, counts and trail.
 #include <gtest/gtest.h>
 
 #include "ogf/view/live_figures.hpp"
+#include "support/source_status.hpp"
 
 namespace {
 
@@ -77,6 +78,41 @@ TEST(LiveFigures, StringsAreEscaped) {
   const std::string j = f.json(s, 0, 0);
   EXPECT_NE(j.find(R"("source":"pcap-file \"a\\b\".pcap\u000a")"), std::string::npos) << j;
   EXPECT_NE(j.find(R"("source":"map \"x\"")"), std::string::npos) << j;
+}
+
+
+ogf::source_status_t source(const std::string& name, const std::string& robot, int points) {
+  std::vector<std::array<float, 3>> trail;
+  for (int i = 0; i < points; ++i) trail.push_back({static_cast<float>(i), 1.5f, 0.25f});
+  auto s = ogf::testing::sourceStatus(robot, name, trail);
+  s.scans_in = 10;
+  s.scans_mapped = 7;
+  s.scans_late = 1;
+  s.scans_dropped_no_pose = 2;
+  return s;
+}
+
+TEST(LiveFigures, EachSourceCarriesItsRobotStateCountsAndWholeTrail) {
+  LiveFigures f;
+  ogf::mapper_status_t m{};
+  m.sources = {source("front", "r1", 3), source("rear", "r2", 0)};
+  m.num_sources = 2;
+  f.mapperStatus(m);
+  const std::string j = f.json({}, 0, 0);
+  EXPECT_NE(j.find(R"({"name":"front","robot":"r1","scan_channel":"VELODYNE_SCAN_front","packets":false,)"
+                   R"("pose_channel":"POSE_r1","inputs":"ok","scans_in":10,"scans_mapped":7,"dropped":3,)"
+                   R"("trail":[0.000,1.500,0.250,1.000,1.500,0.250,2.000,1.500,0.250]})"),
+            std::string::npos)
+      << j;
+  EXPECT_NE(j.find(R"({"name":"rear","robot":"r2",)"), std::string::npos) << j;
+  EXPECT_NE(j.find(R"("trail":[]}])"), std::string::npos) << j;
+}
+
+TEST(LiveFigures, AMapperWithoutSourcesSendsAnEmptyList) {
+  LiveFigures f;
+  f.mapperStatus(ogf::mapper_status_t{});
+  const std::string j = f.json({}, 0, 0);
+  EXPECT_NE(j.find(R"("sources":[])"), std::string::npos) << j;
 }
 
 }  // namespace

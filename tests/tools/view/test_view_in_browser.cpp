@@ -2,16 +2,18 @@
 // on a live bus the picture follows the deltas. Pixels of the screenshots decide, not the page's word:
 // cells are drawn in saturated colours the background, the grid and the panel never have. The screenshots
 // stay in build/tests/view-screenshots/ for a person to look at. Skips, saying why, when Chromium cannot
-// run here or udpm has no loopback route.
+// run here or udpm has no loopback route. The mapper's sources appear as trails in their robot's colour.
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
 #include <unistd.h>
 
 #include <ogf/filter/map_file.hpp>
 #include <ogf/map_delta_t.hpp>
+#include <ogf/mapper_status_t.hpp>
 #include <ogf/odometry_t.hpp>
 
 #include <csignal>
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -22,7 +24,10 @@
 #include "ogf/pipeline/published_cells.hpp"
 #include "png_image.hpp"
 #include "support/child_process.hpp"
+#include "support/daemon_process.hpp"
 #include "support/multicast.hpp"
+#include "two_robots.hpp"
+#include "support/source_status.hpp"
 #include "view_process.hpp"
 
 namespace {
@@ -203,6 +208,133 @@ TEST(ViewInBrowser, LiveDeltasChangeThePicture) {
   const RgbImage after = screenshot(browser, "live-after.png");
   EXPECT_GT(changedPixels(before, after), 2000u) << "the block did not change the picture";
   EXPECT_GT(cellPixels(after), cellPixels(before));
+}
+
+// Pixels right of the panel that differ between `before` and `after` and, in `after`, have the colour
+// `rgb` (each channel within 50): what a trail drawn in that colour added to the picture.
+std::size_t addedPixelsOf(const RgbImage& before, const RgbImage& after, std::array<int, 3> rgb) {
+  std::size_t n = 0;
+  for (int y = 0; y < std::min(before.height, after.height); ++y)
+    for (int x = kPanelRight; x < std::min(before.width, after.width); ++x) {
+      const auto* a = after.at(x, y);
+      const auto* b = before.at(x, y);
+      bool changed = false, colour = true;
+      for (int c = 0; c < 3; ++c) {
+        changed = changed || std::abs(int{a[c]} - int{b[c]}) > 40;
+        colour = colour && std::abs(int{a[c]} - rgb[static_cast<std::size_t>(c)]) <= 50;
+      }
+      if (changed && colour) ++n;
+    }
+  return n;
+}
+
+// One source of the mapper's status: `robot`/`name`, its trail a straight line of 8 points from `from`
+// to `to` above the room's walls.
+ogf::source_status_t sourceWithTrail(const std::string& robot, const std::string& name, std::array<float, 2> from,
+                                     std::array<float, 2> to, std::int64_t mapped) {
+  std::vector<std::array<float, 3>> trail;
+  for (int i = 0; i < 8; ++i) {
+    const float t = static_cast<float>(i) / 7.0f;
+    trail.push_back({from[0] + t * (to[0] - from[0]), from[1] + t * (to[1] - from[1]), 1.4f});
+  }
+  auto s = ogf::testing::sourceStatus(robot, name, trail);
+  s.scans_in = mapped + 2;
+  s.scans_mapped = mapped;
+  s.scans_dropped_no_pose = 2;
+  return s;
+}
+
+// Two robots' sources in the mapper's status: each trail is drawn in its robot's colour (the page's first
+// two, #00e5ff and #ffea00) over the map, and the panel names each as robot/sensor with its counts.
+TEST(ViewInBrowser, SourceTrailsAreDrawnInTheirRobotsColourAndListedByName) {
+  if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << *why;
+  HeadlessChromium browser;
+  if (auto why = browser.start(kWidth, kHeight)) GTEST_SKIP() << "chromium cannot run here: " << *why;
+
+  const std::string bus = ogf::testing::loopbackUdpmUrl(24);
+  lcm::LCM lcm(bus);
+  ASSERT_TRUE(lcm.good());
+  ViewProcess view({"--lcm-url", bus, "--port", "0", "--rate", "5"}, "sources");
+  const std::string url = view.url();
+  ASSERT_FALSE(url.empty());
+
+  ogf::delta::DeltaStream stream({0.2, 24, ogf::messages::kMaxDeltaCellsPerMessage});
+  std::vector<ogf::delta::PublishedCell> walls;
+  for (const auto& m : room())
+    if (m.y == ogf::Measurement::kOccupied) walls.push_back({m.key, 9000, ogf::map_delta_t::CLASS_OCCUPIED, 0.3f});
+  stream.update(1, walls);
+  const std::string want_map = "drawn " + std::to_string(walls.size()) + " boxes, seq 1";
+  ASSERT_TRUE(browser.open(url));
+  std::string title;
+  for (int i = 0; i < 60 && title.find(want_map) == std::string::npos; ++i) {
+    for (const auto& m : stream.keyframe(2)) lcm.publish("OGF_MAP_DELTA", &m);
+    title = browser.waitForTitle(want_map, std::chrono::milliseconds(500));
+  }
+  if (title.find("no WebGL") != std::string::npos) GTEST_SKIP() << "chromium has no WebGL here: " << title;
+  ASSERT_NE(title.find(want_map), std::string::npos) << "title: " << title << "\n" << view.log();
+  const RgbImage before = screenshot(browser, "sources-before.png");
+
+  ogf::mapper_status_t status{};
+  status.sources = {sourceWithTrail("r1", "front", {0.4f, 0.6f}, {2.6f, 0.6f}, 40),
+                    sourceWithTrail("r2", "rear", {0.4f, 2.4f}, {2.6f, 2.4f}, 25)};
+  status.num_sources = 2;
+  const std::string want_trails = "source trails 2";
+  for (int i = 0; i < 40 && title.find(want_trails) == std::string::npos; ++i) {
+    ++status.utime;
+    lcm.publish("OGF_MAPPER_STATUS", &status);
+    title = browser.waitForTitle(want_trails, std::chrono::milliseconds(500));
+  }
+  ASSERT_NE(title.find(want_trails), std::string::npos) << "title: " << title << "\n" << view.log();
+  const RgbImage after = screenshot(browser, "sources-after.png");
+  EXPECT_GT(addedPixelsOf(before, after, {0x00, 0xe5, 0xff}), 60u) << "r1's trail is not drawn in cyan (sources-after.png)";
+  EXPECT_GT(addedPixelsOf(before, after, {0xff, 0xea, 0x00}), 60u) << "r2's trail is not drawn in yellow (sources-after.png)";
+
+  const std::string panel = browser.evaluate("document.getElementById('sources').innerText");
+  EXPECT_NE(panel.find("r1/front"), std::string::npos) << panel;
+  EXPECT_NE(panel.find("r2/rear"), std::string::npos) << panel;
+  EXPECT_NE(panel.find("40 of 42"), std::string::npos) << panel;
+  EXPECT_NE(panel.find("25 of 27"), std::string::npos) << panel;
+}
+
+// A real ogf-mapper mapping two robots (sensor front on r1, rear on r2, each robot with its own odometry,
+// 20 m apart): the page draws both trails and lists both sources with what the mapper counted.
+TEST(ViewInBrowser, ARealMappersTwoRobotsAreDrawnAsTwoTrailsAndListedWithTheirCounts) {
+  if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << *why;
+  HeadlessChromium browser;
+  if (auto why = browser.start(kWidth, kHeight)) GTEST_SKIP() << "chromium cannot run here: " << *why;
+
+  const std::string bus = ogf::testing::loopbackUdpmUrl(26);
+  const fs::path config = fs::temp_directory_path() / ("ogf-view-two-robots-" + std::to_string(::getpid()) + ".yaml");
+  std::ofstream(config) << "status_interval_s: 0.1\n" << ogf::testing::kTwoRobotsSources;
+  using Mapper = ogf::testing::DaemonProcess<ogf::mapper_status_t>;
+  Mapper mapper({std::string(OGF_BIN_DIR) + "/ogf-mapper", "--lcm-url", bus, "--config", config.string(), "--in-memory"},
+                (screenshotDir() / "two-robots-mapper.log").string(), bus, ogf::testing::kMapperStatusChannel);
+  ASSERT_TRUE(mapper.reportsStatus(std::chrono::seconds(10)));
+  ViewProcess view({"--lcm-url", bus, "--port", "0", "--rate", "5"}, "two-robots");
+  const std::string url = view.url();
+  ASSERT_FALSE(url.empty());
+
+  constexpr int kSteps = 15;
+  lcm::LCM lcm(bus);
+  ogf::testing::feedTwoRobots(lcm, mapper, kSteps, 20.0);
+  const auto done = mapper.waitForStatus([](const ogf::mapper_status_t& s) { return s.scans_mapped == 2 * kSteps; },
+                                         std::chrono::seconds(30));
+  fs::remove(config);
+  ASSERT_TRUE(done) << mapper.log();
+
+  ASSERT_TRUE(browser.open(url));
+  const std::string title = browser.waitForTitle("source trails 2", std::chrono::seconds(30));
+  if (title.find("no WebGL") != std::string::npos) GTEST_SKIP() << "chromium has no WebGL here: " << title;
+  ASSERT_NE(title.find("source trails 2"), std::string::npos) << "title: " << title << "\n" << view.log();
+  const RgbImage img = screenshot(browser, "two-robots.png");
+  EXPECT_GT(cellPixels(img), 2000u) << "the map is not on the screen";
+  const std::string panel = browser.evaluate("document.getElementById('sources').innerText");
+  EXPECT_NE(panel.find("r1/front"), std::string::npos) << panel;
+  EXPECT_NE(panel.find("r2/rear"), std::string::npos) << panel;
+  const std::string mapped = std::to_string(kSteps) + " of " + std::to_string(kSteps);
+  ASSERT_NE(panel.find(mapped), std::string::npos) << "each source should show " << mapped << " scans mapped: " << panel;
+  EXPECT_NE(panel.rfind(mapped), panel.find(mapped)) << "each source should show " << mapped << " scans mapped: " << panel;
+  EXPECT_TRUE(mapper.stop());
 }
 
 TEST(ViewProgram, ExitCodesSayUsageOrFailure) {

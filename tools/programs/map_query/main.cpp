@@ -4,6 +4,8 @@
 //   ogf-map-query box XMIN YMIN ZMIN XMAX YMAX ZMAX  known and unknown volume, mean entropy of the box
 //   ogf-map-query --key FILE save | reset | export FORMAT NAME   (signed with the mapper's key)
 //   ogf-map-query keygen FILE                      a new key file (mode 0600) for services.key_file
+//   ogf-map-query sources [--json]                 each source of scans the mapper's status lists: robot,
+//                                                  sensor, channels, state, counts, last position, trail
 // Exit 0 when answered (or done), 1 when refused, failed or unanswered within --timeout, 2 on bad usage.
 #include <CLI/CLI.hpp>
 #include <lcm/lcm-cpp.hpp>
@@ -13,15 +15,19 @@
 #include <ogf/map_command_t.hpp>
 #include <ogf/map_query_reply_t.hpp>
 #include <ogf/map_query_t.hpp>
+#include <ogf/mapper_status_t.hpp>
 
 #include <chrono>
 #include <cstdio>
+#include <functional>
 #include <optional>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "ogf/common/command_line.hpp"
+#include "ogf/common/json_string.hpp"
+#include "ogf/messages/source_status_names.hpp"
 #include "ogf/mapper_daemon/command_auth.hpp"
 #include "ogf/transport/lcm_url.hpp"
 #include "ogf/transport/logging.hpp"
@@ -30,10 +36,77 @@
 namespace {
 
 constexpr int kExitOk = 0, kExitFailed = 1, kExitUsage = 2;
+using ogf::messages::clocksName;
+using ogf::messages::inputsName;
+using ogf::messages::scansDropped;
 
 std::int64_t nowUtime() {
   return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
       .count();
+}
+
+// One line per source: who it is, where its scans and poses come from, its state, its counts and where its
+// sensor was last (map frame, metres; "-" before its first mapped scan).
+void printSources(const ogf::mapper_status_t& m) {
+  std::printf("%zu sources (mapper status at utime %lld)\n", m.sources.size(), static_cast<long long>(m.utime));
+  std::printf("%-12s %-12s %-24s %-7s %-14s %-17s %-8s %8s %8s %8s %8s %8s %26s %5s\n", "robot", "sensor", "channel",
+              "kind", "pose_channel", "inputs", "clocks", "scans_in", "mapped", "dropped", "rejected", "poses_in",
+              "last_position", "trail");
+  for (const auto& s : m.sources) {
+    char last[64] = "-";
+    if (!s.trail.empty()) {
+      const auto& p = s.trail.back();
+      std::snprintf(last, sizeof last, "%.2f,%.2f,%.2f", static_cast<double>(p[0]), static_cast<double>(p[1]),
+                    static_cast<double>(p[2]));
+    }
+    std::printf("%-12s %-12s %-24s %-7s %-14s %-17s %-8s %8lld %8lld %8lld %8lld %8lld %26s %5zu\n", s.robot.c_str(),
+                s.name.c_str(), s.scan_channel.c_str(), s.packets ? "packets" : "scans",
+                s.pose_channel.empty() ? "-" : s.pose_channel.c_str(), inputsName(s.inputs), clocksName(s.clocks),
+                static_cast<long long>(s.scans_in), static_cast<long long>(s.scans_mapped),
+                static_cast<long long>(scansDropped(s)), static_cast<long long>(s.scans_rejected),
+                static_cast<long long>(s.poses_in), last, s.trail.size());
+  }
+}
+
+// The same as one JSON object: {"utime":..., "sources":[{...,"trail":[[x,y,z],...]}]}.
+void printSourcesJson(const ogf::mapper_status_t& m) {
+  std::string out = "{\"utime\":" + std::to_string(m.utime) + ",\"sources\":[";
+  for (std::size_t i = 0; i < m.sources.size(); ++i) {
+    const auto& s = m.sources[i];
+    if (i > 0) out += ',';
+    out += "{\"robot\":" + ogf::jsonString(s.robot) + ",\"sensor\":" + ogf::jsonString(s.name) +
+           ",\"channel\":" + ogf::jsonString(s.scan_channel) + ",\"packets\":" + (s.packets ? "true" : "false") +
+           ",\"pose_channel\":" + ogf::jsonString(s.pose_channel) + ",\"inputs\":\"" + inputsName(s.inputs) +
+           "\",\"clocks\":\"" + clocksName(s.clocks) + "\",\"clock_offset_us\":" +
+           std::to_string(s.clock_offset_us);
+    for (const auto& [key, value] : {std::pair<const char*, std::int64_t>{"scans_in", s.scans_in},
+                                     {"scans_mapped", s.scans_mapped},
+                                     {"scans_dropped", scansDropped(s)},
+                                     {"scans_rejected", s.scans_rejected},
+                                     {"packets_in", s.packets_in},
+                                     {"packets_rejected", s.packets_rejected},
+                                     {"poses_in", s.poses_in},
+                                     {"poses_rejected", s.poses_rejected}})
+      out += std::string(",\"") + key + "\":" + std::to_string(value);
+    out += ",\"trail\":[";
+    for (std::size_t k = 0; k < s.trail.size(); ++k) {
+      char p[96];
+      std::snprintf(p, sizeof p, "%s[%.3f,%.3f,%.3f]", k > 0 ? "," : "", static_cast<double>(s.trail[k][0]),
+                    static_cast<double>(s.trail[k][1]), static_cast<double>(s.trail[k][2]));
+      out += p;
+    }
+    out += "]}";
+  }
+  std::printf("%s]}\n", out.c_str());
+}
+
+// Handles the bus until `done` says so or `timeout_s` passes.
+void handleUntil(lcm::LCM& lcm, double timeout_s, const std::function<bool()>& done) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (!done() && std::chrono::steady_clock::now() < deadline) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    lcm.handleTimeout(static_cast<int>(std::max<std::int64_t>(1, left.count())));
+  }
 }
 
 // Waits up to `timeout_s` for the reply with `id` on `channel`.
@@ -50,11 +123,7 @@ std::optional<Reply> awaitReply(lcm::LCM& lcm, const std::string& channel, std::
         spdlog::warn("reply on {} ({} bytes) {}", ch, size, why);
       });
   send();
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
-  while (!reply && std::chrono::steady_clock::now() < deadline) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-    lcm.handleTimeout(static_cast<int>(std::max<std::int64_t>(1, left.count())));
-  }
+  handleUntil(lcm, timeout_s, [&] { return reply.has_value(); });
   return reply;
 }
 
@@ -67,6 +136,8 @@ int noReply(const std::string& channel, double timeout_s, const std::string& url
 // The command line: the bus options and one subcommand.
 struct Options {
   std::string url, query_channel = "OGF_MAP_QUERY", command_channel = "OGF_MAP_COMMAND", log_level = "warn";
+  std::string status_channel = "OGF_MAPPER_STATUS";
+  bool json = false;
   double timeout_s = 5.0;
   std::vector<double> cell_xyz, box;
   std::string key_file, keygen_file;
@@ -74,6 +145,7 @@ struct Options {
   CLI::App* cell = nullptr;
   CLI::App* box_command = nullptr;
   CLI::App* keygen = nullptr;
+  CLI::App* sources = nullptr;
 };
 
 void addOptions(CLI::App& app, Options& o) {
@@ -91,6 +163,12 @@ void addOptions(CLI::App& app, Options& o) {
                  "Key file to sign commands with (the mapper's services.key_file; 64 hex digits, mode 0600)");
   o.keygen = app.add_subcommand("keygen", "Create a new key file (mode 0600) for services.key_file; nothing is sent");
   o.keygen->add_option("file", o.keygen_file, "Where to create it (never replaced)")->required();
+  o.sources = app.add_subcommand(
+      "sources", "Each source of scans the mapper maps (from its status): robot, sensor, channels, state, counts, "
+                 "last position and trail length");
+  o.sources->fallthrough();  // its options are the program's, so they may follow it: sources --json
+  app.add_flag("--json", o.json, "sources: one JSON object, with each source's whole trail");
+  app.add_option("--status-channel", o.status_channel, "sources: the mapper's status channel")->capture_default_str();
   app.add_subcommand("save", "Write a snapshot to the mapper's state directory now");
   app.add_subcommand("reset", "Start an empty map with a new map id (the old one is kept on disk)");
   auto* exp = app.add_subcommand("export", "Write the map into the mapper's export directory (services.export_dir)");
@@ -188,6 +266,29 @@ int query(const Options& o, lcm::LCM& lcm, const std::string& url, const Request
   return kExitOk;
 }
 
+// The next mapper status on the bus, printed as a table or JSON.
+int sources(const Options& o, lcm::LCM& lcm, const std::string& url) {
+  std::optional<ogf::mapper_status_t> status;
+  ogf::transport::Subscriber<ogf::mapper_status_t> sub(
+      lcm, o.status_channel,
+      [&](const ogf::mapper_status_t& m, const lcm::ReceiveBuffer&, const std::string&) { status = m; },
+      [](const std::string& ch, std::size_t size, const std::string& why) {
+        spdlog::warn("message on {} ({} bytes) {}", ch, size, why);
+      });
+  handleUntil(lcm, o.timeout_s, [&] { return status.has_value(); });
+  if (!status) {
+    std::fprintf(stderr, "no status on %s within %.1f s: is ogf-mapper running on %s?\n", o.status_channel.c_str(),
+                 o.timeout_s, url.c_str());
+    return kExitFailed;
+  }
+  if (o.json) {
+    printSourcesJson(*status);
+  } else {
+    printSources(*status);
+  }
+  return kExitOk;
+}
+
 int command(const CLI::App& app, const Options& o, lcm::LCM& lcm, const std::string& url, Request& request,
             const std::optional<ogf::mapper_daemon::CommandKey>& key) {
   ogf::map_command_t c{};
@@ -217,7 +318,8 @@ int command(const CLI::App& app, const Options& o, lcm::LCM& lcm, const std::str
 int main(int argc, char** argv) {
   CLI::App app{
       "Ask the running ogf-mapper about its map, or order it, over LCM (OGF_MAP_QUERY / OGF_MAP_COMMAND; the\n"
-      "replies come on <channel>_REPLY). Coordinates are metres in the map frame.\n"
+      "replies come on <channel>_REPLY), or list its sources from its status (OGF_MAPPER_STATUS). Coordinates\n"
+      "are metres in the map frame.\n"
       "Exit 0 when answered or done, 1 when refused, failed or unanswered within --timeout, 2 on bad usage."};
   Options o;
   addOptions(app, o);
@@ -232,6 +334,7 @@ int main(int argc, char** argv) {
     spdlog::error("cannot join the LCM bus {}", resolved);
     return kExitFailed;
   }
+  if (o.sources->parsed()) return sources(o, lcm, resolved);
   Request request;
   if (o.cell->parsed() || o.box_command->parsed()) return query(o, lcm, resolved, request);
   return command(app, o, lcm, resolved, request, key);

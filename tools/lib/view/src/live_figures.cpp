@@ -4,25 +4,13 @@
 
 #include <cmath>
 
+#include "ogf/common/json_string.hpp"
+#include "ogf/messages/source_status_names.hpp"
+
 namespace ogf::view {
 namespace {
 
 std::string number(double v) { return std::isfinite(v) ? fmt::format("{:.6g}", v) : "null"; }
-
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      out += fmt::format("\\u{:04x}", static_cast<unsigned>(static_cast<unsigned char>(c)));
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
 
 std::string poseJson(const PoseTrail& trail, std::size_t from) {
   if (!trail.latest()) return "null";
@@ -40,6 +28,27 @@ std::string poseJson(const PoseTrail& trail, std::size_t from) {
       std::min(from, pts.size()), pts.size(), points);
 }
 
+// The mapper's sources: who each is (robot, sensor, channels), its state and counts, and its trail in the
+// map frame (at most 64 points, so sent whole in every frame).
+std::string sourcesJson(const ogf::mapper_status_t& m) {
+  std::string out = "[";
+  for (const auto& src : m.sources) {
+    if (out.size() > 1) out += ',';
+    std::string trail;
+    for (const auto& p : src.trail) {
+      if (!trail.empty()) trail += ',';
+      trail += fmt::format("{:.3f},{:.3f},{:.3f}", p[0], p[1], p[2]);
+    }
+    const std::int64_t dropped = ogf::messages::scansDropped(src) + src.scans_rejected;
+    out += fmt::format(
+        R"({{"name":{},"robot":{},"scan_channel":{},"packets":{},"pose_channel":{},"inputs":{},"scans_in":{},"scans_mapped":{},"dropped":{},"trail":[{}]}})",
+        ogf::jsonString(src.name), ogf::jsonString(src.robot), ogf::jsonString(src.scan_channel),
+        src.packets ? "true" : "false", ogf::jsonString(src.pose_channel),
+        ogf::jsonString(ogf::messages::inputsName(src.inputs)), src.scans_in, src.scans_mapped, dropped, trail);
+  }
+  return out + "]";
+}
+
 }  // namespace
 
 void LiveFigures::mapperStatus(const ogf::mapper_status_t& s) {
@@ -55,23 +64,23 @@ void LiveFigures::driverStatus(const ogf::driver_status_t& s) { driver_ = s; }
 std::string LiveFigures::json(const StreamFigures& st, std::size_t raw_from, std::size_t corrected_from) const {
   const std::string stream = fmt::format(
       R"({{"source":{},"seq":{},"cells":{},"occupied":{},"boxes":{},"lod":{},"gaps":{},"keyframes":{},"malformed":{},"messages":{},"consistent":{},"waiting_for_keyframe":{},"resolution":{}}})",
-      quoted(st.source), st.seq, st.cells, st.occupied, st.boxes, st.lod, st.gaps, st.keyframes, st.malformed, st.messages,
+      ogf::jsonString(st.source), st.seq, st.cells, st.occupied, st.boxes, st.lod, st.gaps, st.keyframes, st.malformed, st.messages,
       st.consistent, st.waiting_for_keyframe, number(st.resolution));
   std::string mapper = "null";
   if (mapper_) {
     const auto& m = *mapper_;
     mapper = fmt::format(
-        R"({{"utime":{},"scans_in":{},"scans_mapped":{},"scan_rate_hz":{},"dropped_behind":{},"dropped_no_pose":{},"late":{},"rejected":{},"lag_ms":{},"update_ms_mean":{},"cells":{},"memory_bytes":{},"delta_seq":{},"persistence_ok":{}}})",
+        R"({{"utime":{},"scans_in":{},"scans_mapped":{},"scan_rate_hz":{},"dropped_behind":{},"dropped_no_pose":{},"late":{},"rejected":{},"lag_ms":{},"update_ms_mean":{},"cells":{},"memory_bytes":{},"delta_seq":{},"persistence_ok":{},"sources":{}}})",
         m.utime, m.scans_in, m.scans_mapped, mapper_scan_rate_hz_ < 0 ? "null" : number(mapper_scan_rate_hz_),
         m.scans_dropped_behind, m.scans_dropped_no_pose, m.scans_late, m.scans_rejected, number(m.lag_ms),
-        number(m.update_ms_mean), m.cells, m.memory_bytes, m.delta_seq, m.persistence_ok);
+        number(m.update_ms_mean), m.cells, m.memory_bytes, m.delta_seq, m.persistence_ok, sourcesJson(m));
   }
   std::string driver = "null";
   if (driver_) {
     const auto& d = *driver_;
     driver = fmt::format(
         R"({{"utime":{},"source":{},"rpm":{},"packet_rate_hz":{},"scan_rate_hz":{},"packets_lost":{},"kernel_drops":{},"bad":{},"pps_state":{}}})",
-        d.utime, quoted(d.source), number(d.rpm), number(d.packet_rate_hz), number(d.scan_rate_hz), d.packets_lost,
+        d.utime, ogf::jsonString(d.source), number(d.rpm), number(d.packet_rate_hz), number(d.scan_rate_hz), d.packets_lost,
         d.kernel_drops, d.bad_size + d.bad_block_flag + d.foreign_sender + d.bad_other, static_cast<int>(d.pps_state));
   }
   return fmt::format(R"({{"type":"status","stream":{},"mapper":{},"driver":{},"pose":{},"corrected":{}}})", stream,

@@ -1,6 +1,7 @@
 // What the page shows beside the map: the delta stream's state (seq, cells, gaps, keyframes, whether the
-// map equals the mapper's), the mapper's and the driver's status (scan rate, lag, drops), and the robot's
-// poses with their trails, as one JSON text frame. Figures not yet known are null.
+// map equals the mapper's), the mapper's and the driver's status (scan rate, lag, drops), the mapper's
+// sources (robot, sensor, state, counts and the sensor's trail in the map frame), and the robot's poses
+// with their trails, as one JSON text frame. Figures not yet known are null.
 #pragma once
 
 #include <ogf/driver_status_t.hpp>
