@@ -8,6 +8,11 @@
 #     so a browser can be opened before the drive starts), replays the capture onto UDP
 #     and the odometry onto LCM with ogf-replay, stops the daemons with SIGTERM (the mapper writes its final
 #     snapshot), and scores the map against the ground truth and an OctoMap from the same rays (ogf-eval).
+#   scripts/run.sh --rig front-rear|FILE [--out DIR] [--speed X] [--duration S] [--world PRESET|FILE]
+#   scripts/run.sh --robots N [--out DIR] [--speed X] [--duration S] [--world PRESET|FILE]
+#     several lidars on one robot (a rig file, or the preset front-rear), or N robots in one world: one
+#     ogf-driver per sensor, one ogf-mapper for all (its sources: list), one ogf-map-client per robot, and the
+#     shared map scored beside each source's map alone (scripts/run-sources.sh).
 #   scripts/run.sh --pcap FILE [--out DIR]
 #     maps a real capture of a static sensor instead: ogf-map --static (fixed pose, offline, the same
 #     ScanMapper as the daemon); no ground truth, so no score.
@@ -25,6 +30,8 @@ data_port=12368      # not 2368: a real sensor on this host keeps its port
 position_port=18308
 view_port=8765
 view_wait=0
+rig=
+robots=
 while [ $# -gt 0 ]; do
   case "$1" in
     --out) out=$2; shift 2 ;;
@@ -35,7 +42,9 @@ while [ $# -gt 0 ]; do
     --lcm-url) url=$2; shift 2 ;;
     --view-port) view_port=$2; shift 2 ;;
     --view-wait) view_wait=$2; shift 2 ;;
-    -h|--help) sed -n '2,15p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --rig) rig=$2; shift 2 ;;
+    --robots) robots=$2; shift 2 ;;
+    -h|--help) sed -n '2,20p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "run.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -46,6 +55,11 @@ bash "$here/scripts/build.sh"
 bin=${OGF_BUILD_DIR:-$here/build}/bin
 mkdir -p "$out/logs" "$out/png"
 out=$(cd "$out" && pwd)
+
+if [ -n "$rig" ] || [ -n "$robots" ]; then
+  exec bash "$here/scripts/run-sources.sh" ${rig:+--rig "$rig"} ${robots:+--robots "$robots"} --out "$out" \
+    --speed "$speed" --duration "$duration" --world "$world" --lcm-url "$url"
+fi
 
 if [ -n "$pcap" ]; then
   # A real capture of a sensor that does not move: the pose is fixed at the origin.

@@ -1,0 +1,145 @@
+#!/usr/bin/env bash
+# The main job with several sources, as scripts/run.sh --rig or --robots runs it (after installing and
+# building): ogf-sim simulates the sensors of a rig on one robot, or several robots in one world; one
+# ogf-driver per sensor decodes its capture on its own ports onto its own scan channel; one ogf-mapper maps
+# every source into one map (its `sources:` list); one ogf-map-client per robot follows the map; one
+# ogf-replay per capture plays them in step, each robot's odometry on its own channel. Then each sensor's
+# (or robot's) map alone is made offline with ogf-map, and ogf-eval scores the shared map against the truth
+# beside them: its coverage against their union's, its accuracy against the better one's.
+#   scripts/run-sources.sh (--rig NAME|FILE | --robots N) [--out DIR] [--speed X] [--duration S]
+#                          [--world PRESET|FILE] [--lcm-url URL]
+# Outputs (default out/): map.ogfs, accuracy.txt, alone/*.ogfm, mapper.yaml, logs/, sim/.
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+out=$here/out
+speed=1
+duration=20
+world=lab
+rig=
+robots=
+url="udpm://239.255.76.67:7689?ttl=0"
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --rig) rig=$2; shift 2 ;;
+    --robots) robots=$2; shift 2 ;;
+    --out) out=$2; shift 2 ;;
+    --speed) speed=$2; shift 2 ;;
+    --duration) duration=$2; shift 2 ;;
+    --world) world=$2; shift 2 ;;
+    --lcm-url) url=$2; shift 2 ;;
+    -h|--help) sed -n '2,11p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "run-sources.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+if { [ -z "$rig" ] && [ -z "$robots" ]; } || { [ -n "$rig" ] && [ -n "$robots" ]; }; then
+  echo "run-sources.sh: give one of --rig NAME|FILE and --robots N" >&2; exit 2
+fi
+bin=${OGF_BUILD_DIR:-$here/build}/bin
+mkdir -p "$out/logs"
+out=$(cd "$out" && pwd)
+
+pids=()
+cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }
+trap cleanup EXIT
+
+echo "== simulating world '$world' for $duration s into $out/sim (${rig:+rig $rig}${robots:+$robots robots})"
+rm -rf "$out/sim" "$out/state" "$out/alone"
+"$bin/ogf-sim" --world "$world" --duration "$duration" --out "$out/sim" --start-utime "$(( $(date +%s) * 1000000 ))" \
+  ${rig:+--rig "$rig"} ${robots:+--robots "$robots"} 2>&1 | tee "$out/logs/sim.log"
+
+# Every folder of the run with a sim.yaml is one sensor's capture: a sensor of the rig (one robot, `robot`,
+# on POSE) or a robot (its own odometry on POSE_<ROBOT>).
+folders=()
+for d in "$out"/sim/*/; do [ -f "$d/sim.yaml" ] && folders+=("$(basename "$d")"); done
+if [ "${#folders[@]}" -lt 2 ]; then echo "run-sources.sh: ogf-sim wrote fewer than two sensors in $out/sim" >&2; exit 1; fi
+extrinsic_of() {  # the sensor's mount from its sim.yaml, as the mapper's extrinsic
+  sed -n 's/^sensor_to_body: {xyz: \(\[[^]]*\]\), quaternion_wxyz: \(\[[^]]*\]\)}.*/{translation: \1, quaternion: \2}/p' "$1/sim.yaml"
+}
+upper() { echo "$1" | tr '[:lower:]-' '[:upper:]_'; }
+{
+  echo "sources:"
+  for name in "${folders[@]}"; do
+    if [ -n "$rig" ]; then robot=robot; pose=POSE; else robot=$name; pose=POSE_$(upper "$name"); fi
+    echo "  - {name: $name, robot: $robot, scan_channel: VELODYNE_SCAN_$(upper "$name"), pose_channel: $pose,"
+    echo "     extrinsic: $(extrinsic_of "$out/sim/$name")}"
+  done
+} > "$out/mapper.yaml"
+echo "== the mapper's sources ($out/mapper.yaml)"; cat "$out/mapper.yaml"
+
+echo "== starting ogf-mapper, one ogf-driver per sensor and one ogf-map-client per robot on $url"
+"$bin/ogf-mapper" --lcm-url "$url" --state-dir "$out/state" --config "$out/mapper.yaml" >"$out/logs/mapper.log" 2>&1 &
+mapper=$!; pids+=("$mapper")
+drivers=(); clients=(); k=0
+for name in "${folders[@]}"; do
+  ch=$(upper "$name")
+  "$bin/ogf-driver" --lcm-url "$url" --bind-address 127.0.0.1 --data-port $((12368 + 2 * k)) \
+    --position-port $((18308 + 2 * k)) --scan-channel "VELODYNE_SCAN_$ch" --packets-channel "VELODYNE_PACKETS_$ch" \
+    --status-channel "VELODYNE_STATUS_$ch" >"$out/logs/driver-$name.log" 2>&1 &
+  drivers+=($!); pids+=($!)
+  k=$((k + 1))
+done
+nclients=1; [ -n "$robots" ] && nclients=${#folders[@]}
+for c in $(seq 1 "$nclients"); do
+  "$bin/ogf-map-client" --lcm-url "$url" --progress >"$out/logs/map-client-$c.log" 2>&1 &
+  clients+=($!); pids+=($!)
+done
+
+echo "== replaying the ${#folders[@]} captures in step at ${speed}x"
+replays=(); k=0
+for name in "${folders[@]}"; do
+  odometry=()
+  if [ -n "$robots" ]; then
+    odometry=(--odometry "$out/sim/$name/odometry.csv" --pose-channel "POSE_$(upper "$name")")
+  elif [ "$k" -eq 0 ]; then
+    odometry=(--odometry "$out/sim/$name/odometry.csv")  # one robot: its odometry once
+  fi
+  "$bin/ogf-replay" --pcap "$out/sim/$name/capture.pcap" --dest 127.0.0.1 --data-port $((12368 + 2 * k)) \
+    --position-port $((18308 + 2 * k)) --speed "$speed" ${odometry[@]+"${odometry[@]}"} --lcm-url "$url" \
+    --start-delay 1.5 >"$out/logs/replay-$name.log" 2>&1 &
+  replays+=($!); pids+=($!)
+  k=$((k + 1))
+done
+for r in "${replays[@]}"; do wait "$r"; done
+
+echo "== stopping the drivers, waiting until the map clients' sequence stops moving, stopping the rest"
+sleep 0.5
+for d in "${drivers[@]}"; do kill -TERM "$d"; wait "$d" || true; done
+last=; same=0
+for _ in $(seq 1 120); do
+  sleep 1
+  now=$(grep '^seq ' "$out/logs/map-client-1.log" | tail -n 1 | cut -d' ' -f2)
+  if [ -n "$now" ] && [ "$now" = "$last" ]; then same=$((same + 1)); else same=0; fi
+  last=$now
+  if [ "$same" -ge 3 ]; then break; fi
+done
+for c in "${clients[@]}"; do kill -TERM "$c"; wait "$c" || true; done
+kill -TERM "$mapper"; mapper_rc=0; wait "$mapper" || mapper_rc=$?
+pids=()
+echo "mapper exit $mapper_rc; $(grep -o 'stopping: .*' "$out/logs/mapper.log" | tail -n 1)"
+consistent=yes
+for c in $(seq 1 "$nclients"); do
+  line=$(tail -n 1 "$out/logs/map-client-$c.log")
+  echo "map client $c: $line"
+  case "$line" in *"consistent yes"*) ;; *) consistent=no ;; esac
+done
+if [ ! -f "$out/state/snapshot.ogfs" ]; then echo "run-sources.sh: the mapper left no snapshot in $out/state" >&2; exit 1; fi
+cp "$out/state/snapshot.ogfs" "$out/map.ogfs"
+
+echo "== each source's map alone (ogf-map, offline, the same captures and odometry)"
+mkdir -p "$out/alone"
+alone=()
+for name in "${folders[@]}"; do
+  printf 'map:\n  extrinsic: %s\n' "$(extrinsic_of "$out/sim/$name")" > "$out/alone/$name.yaml"
+  "$bin/ogf-map" --pcap "$out/sim/$name/capture.pcap" --odometry "$out/sim/$name/odometry.csv" \
+    --config "$out/alone/$name.yaml" --out "$out/alone/$name.ogfm" >"$out/logs/alone-$name.log" 2>&1
+  alone+=(--alone "$out/alone/$name.ogfm")
+done
+
+echo "== scoring the shared map against the ground truth, beside each source alone"
+"$bin/ogf-eval" --map "$out/map.ogfs" --truth "$out/sim/${folders[0]}" --no-octomap "${alone[@]}" \
+  --log-level warn | tee "$out/accuracy.txt"
+echo
+echo "map:        $out/map.ogfs (every source); alone: $out/alone/*.ogfm"
+echo "accuracy:   $out/accuracy.txt"
+echo "map clients consistent with the mapper: $consistent"
+[ "$consistent" = yes ] && [ "$mapper_rc" -eq 0 ]
