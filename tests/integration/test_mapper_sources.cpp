@@ -68,9 +68,11 @@ struct OfflineFeed {
 
 // The map a ScanMapper with the daemon's default configuration makes of the feeds' scans, step by step and
 // feed by feed in the order given (the order the daemon maps them: the oldest scan first, ties in the
-// order of the sources), each placed with its extrinsic and its robot's poses.
+// order of the sources), each placed with its extrinsic and its robot's poses. A hit is held through
+// free_release_scans free scans for each source, as the daemon holds it.
 std::uint64_t offlineChecksumOfFeeds(const std::vector<OfflineFeed>& feeds, int robots) {
   ogf::pipeline::MapperConfig cfg;
+  cfg.filter.freeReleaseCount *= static_cast<int>(feeds.size());
   auto mapper = ogf::pipeline::ScanMapper::create(cfg);
   if (!mapper.ok()) return 0;
   std::vector<ogf::fusion::PoseBuffer> poses(static_cast<std::size_t>(robots),

@@ -430,7 +430,7 @@ void declareFilter(std::vector<ConfigKey>& k) {
       "the exact filter; [docs/mapping.md](docs/mapping.md#occupied-priority))",
       kAll, {{"map", filter::OccupiedPriority::kMap}, {"scan", filter::OccupiedPriority::kScan}},
       [](auto& o) -> auto& { return o.map.filter.occupiedPriority; }));
-  k.push_back(integerKey("filter.free_release_scans", "", "see `occupied_priority`; 0: never released", kAll, 0,
+  k.push_back(integerKey("filter.free_release_scans", "", "see `occupied_priority`; 0: never released; `ogf-mapper` with several `sources` counts this many for each (at most 127)", kAll, 0,
                          filter::kMaxFreeRelease, [](auto& o) -> auto& { return o.map.filter.freeReleaseCount; }));
   k.push_back(choiceKey<filter::CovarianceStorage>(
       "filter.covariance",

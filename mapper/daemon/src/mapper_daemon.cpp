@@ -18,11 +18,30 @@ namespace {
 // A worker that has not come round its loop for this long is stuck (the watchdog stops being fed).
 constexpr std::int64_t kWorkerStuckUs = 10'000'000;
 
+// The occupied-priority rule holds a cell's hit through free_release_scans free scans in a row
+// (filter/filter_config.hpp): a window of time at one sensor's rate. With several sources a cell hears from
+// each of them in that time, so the window counts that many scans per source (at most the 127 a cell's mark
+// holds); otherwise a second robot's grazing rays release the floor the first one hits, and cells both
+// maps alone call occupied turn unknown in the shared one.
+MapperOptions withSourceWindow(MapperOptions options, std::size_t sources) {
+  int& release = options.map.filter.freeReleaseCount;
+  if (release > 0 && sources > 1) {
+    const int scaled = std::min<int>(release * static_cast<int>(sources), filter::kMaxFreeRelease);
+    spdlog::info("occupied priority: a hit is held through {} free scans in a row (free_release_scans {} for each of "
+                 "{} sources)", scaled, release, sources);
+    release = scaled;
+  }
+  return options;
+}
+
 }  // namespace
 
-Result<std::unique_ptr<MapperDaemon>> MapperDaemon::create(const MapperOptions& options, lcm::LCM& lcm,
+Result<std::unique_ptr<MapperDaemon>> MapperDaemon::create(const MapperOptions& configured, lcm::LCM& lcm,
                                                            transport::DaemonLoop& loop) {
-  if (auto st = options.validate(); !st) return st.error();
+  if (auto st = configured.validate(); !st) return st.error();
+  auto sources = ScanIntake::prepare(configured);
+  if (!sources) return sources.error();
+  const MapperOptions options = withSourceWindow(configured, sources->resolved.size());
   auto mapper = pipeline::ScanMapper::create(options.map);
   if (!mapper) return mapper.error();
   std::optional<correction::ScanPoseCorrection> correction;
@@ -38,8 +57,6 @@ Result<std::unique_ptr<MapperDaemon>> MapperDaemon::create(const MapperOptions& 
     if (!k) return k.error().within("services.key_file");
     key = *k;
   }
-  auto sources = ScanIntake::prepare(options);
-  if (!sources) return sources.error();
   std::unique_ptr<MapperDaemon> d(new MapperDaemon(options, lcm, loop, std::move(*mapper), std::move(correction),
                                                    std::move(key), std::move(*sources)));
   d->restore();
