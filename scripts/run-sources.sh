@@ -7,7 +7,8 @@
 # (or robot's) map alone is made offline with ogf-map, and ogf-eval scores the shared map against the truth
 # beside them: its coverage against their union's, its accuracy against the better one's.
 #   scripts/run-sources.sh (--rig NAME|FILE | --robots N) [--out DIR] [--speed X] [--duration S]
-#                          [--world PRESET|FILE] [--lcm-url URL]
+#                          [--world PRESET|FILE] [--lcm-url URL] [--data-port P]
+# Sensor k's driver takes its data on port P + 2k (default 12368) and its position packets on P + 5940 + 2k.
 # Outputs (default out/): map.ogfs, accuracy.txt, alone/*.ogfm, mapper.yaml, logs/, sim/.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -18,6 +19,7 @@ world=lab
 rig=
 robots=
 url="udpm://239.255.76.67:7689?ttl=0"
+data_port=12368
 while [ $# -gt 0 ]; do
   case "$1" in
     --rig) rig=$2; shift 2 ;;
@@ -27,7 +29,8 @@ while [ $# -gt 0 ]; do
     --duration) duration=$2; shift 2 ;;
     --world) world=$2; shift 2 ;;
     --lcm-url) url=$2; shift 2 ;;
-    -h|--help) sed -n '2,11p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --data-port) data_port=$2; shift 2 ;;
+    -h|--help) sed -n '2,12p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "run-sources.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -72,8 +75,8 @@ mapper=$!; pids+=("$mapper")
 drivers=(); clients=(); k=0
 for name in "${folders[@]}"; do
   ch=$(upper "$name")
-  "$bin/ogf-driver" --lcm-url "$url" --bind-address 127.0.0.1 --data-port $((12368 + 2 * k)) \
-    --position-port $((18308 + 2 * k)) --scan-channel "VELODYNE_SCAN_$ch" --packets-channel "VELODYNE_PACKETS_$ch" \
+  "$bin/ogf-driver" --lcm-url "$url" --bind-address 127.0.0.1 --data-port $((data_port + 2 * k)) \
+    --position-port $((data_port + 5940 + 2 * k)) --scan-channel "VELODYNE_SCAN_$ch" --packets-channel "VELODYNE_PACKETS_$ch" \
     --status-channel "VELODYNE_STATUS_$ch" >"$out/logs/driver-$name.log" 2>&1 &
   drivers+=($!); pids+=($!)
   k=$((k + 1))
@@ -93,8 +96,8 @@ for name in "${folders[@]}"; do
   elif [ "$k" -eq 0 ]; then
     odometry=(--odometry "$out/sim/$name/odometry.csv")  # one robot: its odometry once
   fi
-  "$bin/ogf-replay" --pcap "$out/sim/$name/capture.pcap" --dest 127.0.0.1 --data-port $((12368 + 2 * k)) \
-    --position-port $((18308 + 2 * k)) --speed "$speed" ${odometry[@]+"${odometry[@]}"} --lcm-url "$url" \
+  "$bin/ogf-replay" --pcap "$out/sim/$name/capture.pcap" --dest 127.0.0.1 --data-port $((data_port + 2 * k)) \
+    --position-port $((data_port + 5940 + 2 * k)) --speed "$speed" ${odometry[@]+"${odometry[@]}"} --lcm-url "$url" \
     --start-delay 1.5 >"$out/logs/replay-$name.log" 2>&1 &
   replays+=($!); pids+=($!)
   k=$((k + 1))

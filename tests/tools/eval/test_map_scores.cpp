@@ -106,15 +106,19 @@ TEST(RocAuc, AnEmptyClassGivesOneHalf) {
 
 namespace {
 
-// Two maps of four known cells and one unobservable: each alone classifies two, together three.
-TEST(UnionCoverage, CountsAKnownCellOnceWhenAnyMapClassifiesIt) {
+// Two maps of four known cells and one unobservable: each alone classifies two, together three, of which
+// they contradict each other on one.
+TEST(UnionCoverage, CountsAKnownCellOnceWhenAnyMapClassifiesItAndApartWhereMapsContradict) {
   using ogf::eval::CellEstimate;
   const std::vector<std::uint8_t> truth = {0, 1, 0, 1, 2};
   const std::vector<CellEstimate> a = {{-1, 0.1}, {1, 0.9}, {0, 0.5}, {0, 0.5}, {1, 0.9}};
-  const std::vector<CellEstimate> b = {{-1, 0.1}, {0, 0.5}, {0, 0.5}, {1, 0.8}, {1, 0.9}};
-  EXPECT_DOUBLE_EQ(ogf::eval::unionCoverage(truth, {a}), 0.5);
-  EXPECT_DOUBLE_EQ(ogf::eval::unionCoverage(truth, {a, b}), 0.75) << "the unobservable cell never counts";
-  EXPECT_DOUBLE_EQ(ogf::eval::unionCoverage(truth, {}), 0.0);
+  const std::vector<CellEstimate> b = {{-1, 0.1}, {-1, 0.2}, {0, 0.5}, {1, 0.8}, {1, 0.9}};
+  EXPECT_DOUBLE_EQ(ogf::eval::unionCoverage(truth, {a}).any, 0.5);
+  EXPECT_DOUBLE_EQ(ogf::eval::unionCoverage(truth, {a}).consistent, 0.5);
+  const auto both = ogf::eval::unionCoverage(truth, {a, b});
+  EXPECT_DOUBLE_EQ(both.any, 0.75) << "the unobservable cell never counts";
+  EXPECT_DOUBLE_EQ(both.consistent, 0.5) << "cell 1 is occupied in a, free in b";
+  EXPECT_DOUBLE_EQ(ogf::eval::unionCoverage(truth, {}).any, 0.0);
 }
 
 }  // namespace

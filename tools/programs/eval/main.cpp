@@ -510,8 +510,10 @@ void printAloneComparison(const ogf::sim::GroundTruth& truth, const ev::MapColum
   double better = 0;
   for (const auto& c : alone.columns) better = std::max(better, c.scores.accuracy);
   std::printf("\nthe map against its sources alone\n");
-  std::printf("  coverage: %.4f, the union of the sources alone %.4f\n", combined.scores.coverage,
-              ev::unionCoverage(truth.cells, alone.estimates));
+  const ev::UnionCoverage u = ev::unionCoverage(truth.cells, alone.estimates);
+  std::printf("  coverage: %.4f, the union of the sources alone %.4f (cells one classifies and none contradicts; "
+              "%.4f with the contradicted ones)\n",
+              combined.scores.coverage, u.consistent, u.any);
   std::printf("  accuracy: %.4f, the better source alone %.4f\n", combined.scores.accuracy, better);
 }
 

@@ -91,19 +91,21 @@ SweptScores scoreSwept(std::span<const std::uint8_t> truth, std::span<const std:
   return s;
 }
 
-double unionCoverage(std::span<const std::uint8_t> truth, const std::vector<std::vector<CellEstimate>>& maps) {
-  std::int64_t known = 0, classified = 0;
+UnionCoverage unionCoverage(std::span<const std::uint8_t> truth, const std::vector<std::vector<CellEstimate>>& maps) {
+  std::int64_t known = 0, any = 0, consistent = 0;
   for (std::size_t i = 0; i < truth.size(); ++i) {
     if (truth[i] > 1) continue;  // unobservable
     ++known;
+    bool occupied = false, free = false;
     for (const auto& map : maps) {
-      if (map[i].cell_class != 0) {
-        ++classified;
-        break;
-      }
+      occupied = occupied || map[i].cell_class > 0;
+      free = free || map[i].cell_class < 0;
     }
+    if (occupied || free) ++any;
+    if (occupied != free) ++consistent;
   }
-  return known > 0 ? static_cast<double>(classified) / static_cast<double>(known) : 0.0;
+  if (known == 0) return {};
+  return {static_cast<double>(any) / static_cast<double>(known), static_cast<double>(consistent) / static_cast<double>(known)};
 }
 
 }  // namespace ogf::eval

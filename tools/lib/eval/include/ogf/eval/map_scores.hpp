@@ -58,10 +58,14 @@ struct SweptScores {
 SweptScores scoreSwept(std::span<const std::uint8_t> truth, std::span<const std::uint8_t> swept,
                        std::span<const CellEstimate> estimates);
 
-// Several maps of one world, each from some of the sources (lidars, robots) alone: the share of the known
-// truth cells that at least one of them classifies (class != 0), the coverage of their union; each of
-// `maps` aligned with `truth`. 0 when nothing is known.
-double unionCoverage(std::span<const std::uint8_t> truth, const std::vector<std::vector<CellEstimate>>& maps);
+// Several maps of one world, each from some of the sources (lidars, robots) alone, each aligned with
+// `truth`: the coverage of their union, as shares of the known truth cells (0 when nothing is known).
+struct UnionCoverage {
+  double any = 0;         // at least one map classifies the cell (class != 0)
+  double consistent = 0;  // ... and no map classifies it the other way (occupied against free): where two
+                          // sources contradict each other their union holds no class a shared map could match
+};
+UnionCoverage unionCoverage(std::span<const std::uint8_t> truth, const std::vector<std::vector<CellEstimate>>& maps);
 
 // ROC AUC of scores: the probability that a random positive scores above a random negative, ties half.
 // 0.5 when either set is empty.
