@@ -27,4 +27,4 @@ echo "coverage $cov (union of the sources alone $union), accuracy $acc (better s
 awk -v a="$cov" -v b="$union" 'BEGIN { exit !(a >= b) }' || fail "coverage $cov below the union's $union"
 awk -v a="$acc" -v b="$better" 'BEGIN { exit !(a >= b) }' || fail "accuracy $acc below the better source's $better"
 rm -rf "$out"
-echo "PASS: run.sh --${args[0]#--} $mode"
+echo "PASS: run.sh ${args[*]}"
