@@ -92,12 +92,12 @@ replays=(); k=0
 for name in "${folders[@]}"; do
   odometry=()
   if [ -n "$robots" ]; then
-    odometry=(--odometry "$out/sim/$name/odometry.csv" --pose-channel "POSE_$(upper "$name")")
+    odometry=(--odometry "$out/sim/$name/odometry.csv" --pose-channel "POSE_$(upper "$name")" --lcm-url "$url")
   elif [ "$k" -eq 0 ]; then
-    odometry=(--odometry "$out/sim/$name/odometry.csv")  # one robot: its odometry once
+    odometry=(--odometry "$out/sim/$name/odometry.csv" --lcm-url "$url")  # one robot: its odometry once
   fi
   "$bin/ogf-replay" --pcap "$out/sim/$name/capture.pcap" --dest 127.0.0.1 --data-port $((data_port + 2 * k)) \
-    --position-port $((data_port + 5940 + 2 * k)) --speed "$speed" ${odometry[@]+"${odometry[@]}"} --lcm-url "$url" \
+    --position-port $((data_port + 5940 + 2 * k)) --speed "$speed" ${odometry[@]+"${odometry[@]}"} \
     --start-delay 1.5 >"$out/logs/replay-$name.log" 2>&1 &
   replays+=($!); pids+=($!)
   k=$((k + 1))

@@ -140,4 +140,47 @@ TEST_F(SimProgram, UnknownDriftPresetIsRefusedListingThePresets) {
   EXPECT_NE(r.stderr_text.find("slip-and-bias"), std::string::npos) << r.stderr_text;
 }
 
+// The first line of `path`'s sensor_to_body, as sim.yaml writes it.
+std::string sensorToBody(const fs::path& sim_yaml) {
+  std::ifstream in(sim_yaml);
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("sensor_to_body:", 0) == 0) return line;
+  return "";
+}
+
+std::string fileText(const fs::path& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST_F(SimProgram, ARigWritesAFolderASensorEachWithItsMountAndTheSameOdometry) {
+  const fs::path out = dir_ / "rig";
+  const ProgramRun r = run("--rig front-rear --duration 0.3 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.stderr_text;
+  for (const char* sensor : {"front", "rear"})
+    for (const char* f : {"capture.pcap", "odometry.csv", "truth.grid", "sim.yaml"})
+      EXPECT_TRUE(fs::exists(out / sensor / f)) << sensor << "/" << f;
+  EXPECT_EQ(sensorToBody(out / "front" / "sim.yaml"), "sensor_to_body: {xyz: [0.5, 0, 0.4], quaternion_wxyz: [1, 0, 0, 0]}");
+  EXPECT_NE(sensorToBody(out / "rear" / "sim.yaml").find("xyz: [-0.5, 0, 1.4]"), std::string::npos);
+  EXPECT_EQ(fileText(out / "front" / "odometry.csv"), fileText(out / "rear" / "odometry.csv"));
+  EXPECT_NE(fileText(out / "front" / "capture.pcap"), fileText(out / "rear" / "capture.pcap"));
+  const std::string listing = fileText(out / "rig.yaml");
+  EXPECT_NE(listing.find("{name: front, folder: front,"), std::string::npos) << listing;
+  EXPECT_NE(listing.find("{name: rear, folder: rear,"), std::string::npos) << listing;
+}
+
+TEST_F(SimProgram, RobotsDriveTheWorldsTrajectoriesEachIntoItsOwnFolder) {
+  const fs::path out = dir_ / "robots";
+  const ProgramRun r = run("--robots 2 --duration 0.3 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.stderr_text;
+  EXPECT_NE(fileText(out / "robot1" / "sim.yaml").find("trajectory: loop"), std::string::npos);
+  EXPECT_NE(fileText(out / "robot2" / "sim.yaml").find("trajectory: corridor"), std::string::npos);
+  EXPECT_NE(fileText(out / "robot1" / "odometry.csv"), fileText(out / "robot2" / "odometry.csv"));
+  EXPECT_NE(fileText(out / "robots.yaml").find("{name: robot2, folder: robot2, trajectory: corridor,"), std::string::npos);
+  const ProgramRun both = run("--robots 2 --trajectory loop --out " + (dir_ / "x").string());
+  EXPECT_NE(both.exit_code, 0);
+  EXPECT_NE(both.stderr_text.find("--trajectory: each of --robots drives one of the world's trajectories"), std::string::npos)
+      << both.stderr_text;
+}
+
 }  // namespace
