@@ -12,19 +12,19 @@ void DeferredCells::enqueue(const CellKey& key, Slot& slot) {
 }
 
 void DeferredCells::add(const Entry& entry) {
-  Slot& slot = cells_[entry.cell.key];
+  Slot& slot = cells_.obtain(entry.cell.key);
   slot.entry = entry;
   enqueue(entry.cell.key, slot);
 }
 
 bool DeferredCells::refresh(const PublishedCell& cell, Worth worth) {
-  const auto it = cells_.find(cell.key);
-  if (it == cells_.end()) return false;
-  Slot& slot = it->second;
+  Slot* found = cells_.find(cell.key);
+  if (found == nullptr) return false;
+  Slot& slot = *found;
   if (worth == Worth::kNothing) {
     // Back within the step of what clients hold: nothing to send. Its queue element is skipped later.
     forget(slot.entry.worth);
-    cells_.erase(it);
+    cells_.erase(cell.key);
     return true;
   }
   slot.entry.cell = cell;
@@ -41,8 +41,8 @@ void DeferredCells::compact() {
   for (auto* queue : {&class_queue_, &other_queue_}) {
     std::deque<Queued> kept;
     for (const Queued& q : *queue) {
-      const auto it = cells_.find(q.key);
-      if (it != cells_.end() && it->second.stamp == q.stamp) kept.push_back(q);
+      const Slot* slot = cells_.find(q.key);
+      if (slot != nullptr && slot->stamp == q.stamp) kept.push_back(q);
     }
     queue->swap(kept);
   }

@@ -9,6 +9,12 @@ DeltaStream::DeltaStream(const DeltaStreamConfig& config, const PublishingRule& 
       std::clamp(config_.max_cells_per_message, 1, ogf::messages::kMaxDeltaCellsPerMessage);
 }
 
+void DeltaStream::prefetchAhead(std::span<const PublishedCell> candidates, std::size_t i) const {
+  if (i + kAhead >= candidates.size()) return;
+  const CellKey& next = candidates[i + kAhead].key;
+  if (!(PublishedBlock::blockKeyOf(next) == PublishedBlock::blockKeyOf(candidates[i + kAhead - 1].key))) map_.prefetch(next);
+}
+
 std::vector<ogf::map_delta_t> DeltaStream::update(std::int64_t utime, std::span<const PublishedCell> candidates) {
   changed_.clear();
   figures_ = {};
@@ -16,17 +22,9 @@ std::vector<ogf::map_delta_t> DeltaStream::update(std::int64_t utime, std::span<
     // Everything worth sending goes out now: one look-up per candidate, the cell set on the way.
     const std::int32_t step = rule_.quantisedStep();
     const double variance_step = rule_.variance_step;
-    // Candidates come in runs of one slab: each new slab's slot is asked for kAhead candidates ahead, so
-    // its look-up finds it in cache.
-    constexpr std::size_t kAhead = 128;
     const std::size_t n = candidates.size();
     for (std::size_t i = 0; i < n; ++i) {
-      if (i + kAhead < n) {
-        const CellKey& next = candidates[i + kAhead].key;
-        if (!(PublishedBlock::blockKeyOf(next) == PublishedBlock::blockKeyOf(candidates[i + kAhead - 1].key))) {
-          map_.prefetch(next);
-        }
-      }
+      prefetchAhead(candidates, i);
       const PublishedCell& c = candidates[i];
       if (map_.setIf(c, [&](const PublishedCell& published, bool) {
             return worthSending(c, published, step, variance_step) != Worth::kNothing;
@@ -50,7 +48,12 @@ void DeltaStream::chooseWithin(std::span<const PublishedCell> candidates) {
   const double variance_step = rule_.variance_step;
   wanted_.clear();
   chosen_.clear();
-  for (const PublishedCell& c : candidates) {
+  const bool waiting = !deferred_.empty();
+  const std::size_t n = candidates.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const PublishedCell& c = candidates[i];
+    prefetchAhead(candidates, i);
+    if (waiting && i + kAhead < n) deferred_.prefetch(candidates[i + kAhead].key);
     Worth worth = Worth::kNothing;
     bool present = false;
     map_.setIf(c, [&](const PublishedCell& published, bool was) {
@@ -59,7 +62,7 @@ void DeltaStream::chooseWithin(std::span<const PublishedCell> candidates) {
       return false;
     });
     // A waiting cell takes its newest state and keeps its place (or leaves, back within the step).
-    if (!deferred_.empty() && deferred_.refresh(c, worth)) continue;
+    if (waiting && deferred_.refresh(c, worth)) continue;
     if (worth != Worth::kNothing) wanted_.push_back({c, worth, present});
   }
   figures_.worth = wanted_.size();

@@ -98,6 +98,10 @@ class DeltaStream {
  private:
   std::vector<ogf::map_delta_t> split(std::int64_t utime, std::int8_t kind, std::int64_t base_seq,
                                       std::span<const PublishedCell> cells) const;
+  // Candidates come in runs of one slab: each new slab's slot is asked for kAhead candidates ahead, so its
+  // look-up finds it in cache.
+  static constexpr std::size_t kAhead = 128;
+  void prefetchAhead(std::span<const PublishedCell> candidates, std::size_t i) const;
   // An update under an allowance or with cells waiting (update() takes a one-pass path otherwise).
   void chooseWithin(std::span<const PublishedCell> candidates);
   // Moves waiting cells of that worth into chosen_ while room is left; cells whose published copy left
