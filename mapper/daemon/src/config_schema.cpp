@@ -530,7 +530,7 @@ std::optional<std::string> probabilityStep(double v) {
 }
 
 // The deltas section: what change of a cell goes out on OGF_MAP_DELTA, and how many bytes a second
-// (docs/architecture.md, "The map delta stream").
+// (docs/mapping.md, "The daemon: ogf-mapper").
 void declareDeltas(std::vector<ConfigKey>& k) {
   k.push_back(numberKey("deltas.probability_step", "",
                         "a cell goes out when its class changes or its probability moves this far from the value "

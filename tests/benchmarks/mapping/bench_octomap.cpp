@@ -294,8 +294,8 @@ int main(int argc, char** argv) {
                "Also collect the changed cells per scan and publish them into a delta stream, as ogf-mapper does for "
                "OGF_MAP_DELTA; prints the published map's size and the delta stream's time (apart from the OGF's)");
   app.add_option("--delta-step", delta_step,
-                 "With --deltas, the publishing rule's deltas.probability_step (0: every change of quantised "
-                 "probability or class)")
+                 "With --deltas, the publishing rule's probability step (ogf-mapper's deltas.probability_step, "
+                 "0.02 there; 0: every change of quantised probability or class)")
       ->capture_default_str();
   app.add_option("--delta-bytes-per-scan", delta_bytes_per_scan,
                  "With --deltas, the bytes each update may carry (a byte budget as ogf-mapper's deltas.max_bytes_per_s "

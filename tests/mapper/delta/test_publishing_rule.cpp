@@ -34,7 +34,7 @@ int cellsOf(const std::vector<ogf::map_delta_t>& msgs) {
 TEST(PublishingRule, ClassChangeGoesOutWhateverTheProbabilityMove) {
   const PublishedCell published = cellAt(0, 0.649);
   const PublishedCell now = cellAt(0, 0.651);  // 0.002 apart, across r_o
-  EXPECT_EQ(worthSending(now, published, PublishingRule{}.quantisedStep(), 0.0), Worth::kClass);
+  EXPECT_EQ(worthSending(now, published, PublishingRule{0.02, 0.0}.quantisedStep(), 0.0), Worth::kClass);
 }
 
 TEST(PublishingRule, ProbabilityMoveGoesOutOnlyFromTheStepOn) {
@@ -58,7 +58,7 @@ TEST(PublishingRule, StepZeroSendsEveryVisibleChange) {
 }
 
 TEST(PublishingRule, VarianceMoveGoesOutBeyondItsRelativeStepOfAPublishedCell) {
-  const std::int32_t step = PublishingRule{}.quantisedStep();
+  const std::int32_t step = PublishingRule{0.02, 0.0}.quantisedStep();
   EXPECT_EQ(worthSending(cellAt(0, 0.2, 0.6f), cellAt(0, 0.2, 1.0f), step, 0.5), Worth::kNothing);
   EXPECT_EQ(worthSending(cellAt(0, 0.2, 0.4f), cellAt(0, 0.2, 1.0f), step, 0.5), Worth::kProbability);
   // A cell never published (the prior, variance 0) does not go out for its variance alone.

@@ -19,8 +19,9 @@
 
 namespace ogf::delta {
 
+// The default sends every visible change; ogf-mapper's deltas.probability_step is 0.02.
 struct PublishingRule {
-  double probability_step = 0.02;  // in probability (0..1); 0: any change of the quantised probability
+  double probability_step = 0.0;  // in probability (0..1); 0: any change of the quantised probability
   double variance_step = 0.0;      // relative to the published variance; 0: variance alone sends nothing
 
   // The step in PROBABILITY_SCALE units, at least 1 (a change of the quantised value).
