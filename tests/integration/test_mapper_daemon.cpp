@@ -3,7 +3,9 @@
 //   a share of its delta updates (gap injection): the client notices every gap and recovers by keyframe;
 // - after kill -9 at random instants the restarted daemon resumes with exactly the map an uninterrupted
 //   run has at the same update (same filter checksum) and never behind what it had acknowledged, also
-//   while regions of the map are paged out to the state directory and back.
+//   while regions of the map are paged out to the state directory and back;
+// - under a small byte budget on the delta channel, cells wait and go out later, and the client stays
+//   consistent.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -12,6 +14,7 @@
 #include <ogf/mapper_status_t.hpp>
 #include <ogf/odometry_t.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <cmath>
 #include <filesystem>
@@ -137,6 +140,59 @@ TEST_F(MapperDaemonTest, ClientRebuildsTheDaemonsMapOver1000ScansWithGapsInjecte
 // Regions beyond 1 m go to their pages after every scan with their published cells, and come back: the
 // client's map and checksum still equal the daemon's, keyframes (with the paged-out cells read from their
 // pages) included.
+// With deltas.max_bytes_per_s far below what the scans change, cells wait in the mapper (the status counts
+// them) and go out in later updates, and the client, applying every message, ends with the mapper's
+// published checksum at its last update.
+TEST_F(MapperDaemonTest, CellsOverTheDeltaBudgetWaitAndTheClientEndsWithTheMappersChecksum) {
+  const fs::path dir = dir_;
+  // 30 kB/s: about 150 cells per 100 ms scan, against thousands of changed cells in the first scans.
+  std::ofstream(dir / "mapper.yaml") << "status_interval_s: 0.1\n"
+                                        "deltas:\n"
+                                        "  max_bytes_per_s: 30000\n"
+                                        "  burst_s: 0.1\n";
+  const std::string url = ogf::testing::loopbackUdpmUrl(44);
+  Mapper mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--config", (dir / "mapper.yaml").string(), "--in-memory",
+                 "--keyframe-interval", "1000", "--log-level", "warn"},
+                (dir / "mapper.log").string(), url, kMapperStatusChannel);
+  ASSERT_TRUE(mapper.reportsStatus(10s));
+  ChildProcess client({kBin + "/ogf-map-client", "--lcm-url", url, "--idle-exit", "3", "--duration", "300",
+                       "--log-level", "warn"},
+                      (dir / "client.log").string());
+  std::this_thread::sleep_for(300ms);
+
+  lcm::LCM lcm(url);
+  const int scans = 300;
+  std::int64_t most_waiting = 0;
+  for (int i = 0; i < scans; ++i) {
+    const auto step = ogf::testing::feedStep(i, 1500);
+    for (const auto& p : step.poses) lcm.publish("POSE", &p);
+    lcm.publish("VELODYNE_SCAN", &step.scan);
+    std::this_thread::sleep_for(100ms);  // the scan rate: the budget accrues in real time
+    if (const auto s = mapper.latestStatus()) most_waiting = std::max(most_waiting, s->delta_cells_waiting);
+  }
+  const auto done = mapper.waitForStatus(
+      [scans](const ogf::mapper_status_t& s) {
+        return s.scans_in == scans && s.scans_mapped + s.scans_dropped_behind + s.scans_dropped_no_pose == scans;
+      },
+      60s);
+  ASSERT_TRUE(done) << mapper.log();
+  EXPECT_GT(most_waiting, 0) << "the budget should have held cells back";
+  EXPECT_GT(done->delta_cells_sent, 0);
+  EXPECT_GT(done->delta_bytes_sent, 0);
+
+  const auto rc = client.wait(120s);
+  ASSERT_TRUE(rc.has_value()) << client.log();
+  EXPECT_EQ(*rc, 0);
+  const std::string line = lastLine(client.log());
+  SCOPED_TRACE(line);
+  EXPECT_EQ(field(line, "consistent"), "yes");
+  EXPECT_EQ(std::stoll(field(line, "seq")), done->delta_seq);
+  EXPECT_EQ(field(line, " published_checksum"), field(line, "mapper_published_checksum"));
+  EXPECT_EQ(field(line, "gaps"), "0");
+  EXPECT_EQ(field(line, "malformed"), "0");
+  EXPECT_TRUE(mapper.stop());
+}
+
 TEST_F(MapperDaemonTest, ClientRebuildsTheDaemonsMapWhileRegionsArePagedOutAndIn) {
   std::ofstream(dir_ / "mapper.yaml", std::ios::app) << "page_out_distance_m: 1.0\n";
   clientRebuildsTheDaemonsMap(dir_, 36, 300, {"--state-dir", (dir_ / "state").string()});

@@ -524,6 +524,33 @@ void declareServices(std::vector<ConfigKey>& k) {
                          kMapper, 1000, 100'000'000, [](auto& o) -> auto& { return o.services.box_chunk_cells; }));
 }
 
+// A probability step: 0 (every change) up to, not including, 1.
+std::optional<std::string> probabilityStep(double v) {
+  return v >= 0 && v < 1 ? std::nullopt : std::optional<std::string>("must be 0 or more and below 1");
+}
+
+// The deltas section: what change of a cell goes out on OGF_MAP_DELTA, and how many bytes a second
+// (docs/mapping.md, "The daemon: ogf-mapper").
+void declareDeltas(std::vector<ConfigKey>& k) {
+  k.push_back(numberKey("deltas.probability_step", "",
+                        "a cell goes out when its class changes or its probability moves this far from the value "
+                        "last published (slow drifts go out once they add up); 0: every change of the quantised "
+                        "probability",
+                        kMapper, probabilityStep, [](auto& o) -> auto& { return o.deltas.probability_step; }));
+  k.push_back(numberKey("deltas.variance_step", "",
+                        "also when its variance moves by more than this fraction of the published one; 0: variance "
+                        "alone sends nothing",
+                        kMapper, nonNegative, [](auto& o) -> auto& { return o.deltas.variance_step; }));
+  k.push_back(integerKey("deltas.max_bytes_per_s", "bytes/s",
+                         "bytes per second of the delta channel, keyframes included (a keyframe takes at most half "
+                         "while it goes out); the cells beyond it wait, class changes first, for later updates; 0: "
+                         "unbounded",
+                         kMapper, 0, std::numeric_limits<long long>::max(),
+                         [](auto& o) -> auto& { return o.deltas.max_bytes_per_s; }));
+  k.push_back(numberKey("deltas.burst_s", "s", "the most the delta channel sends at once, in seconds of its rate",
+                        kMapper, positive, [](auto& o) -> auto& { return o.deltas.burst_s; }));
+}
+
 // Every key, section after section, in the order --print-config prints them.
 std::vector<ConfigKey> declare() {
   std::vector<ConfigKey> k;
@@ -532,6 +559,7 @@ std::vector<ConfigKey> declare() {
   k.push_back(sourcesKey());
   declarePersistence(k);
   declarePublishing(k);
+  declareDeltas(k);
   declareMap(k);
   declareFilter(k);
   declareFusion(k);

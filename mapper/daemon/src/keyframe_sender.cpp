@@ -5,8 +5,12 @@
 
 namespace ogf::mapper_daemon {
 
-KeyframeSender::KeyframeSender(Publish publish, Done done, int burst, std::chrono::microseconds pause)
-    : publish_(std::move(publish)), done_(std::move(done)), burst_(std::max(1, burst)), pause_(pause) {
+KeyframeSender::KeyframeSender(Publish publish, Done done, int burst, std::chrono::microseconds pause, Pace pace)
+    : publish_(std::move(publish)),
+      done_(std::move(done)),
+      pace_(std::move(pace)),
+      burst_(std::max(1, burst)),
+      pause_(pause) {
   thread_ = std::thread([this] { run(); });
 }
 
@@ -76,6 +80,12 @@ void KeyframeSender::run() {
 }
 
 bool KeyframeSender::publishPaced(const ogf::map_delta_t& part) {
+  if (pace_) {
+    for (auto wait = pace_(); wait.count() > 0; wait = pace_()) {
+      std::unique_lock lk(mu_);
+      if (cv_.wait_for(lk, wait, [this] { return stop_ || cancel_; })) return false;
+    }
+  }
   publish_(part);
   if (++in_burst_ < burst_) return true;
   in_burst_ = 0;

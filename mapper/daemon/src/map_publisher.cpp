@@ -10,30 +10,81 @@
 
 namespace ogf::mapper_daemon {
 
-MapPublisher::MapPublisher(const MapperOptions& options, lcm::LCM& lcm, const delta::DeltaStream& deltas,
+namespace {
+
+// The most of the channel's rate a keyframe takes while it goes out: the deltas keep the rest.
+constexpr double kKeyframeShare = 0.5;
+
+}  // namespace
+
+MapPublisher::MapPublisher(const MapperOptions& options, lcm::LCM& lcm, delta::DeltaStream& deltas,
                            MapPersistence& persistence, SharedState& shared)
     : options_(options),
       lcm_(lcm),
       deltas_(deltas),
       persistence_(persistence),
       shared_(shared),
-      drop_rng_(options.test_seed) {}
+      drop_rng_(options.test_seed),
+      channel_budget_(static_cast<double>(options.deltas.max_bytes_per_s), options.deltas.burst_s, steadyUtime()),
+      keyframe_budget_(static_cast<double>(options.deltas.max_bytes_per_s) * kKeyframeShare, options.deltas.burst_s,
+                       steadyUtime()) {}
 
 MapPublisher::~MapPublisher() { stop(); }
 
 void MapPublisher::start() {
+  grant();
   keyframe_sender_ = std::make_unique<KeyframeSender>(
-      [this](const ogf::map_delta_t& m) { lcm_.publish(options_.delta_channel, &m); },
-      [this](const KeyframeSender::Report& r) { keyframeSent(r); });
+      [this](const ogf::map_delta_t& m) { publishKeyframePart(m); },
+      [this](const KeyframeSender::Report& r) { keyframeSent(r); }, 16, std::chrono::milliseconds(2),
+      [this] { return keyframePace(); });
 }
 
 void MapPublisher::stop() { keyframe_sender_.reset(); }
 
+void MapPublisher::grant() {
+  deltas_.setRule({options_.deltas.probability_step, options_.deltas.variance_step});
+  std::lock_guard lk(budget_mu_);
+  channel_budget_.refill(steadyUtime());
+  deltas_.allow(channel_budget_.allowance());
+}
+
+void MapPublisher::publishKeyframePart(const ogf::map_delta_t& part) {
+  lcm_.publish(options_.delta_channel, &part);
+  const std::int64_t bytes = delta::DeltaStream::partBytes(static_cast<std::size_t>(part.num_cells));
+  std::lock_guard lk(budget_mu_);
+  channel_budget_.spend(bytes);
+  keyframe_budget_.spend(bytes);
+}
+
+std::chrono::microseconds MapPublisher::keyframePace() {
+  std::lock_guard lk(budget_mu_);
+  keyframe_budget_.refill(steadyUtime());
+  return std::chrono::microseconds(keyframe_budget_.debtUs());
+}
+
 void MapPublisher::publishDeltas(const std::vector<ogf::map_delta_t>& deltas) {
   const bool drop = options_.test_drop_delta_fraction > 0 &&
                     std::uniform_real_distribution<double>(0, 1)(drop_rng_) < options_.test_drop_delta_fraction;
-  if (drop) return;
-  for (const auto& m : deltas) lcm_.publish(options_.delta_channel, &m);
+  if (!drop) {
+    for (const auto& m : deltas) lcm_.publish(options_.delta_channel, &m);
+    std::lock_guard lk(budget_mu_);
+    channel_budget_.spend(delta::DeltaStream::bytesOf(deltas));
+  }
+  std::int64_t bytes_sent = 0;
+  {
+    std::lock_guard lk(budget_mu_);
+    bytes_sent = channel_budget_.spent();
+  }
+  {
+    const delta::UpdateFigures& update = deltas_.lastUpdate();
+    std::lock_guard lk(shared_.mu);
+    auto& stats = shared_.stats;
+    stats.delta_bytes_sent = bytes_sent;
+    stats.delta_cells_sent += static_cast<std::int64_t>(update.sent);
+    stats.delta_cells_waiting = static_cast<std::int64_t>(update.deferred);
+    stats.delta_class_changes_waiting = static_cast<std::int64_t>(deltas_.deferred().classChanges());
+  }
+  grant();
 }
 
 void MapPublisher::publishCorrectedPose(std::int64_t utime, const correction::ScanCorrection& applied) {
@@ -62,6 +113,7 @@ bool MapPublisher::keyframeDue(bool requested, std::int64_t now) const {
 }
 
 void MapPublisher::keyframeTurn(bool requested, std::int64_t now) {
+  grant();
   keyframe_waiting_ = keyframe_waiting_ || requested;
   if (keyframe_waiting_ || keyframePeriodDue(now)) {
     if (publishKeyframe()) keyframe_waiting_ = false;
@@ -69,6 +121,7 @@ void MapPublisher::keyframeTurn(bool requested, std::int64_t now) {
 }
 
 void MapPublisher::keyframeOfNewMap() {
+  grant();  // a new map is a new delta stream
   if (!publishKeyframe()) keyframe_waiting_ = true;
 }
 
@@ -97,8 +150,14 @@ void MapPublisher::keyframeSent(const KeyframeSender::Report& r) {
                r.cells, r.page_cells, r.parts, r.cut_ms, r.send_ms,
                r.missing + r.surplus == 0 ? std::string()
                                           : fmt::format(" ({} cells missing, {} beyond the count)", r.missing, r.surplus));
+  std::int64_t bytes_sent = 0;
+  {
+    std::lock_guard budget(budget_mu_);
+    bytes_sent = channel_budget_.spent();
+  }
   std::lock_guard lk(shared_.mu);
   ++shared_.stats.keyframes_sent;
+  shared_.stats.delta_bytes_sent = bytes_sent;
 }
 
 }  // namespace ogf::mapper_daemon

@@ -4,28 +4,132 @@
 
 namespace ogf::delta {
 
-DeltaStream::DeltaStream(const DeltaStreamConfig& config) : config_(config) {
+DeltaStream::DeltaStream(const DeltaStreamConfig& config, const PublishingRule& rule) : config_(config), rule_(rule) {
   config_.max_cells_per_message =
       std::clamp(config_.max_cells_per_message, 1, ogf::messages::kMaxDeltaCellsPerMessage);
 }
 
+void DeltaStream::prefetchAhead(std::span<const PublishedCell> candidates, std::size_t i) const {
+  if (i + kAhead >= candidates.size()) return;
+  const CellKey& next = candidates[i + kAhead].key;
+  if (!(PublishedBlock::blockKeyOf(next) == PublishedBlock::blockKeyOf(candidates[i + kAhead - 1].key))) map_.prefetch(next);
+}
+
 std::vector<ogf::map_delta_t> DeltaStream::update(std::int64_t utime, std::span<const PublishedCell> candidates) {
   changed_.clear();
-  // Candidates come in runs of one slab: each new slab's slot is asked for kAhead candidates ahead, so
-  // its look-up finds it in cache.
-  constexpr std::size_t kAhead = 128;
-  const std::size_t n = candidates.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    if (i + kAhead < n) {
-      const CellKey& next = candidates[i + kAhead].key;
-      if (!(PublishedBlock::blockKeyOf(next) == PublishedBlock::blockKeyOf(candidates[i + kAhead - 1].key))) {
-        map_.prefetch(next);
-      }
+  figures_ = {};
+  if (allowance_ == LinkBudget::kUnbounded && deferred_.empty()) {
+    // Everything worth sending goes out now: one look-up per candidate, the cell set on the way.
+    const std::int32_t step = rule_.quantisedStep();
+    const double variance_step = rule_.variance_step;
+    const std::size_t n = candidates.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      prefetchAhead(candidates, i);
+      const PublishedCell& c = candidates[i];
+      if (map_.setIf(c, [&](const PublishedCell& published, bool) {
+            return worthSending(c, published, step, variance_step) != Worth::kNothing;
+          }))
+        changed_.push_back(c);
     }
-    if (map_.setIfVisiblyDiffers(candidates[i])) changed_.push_back(candidates[i]);
+    figures_.worth = changed_.size();
+  } else {
+    chooseWithin(candidates);
   }
   ++seq_;
-  return split(utime, ogf::map_delta_t::KIND_DELTA, seq_ - 1, changed_);
+  auto out = split(utime, ogf::map_delta_t::KIND_DELTA, seq_ - 1, changed_);
+  figures_.sent = changed_.size();
+  figures_.deferred = deferred_.size();
+  figures_.bytes = bytesOf(out);
+  return out;
+}
+
+void DeltaStream::chooseWithin(std::span<const PublishedCell> candidates) {
+  const std::int32_t step = rule_.quantisedStep();
+  const double variance_step = rule_.variance_step;
+  wanted_.clear();
+  chosen_.clear();
+  const bool waiting = !deferred_.empty();
+  const std::size_t n = candidates.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const PublishedCell& c = candidates[i];
+    prefetchAhead(candidates, i);
+    if (waiting && i + kAhead < n) deferred_.prefetch(candidates[i + kAhead].key);
+    Worth worth = Worth::kNothing;
+    bool present = false;
+    map_.setIf(c, [&](const PublishedCell& published, bool was) {
+      worth = worthSending(c, published, step, variance_step);
+      present = was;
+      return false;
+    });
+    // A waiting cell takes its newest state and keeps its place (or leaves, back within the step).
+    if (waiting && deferred_.refresh(c, worth)) continue;
+    if (worth != Worth::kNothing) wanted_.push_back({c, worth, present});
+  }
+  figures_.worth = wanted_.size();
+  std::size_t room = allowance_ == LinkBudget::kUnbounded ? wanted_.size() + deferred_.size() : cellsWithin(allowance_);
+  const auto takeWanted = [&](Worth worth) {
+    for (DeferredCells::Entry& e : wanted_) {
+      if (e.worth != worth) continue;
+      if (room > 0) {
+        chosen_.push_back(e);
+        --room;
+      } else {
+        deferred_.add(e);
+      }
+    }
+  };
+  takeDeferred(Worth::kClass, room);
+  takeWanted(Worth::kClass);
+  takeDeferred(Worth::kProbability, room);
+  takeWanted(Worth::kProbability);
+  for (const DeferredCells::Entry& e : chosen_) {
+    map_.set(e.cell);
+    changed_.push_back(e.cell);
+  }
+}
+
+void DeltaStream::takeDeferred(Worth worth, std::size_t& room) {
+  const std::int32_t step = rule_.quantisedStep();
+  const double variance_step = rule_.variance_step;
+  std::vector<DeferredCells::Entry> taken;
+  while (room > 0 && deferred_.take(worth, room, taken) > 0) {
+    for (const DeferredCells::Entry& e : taken) {
+      bool send = false;
+      map_.setIf(e.cell, [&](const PublishedCell& published, bool present) {
+        send = !(e.was_published && !present) && worthSending(e.cell, published, step, variance_step) != Worth::kNothing;
+        return false;
+      });
+      if (!send) continue;
+      chosen_.push_back(e);
+      --room;
+    }
+    taken.clear();
+  }
+}
+
+std::int64_t DeltaStream::partBytes(std::size_t cells) {
+  static const std::int64_t header = ogf::map_delta_t{}.getEncodedSize();
+  // key_x, key_y, key_z, probability, cell_class, variance.
+  constexpr std::int64_t kCellBytes = 3 * 4 + 2 + 1 + 4;
+  return header + kCellBytes * static_cast<std::int64_t>(cells);
+}
+
+std::int64_t DeltaStream::bytesOf(std::span<const ogf::map_delta_t> messages) {
+  std::int64_t bytes = 0;
+  for (const auto& m : messages) bytes += partBytes(static_cast<std::size_t>(m.num_cells));
+  return bytes;
+}
+
+std::size_t DeltaStream::cellsWithin(std::int64_t bytes) const {
+  const auto per = static_cast<std::size_t>(config_.max_cells_per_message);
+  const std::int64_t full = partBytes(per);
+  const std::int64_t header = partBytes(0);
+  const std::int64_t cell = partBytes(1) - header;
+  if (bytes <= 0) return 0;
+  const auto parts = static_cast<std::size_t>(bytes / full);
+  const std::int64_t rest = bytes - static_cast<std::int64_t>(parts) * full;
+  const std::size_t extra = rest > header ? std::min<std::size_t>(per, static_cast<std::size_t>((rest - header) / cell)) : 0;
+  return parts * per + extra;
 }
 
 std::vector<ogf::map_delta_t> DeltaStream::keyframe(std::int64_t utime) const {
@@ -35,6 +139,7 @@ std::vector<ogf::map_delta_t> DeltaStream::keyframe(std::int64_t utime) const {
 void DeltaStream::reset(std::span<const PublishedCell> cells, std::int64_t seq) {
   seq_ = seq;
   map_.clear();
+  deferred_.clear();
   for (const PublishedCell& c : cells) map_.set(c);
 }
 

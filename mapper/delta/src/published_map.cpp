@@ -43,31 +43,18 @@ void PublishedMap::set(const PublishedCell& cell) {
   put(blocks_.obtain(PublishedBlock::blockKeyOf(cell.key)), cell);
 }
 
-bool PublishedMap::setIfVisiblyDiffers(const PublishedCell& cell) {
-  const CellKey blockKey = PublishedBlock::blockKeyOf(cell.key);
-  // Candidates come in runs of one slab (the filter reports a block's cells in position order, x fastest):
-  // the slab of the last one is checked before the table.
-  if (last_ == nullptr || !(lastKey_ == blockKey)) {
-    last_ = blocks_.find(blockKey);
-    lastKey_ = blockKey;
-  }
-  const unsigned local = PublishedBlock::localIndexOf(cell.key);
-  const bool present = last_ != nullptr && last_->has(local);
-  const std::size_t rank = last_ != nullptr ? last_->rank(local) : 0;
-  const PublishedValue old = present ? last_->valueAt(rank) : PublishedValue{};
-  if (!cell.visiblyDiffers(cellOf(cell.key, old))) return false;
-  // Only a cell that differs allocates a slab: candidates equal to the prior leave no trace.
-  if (last_ == nullptr) last_ = &blocks_.obtain(blockKey);  // other slabs may move; only this one is kept
+void PublishedMap::putAt(const PublishedCell& cell, bool present, std::size_t rank, const PublishedValue& old) {
+  // Only a cell that is set allocates a slab: candidates equal to the prior leave no trace.
+  if (last_ == nullptr) last_ = &blocks_.obtain(lastKey_);  // other slabs may move; only this one is kept
   const std::uint64_t key_hash = keyHash(cell.key);
   if (present) {
     last_->replaceAt(rank, valueOf(cell));
     checksum_ -= valueHash(key_hash, old);
   } else {
-    stored_ += last_->insertAt(local, rank, valueOf(cell));
+    stored_ += last_->insertAt(PublishedBlock::localIndexOf(cell.key), rank, valueOf(cell));
     ++size_;
   }
   checksum_ += valueHash(key_hash, valueOf(cell));
-  return true;
 }
 
 void PublishedMap::put(PublishedBlock& block, const PublishedCell& cell) {

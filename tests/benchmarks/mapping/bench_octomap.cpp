@@ -155,7 +155,8 @@ struct OgfResult {
 };
 
 // `config`'s OGF at `resolution`.
-OgfResult runOgf(const std::vector<RayScan>& scans, ogf::pipeline::MapperConfig config, double resolution, bool deltas) {
+OgfResult runOgf(const std::vector<RayScan>& scans, ogf::pipeline::MapperConfig config, double resolution, bool deltas,
+                 double delta_step, std::int64_t delta_bytes_per_scan) {
   config.setResolution(resolution);
   const int threads = config.filter.threads;
   auto mapper = ogf::pipeline::ScanMapper::create(config);
@@ -169,7 +170,8 @@ OgfResult runOgf(const std::vector<RayScan>& scans, ogf::pipeline::MapperConfig 
   std::vector<std::int32_t> t;
   std::vector<ogf::delta::PublishedCell> changes;
   // With --deltas, the published map the daemon keeps beside the filter (outside the OGF's timing).
-  ogf::delta::DeltaStream stream({resolution, 1, ogf::messages::kMaxDeltaCellsPerMessage});
+  ogf::delta::DeltaStream stream({resolution, 1, ogf::messages::kMaxDeltaCellsPerMessage},
+                                 ogf::delta::PublishingRule{delta_step, 0.0});
   for (const RayScan& s : scans) {
     // The rays relative to the origin, placed back with a pure translation (outside the timing, as
     // OctoMap's point cloud is built outside it).
@@ -197,6 +199,7 @@ OgfResult runOgf(const std::vector<RayScan>& scans, ogf::pipeline::MapperConfig 
     if (deltas) {
       // The delta stream ogf-mapper keeps beside the filter: timed apart, as it is not the filter's work.
       const double s0 = now();
+      if (delta_bytes_per_scan > 0) stream.allow(delta_bytes_per_scan);
       for (const auto& m : stream.update(0, changes)) published += static_cast<std::size_t>(m.num_cells);
       r.stream.ms.push_back(now() - s0);
     }
@@ -262,6 +265,8 @@ int main(int argc, char** argv) {
   double free_clamp_z = ogf::filter::FilterConfig{}.freeClampZ;
   std::string covariance = ogf::filter::toString(ogf::pipeline::MapperConfig{}.filter.covariance);
   bool deltas = false;
+  double delta_step = ogf::delta::PublishingRule{}.probability_step;
+  std::int64_t delta_bytes_per_scan = 0;
   bool no_octomap = false;
   int threads = 1;
   std::string config_path;
@@ -288,6 +293,14 @@ int main(int argc, char** argv) {
   app.add_flag("--deltas", deltas,
                "Also collect the changed cells per scan and publish them into a delta stream, as ogf-mapper does for "
                "OGF_MAP_DELTA; prints the published map's size and the delta stream's time (apart from the OGF's)");
+  app.add_option("--delta-step", delta_step,
+                 "With --deltas, the publishing rule's probability step (ogf-mapper's deltas.probability_step, "
+                 "0.02 there; 0: every change of quantised probability or class)")
+      ->capture_default_str();
+  app.add_option("--delta-bytes-per-scan", delta_bytes_per_scan,
+                 "With --deltas, the bytes each update may carry (a byte budget as ogf-mapper's deltas.max_bytes_per_s "
+                 "grants it at 10 Hz; the rest wait); 0: unbounded")
+      ->capture_default_str();
   auto* threads_opt = app.add_option("--threads", threads,
                  "The OGF's filter threads (filter.threads); above 1 the OGF's times are wall time, not CPU time")
       ->capture_default_str()
@@ -332,7 +345,7 @@ int main(int argc, char** argv) {
   std::printf("%-6s %-8s %9s %9s %9s %8s %10s %11s %s\n", "res m", "mapper", "mean ms", "p50 ms", "p99 ms",
               "x 10 Hz", "memory MB", "cells", "notes");
   for (const double res : parseList(resolutions)) {
-    const OgfResult ogf = runOgf(scans, config, res, deltas);
+    const OgfResult ogf = runOgf(scans, config, res, deltas, delta_step, delta_bytes_per_scan);
     const auto row = [&](const char* name, const Timing& t, std::size_t memory, std::size_t cells, const std::string& notes) {
       std::printf("%-6.2f %-8s %9.1f %9.1f %9.1f %8.2f %10.1f %11zu %s\n", res, name, t.mean(), t.percentile(0.5),
                   t.percentile(0.99), kScanPeriodMs / t.mean(), static_cast<double>(memory) / 1e6, cells,

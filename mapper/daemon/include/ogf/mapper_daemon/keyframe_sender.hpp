@@ -45,12 +45,14 @@ class KeyframeSender {
   };
   using Publish = std::function<void(const ogf::map_delta_t&)>;
   using Done = std::function<void(const Report&)>;
+  // How long to wait before the next part (0: send it now): the delta channel's byte budget.
+  using Pace = std::function<std::chrono::microseconds()>;
 
-  // `publish` and `done` run on the sender's thread; `done` only for a keyframe sent whole, before the
-  // sender turns idle (busy() is still true while it runs). Parts go out
-  // `burst` at a time (16 parts of 3300 cells are about 1 MB) with `pause` between bursts.
+  // `publish`, `done` and `pace` run on the sender's thread; `done` only for a keyframe sent whole, before
+  // the sender turns idle (busy() is still true while it runs). Parts go out `burst` at a time (16 parts of
+  // 3300 cells are about 1 MB) with `pause` between bursts, and each waits first for what `pace` asks.
   KeyframeSender(Publish publish, Done done, int burst = 16,
-                 std::chrono::microseconds pause = std::chrono::milliseconds(2));
+                 std::chrono::microseconds pause = std::chrono::milliseconds(2), Pace pace = {});
   // Stops the thread; a keyframe in flight is cut short.
   ~KeyframeSender();
   KeyframeSender(const KeyframeSender&) = delete;
@@ -74,6 +76,7 @@ class KeyframeSender {
 
   Publish publish_;
   Done done_;
+  Pace pace_;
   int burst_;
   std::chrono::microseconds pause_;
   int in_burst_ = 0;

@@ -50,6 +50,21 @@ struct ServicesOptions {
   std::filesystem::path exportDirFor(const std::filesystem::path& state_dir) const;
 };
 
+// OGF_MAP_DELTA's publishing rule and byte budget: the `deltas:` section (delta/publishing_rule.hpp,
+// delta/link_budget.hpp).
+struct DeltaOptions {
+  // A cell goes out when its class changes, or its probability moves this far from the value last
+  // published (0: any change of the quantised probability), or (when > 0) its variance by this fraction
+  // of the published one.
+  double probability_step = 0.02;
+  double variance_step = 0.0;
+  // Encoded bytes per second of the delta channel, keyframes included (0: unbounded); what a scan's
+  // changes need beyond it waits for later updates. 2 MB/s leaves room on a Wi-Fi link of a few MB/s.
+  std::int64_t max_bytes_per_s = 2'000'000;
+  // The most the channel sends at once after a quiet spell, in seconds of the rate.
+  double burst_s = 0.25;
+};
+
 struct MapperOptions {
   std::string lcm_url;  // "" = $LCM_DEFAULT_URL, else LCM's default
   std::string scan_channel = "VELODYNE_SCAN";
@@ -87,6 +102,7 @@ struct MapperOptions {
   // scan reaches them again (0 = keep the whole map in memory). Needs a state directory.
   double page_out_distance_m = 60.0;
   double keyframe_interval_s = 30.0;
+  DeltaOptions deltas;
   double status_interval_s = 1.0;
   ServicesOptions services;
 

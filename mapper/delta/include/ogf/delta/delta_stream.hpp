@@ -1,6 +1,8 @@
 // The publishing side of OGF_MAP_DELTA: turns the cells an update touched into map_delta_t messages that
 // each fit one UDP datagram, numbered so a client can tell a gap from a quiet map, and cuts keyframes
-// (the whole published map in parts) on request.
+// (the whole published map in parts) on request. Which changes go out is the publishing rule
+// (publishing_rule.hpp); how many bytes an update may carry is its allowance (set from the channel's
+// LinkBudget by ogf-mapper); cells worth sending beyond it wait in DeferredCells for later updates.
 #pragma once
 
 #include <ogf/map_delta_t.hpp>
@@ -9,7 +11,10 @@
 #include <span>
 #include <vector>
 
+#include "ogf/delta/deferred_cells.hpp"
+#include "ogf/delta/link_budget.hpp"
 #include "ogf/delta/published_map.hpp"
+#include "ogf/delta/publishing_rule.hpp"
 #include "ogf/messages/limits.hpp"
 
 namespace ogf::delta {
@@ -18,6 +23,14 @@ struct DeltaStreamConfig {
   double resolution = 0.2;         // metres per cell
   std::int64_t map_id = 0;         // identifies this map; a new map (restart) gets a new id
   std::int32_t max_cells_per_message = ogf::messages::kMaxDeltaCellsPerMessage;
+};
+
+// What one update did.
+struct UpdateFigures {
+  std::size_t worth = 0;     // candidates worth sending under the rule (those of waiting cells not counted)
+  std::size_t sent = 0;      // cells the update carried
+  std::size_t deferred = 0;  // cells waiting after it
+  std::int64_t bytes = 0;    // encoded bytes of its messages
 };
 
 // What every part of one update or keyframe carries besides its cells.
@@ -37,13 +50,32 @@ ogf::map_delta_t makePart(const PartHeader& header, std::int32_t index, std::spa
 
 class DeltaStream {
  public:
-  explicit DeltaStream(const DeltaStreamConfig& config);
+  explicit DeltaStream(const DeltaStreamConfig& config, const PublishingRule& rule = {});
 
-  // Update seq()+1: the candidates whose quantised probability or class differs from what was published
-  // (a cell never published counts as the prior) go into the published map and into the returned
-  // messages (at least one, possibly with no cells, so every update number is seen by clients). Each
-  // message carries the checksum of the published map after the whole update.
+  // Update seq()+1. The candidates (cells whose state changed) the rule finds worth sending against what
+  // was published (a cell never published counts as the prior), and the waiting cells, go out within the
+  // allowance: waiting class changes, new class changes, waiting other changes, new other changes, each
+  // oldest first. Those sent go into the published map and the returned messages (at least one, possibly
+  // with no cells, so every update number is seen by clients); the rest wait, each with its latest state.
+  // Each message carries the checksum of the published map after the whole update. Candidates name each
+  // cell once (ScanMapper::apply reports each changed cell once).
   std::vector<ogf::map_delta_t> update(std::int64_t utime, std::span<const PublishedCell> candidates);
+
+  // The rule of the updates to come.
+  void setRule(const PublishingRule& rule) { rule_ = rule; }
+  const PublishingRule& rule() const { return rule_; }
+  // The encoded bytes each update to come may carry (LinkBudget::kUnbounded: no bound). An update's first
+  // message goes out whatever the allowance.
+  void allow(std::int64_t bytes) { allowance_ = bytes; }
+  const UpdateFigures& lastUpdate() const { return figures_; }
+  // Cells worth sending that wait for an allowance.
+  const DeferredCells& deferred() const { return deferred_; }
+
+  // The encoded size of a message of `cells` cells, and of messages.
+  static std::int64_t partBytes(std::size_t cells);
+  static std::int64_t bytesOf(std::span<const ogf::map_delta_t> messages);
+  // The most cells one update can carry in `bytes` (split into parts of max_cells_per_message).
+  std::size_t cellsWithin(std::int64_t bytes) const;
 
   // The whole published map at seq() as a keyframe (kind KEYFRAME, base_seq -1), in parts, in CellKey
   // order, when all of it is in memory; a map with cells held elsewhere (PublishedMap::evict) is sent with
@@ -51,7 +83,7 @@ class DeltaStream {
   std::vector<ogf::map_delta_t> keyframe(std::int64_t utime) const;
 
   // Replaces the published map wholesale (after a restart from a snapshot) and continues numbering after
-  // `seq`, without publishing; clients learn it from the next keyframe.
+  // `seq`, without publishing; clients learn it from the next keyframe. No cell waits after it.
   void reset(std::span<const PublishedCell> cells, std::int64_t seq);
 
   std::int64_t seq() const { return seq_; }
@@ -66,11 +98,27 @@ class DeltaStream {
  private:
   std::vector<ogf::map_delta_t> split(std::int64_t utime, std::int8_t kind, std::int64_t base_seq,
                                       std::span<const PublishedCell> cells) const;
+  // Candidates come in runs of one slab: each new slab's slot is asked for kAhead candidates ahead, so its
+  // look-up finds it in cache.
+  static constexpr std::size_t kAhead = 128;
+  void prefetchAhead(std::span<const PublishedCell> candidates, std::size_t i) const;
+  // An update under an allowance or with cells waiting (update() takes a one-pass path otherwise).
+  void chooseWithin(std::span<const PublishedCell> candidates);
+  // Moves waiting cells of that worth into chosen_ while room is left; cells whose published copy left
+  // with its region (PublishedMap::evict), or no longer worth sending, are dropped.
+  void takeDeferred(Worth worth, std::size_t& room);
 
   DeltaStreamConfig config_;
+  PublishingRule rule_;
   PublishedMap map_;
   std::int64_t seq_ = 0;
-  std::vector<PublishedCell> changed_;  // reused between updates
+  std::int64_t allowance_ = LinkBudget::kUnbounded;
+  DeferredCells deferred_;
+  UpdateFigures figures_;
+  // Reused between updates.
+  std::vector<PublishedCell> changed_;
+  std::vector<DeferredCells::Entry> wanted_;
+  std::vector<DeferredCells::Entry> chosen_;
 };
 
 }  // namespace ogf::delta

@@ -25,8 +25,14 @@ class PublishedMap {
   void set(const PublishedCell& cell);
   // Sets the cell when a client would see it differ from what is published (PublishedCell::visiblyDiffers;
   // a cell never published reads as the prior); returns whether it did. One lookup where find() and set()
-  // take two, for DeltaStream::update's per-cell test.
-  bool setIfVisiblyDiffers(const PublishedCell& cell);
+  // take two.
+  bool setIfVisiblyDiffers(const PublishedCell& cell) {
+    return setIf(cell, [&](const PublishedCell& published, bool) { return cell.visiblyDiffers(published); });
+  }
+  // Sets the cell when decide(published cell or the prior, whether it was published) says so; returns
+  // whether it did. With a decide that returns false, a look-up: DeltaStream::update's per-cell test.
+  template <class Decide>
+  bool setIf(const PublishedCell& cell, Decide decide);
   // A hint that the cell's slab is wanted soon (DeltaStream::update asks a few slabs ahead): nothing is read.
   void prefetch(const CellKey& key) const { blocks_.prefetch(PublishedBlock::blockKeyOf(key)); }
   // The cell, or nullopt when it was never published. A copy: cells are stored packed, not as
@@ -68,6 +74,8 @@ class PublishedMap {
  private:
   // Stores the cell in its slab and keeps size, storage and checksum up to date.
   void put(PublishedBlock& block, const PublishedCell& cell);
+  // setIf's store into the slab of the last look-up (last_, null when absent) at the cell's rank.
+  void putAt(const PublishedCell& cell, bool present, std::size_t rank, const PublishedValue& old);
   // Calls visit(slab key, slab) for every slab in the box [lo, hi) of evict().
   template <class Visit>
   void forEachSlabIn(const CellKey& lo, const CellKey& hi, Visit visit) const;
@@ -84,5 +92,23 @@ class PublishedMap {
 
 // The hash one cell contributes to PublishedMap::checksum().
 std::uint64_t cellChecksum(const PublishedCell& cell);
+
+template <class Decide>
+bool PublishedMap::setIf(const PublishedCell& cell, Decide decide) {
+  const CellKey blockKey = PublishedBlock::blockKeyOf(cell.key);
+  // Candidates come in runs of one slab (the filter reports a block's cells in position order, x fastest):
+  // the slab of the last one is checked before the table.
+  if (last_ == nullptr || !(lastKey_ == blockKey)) {
+    last_ = blocks_.find(blockKey);
+    lastKey_ = blockKey;
+  }
+  const unsigned local = PublishedBlock::localIndexOf(cell.key);
+  const bool present = last_ != nullptr && last_->has(local);
+  const std::size_t rank = last_ != nullptr ? last_->rank(local) : 0;
+  const PublishedValue old = present ? last_->valueAt(rank) : PublishedValue{};
+  if (!decide(PublishedCell{cell.key, old.probability, old.cell_class, old.variance}, present)) return false;
+  putAt(cell, present, rank, old);
+  return true;
+}
 
 }  // namespace ogf::delta

@@ -1,0 +1,170 @@
+// The byte budget of a delta channel: an update carries at most its allowance, the cells beyond it wait
+// (one entry per cell, its latest state) and go out in later updates, class changes first; a client that
+// applies every message stays consistent with the checksum on each and ends with the mapper's map.
+// LinkBudget: the token bucket the allowance comes from.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+#include <vector>
+
+#include "ogf/delta/delta_stream.hpp"
+#include "ogf/delta/link_budget.hpp"
+#include "ogf/delta/map_receiver.hpp"
+
+namespace {
+
+using namespace ogf::delta;
+
+std::int8_t classOf(double p) {
+  return p > 0.65 ? ogf::map_delta_t::CLASS_OCCUPIED : (p < 0.35 ? ogf::map_delta_t::CLASS_FREE : ogf::map_delta_t::CLASS_UNKNOWN);
+}
+
+PublishedCell cellAt(int x, int y, double p) { return {{x, y, 0}, quantiseProbability(p), classOf(p), 0.5f}; }
+
+std::vector<PublishedCell> cellsIn(const std::vector<ogf::map_delta_t>& msgs) {
+  std::vector<PublishedCell> out;
+  for (const auto& m : msgs)
+    for (std::size_t i = 0; i < static_cast<std::size_t>(m.num_cells); ++i)
+      out.push_back({{m.key_x[i], m.key_y[i], m.key_z[i]}, m.probability[i], m.cell_class[i], m.variance[i]});
+  return out;
+}
+
+TEST(DeltaBudget, UpdateCarriesNoMoreBytesThanItsAllowanceAndTheRestWaits) {
+  DeltaStream s({0.2, 1, 50}, PublishingRule{0.02, 0.0});
+  const std::int64_t allowance = DeltaStream::partBytes(50) + DeltaStream::partBytes(20);
+  s.allow(allowance);
+  std::vector<PublishedCell> cells;
+  for (int x = 0; x < 300; ++x) cells.push_back(cellAt(x, 0, 0.9));
+  const auto msgs = s.update(1, cells);
+  EXPECT_EQ(cellsIn(msgs).size(), 70u);
+  EXPECT_LE(DeltaStream::bytesOf(msgs), allowance);
+  EXPECT_EQ(s.lastUpdate().bytes, DeltaStream::bytesOf(msgs));
+  EXPECT_EQ(s.deferred().size(), 230u);
+  EXPECT_EQ(s.lastUpdate().deferred, 230u);
+  // Nothing allowed: the update still goes out, numbered, without cells.
+  s.allow(0);
+  const auto empty = s.update(2, std::vector<PublishedCell>{});
+  ASSERT_EQ(empty.size(), 1u);
+  EXPECT_EQ(empty[0].num_cells, 0);
+  EXPECT_EQ(empty[0].seq, 2);
+}
+
+TEST(DeltaBudget, WaitingClassChangesGoOutBeforeProbabilityMoves) {
+  DeltaStream s({0.2, 1, 100}, PublishingRule{0.02, 0.0});
+  // Publish 50 free cells, then move them within free (probability only) and turn 10 others occupied.
+  std::vector<PublishedCell> first;
+  for (int x = 0; x < 50; ++x) first.push_back(cellAt(x, 0, 0.2));
+  s.update(1, first);
+  std::vector<PublishedCell> second;
+  for (int x = 0; x < 50; ++x) second.push_back(cellAt(x, 0, 0.1));
+  for (int x = 100; x < 110; ++x) second.push_back(cellAt(x, 0, 0.9));
+  s.allow(0);
+  s.update(2, second);
+  ASSERT_EQ(s.deferred().size(), 60u);
+  EXPECT_EQ(s.deferred().classChanges(), 10u);
+  s.allow(DeltaStream::partBytes(15));
+  const auto sent = cellsIn(s.update(3, std::vector<PublishedCell>{}));
+  ASSERT_EQ(sent.size(), 15u);
+  for (std::size_t i = 0; i < 10; ++i) EXPECT_EQ(sent[i].cell_class, ogf::map_delta_t::CLASS_OCCUPIED) << i;
+  for (std::size_t i = 10; i < 15; ++i) EXPECT_EQ(sent[i].key.x, static_cast<int>(i) - 10) << "oldest probability moves next";
+}
+
+TEST(DeltaBudget, WaitingCellSendsItsLatestStateOnceAndLeavesWhenBackWithinTheStep) {
+  DeltaStream s({0.2, 1, 100}, PublishingRule{0.02, 0.0});
+  s.update(1, std::vector{cellAt(0, 0, 0.2), cellAt(1, 0, 0.2)});
+  s.allow(0);
+  s.update(2, std::vector{cellAt(0, 0, 0.25), cellAt(1, 0, 0.25)});
+  s.update(3, std::vector{cellAt(0, 0, 0.28), cellAt(1, 0, 0.21)});  // cell 1 back within 0.02 of 0.2
+  EXPECT_EQ(s.deferred().size(), 1u);
+  s.allow(LinkBudget::kUnbounded);
+  const auto sent = cellsIn(s.update(4, std::vector<PublishedCell>{}));
+  ASSERT_EQ(sent.size(), 1u);
+  EXPECT_EQ(sent[0].key.x, 0);
+  EXPECT_EQ(sent[0].probability, quantiseProbability(0.28));
+  EXPECT_TRUE(s.deferred().empty());
+}
+
+// A map changing faster than its budget: every update's messages keep the client consistent, nothing
+// waits twice for one cell, and once the changes stop the waiting cells drain and the client holds exactly
+// the mapper's latest state of every cell (step 0: every visible change is worth sending).
+TEST(DeltaBudget, ClientOverATightBudgetStaysConsistentAndEndsWithTheMappersMap) {
+  DeltaStream s({0.2, 9, 40}, PublishingRule{0.0, 0.0});
+  MapReceiver r;
+  for (const auto& m : s.keyframe(0)) r.accept(m);
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> coord(0, 40);
+  std::uniform_real_distribution<double> prob(0.0, 1.0);
+  std::map<std::pair<int, int>, PublishedCell> truth;
+  const std::int64_t allowance = DeltaStream::partBytes(40) * 2;  // 80 cells an update
+  bool deferred_some = false;
+  int scan = 0;
+  for (; scan < 100; ++scan) {
+    std::map<std::pair<int, int>, PublishedCell> scan_changes;  // each cell once, as ScanMapper::apply reports
+    for (int k = 0; k < 200; ++k) {
+      const PublishedCell c = cellAt(coord(rng), coord(rng), prob(rng));
+      scan_changes[{c.key.x, c.key.y}] = c;
+    }
+    std::vector<PublishedCell> changed;
+    for (const auto& [xy, c] : scan_changes) {
+      truth[xy] = c;
+      changed.push_back(c);
+    }
+    s.allow(allowance);
+    const auto msgs = s.update(scan, changed);
+    EXPECT_LE(DeltaStream::bytesOf(msgs), allowance);
+    deferred_some = deferred_some || !s.deferred().empty();
+    EXPECT_LE(s.deferred().size(), truth.size());  // one entry per cell
+    for (const auto& m : msgs) r.accept(m);
+    ASSERT_TRUE(r.consistent()) << "scan " << scan;
+  }
+  EXPECT_TRUE(deferred_some);
+  for (; !s.deferred().empty() && scan < 1000; ++scan) {
+    s.allow(allowance);
+    for (const auto& m : s.update(scan, std::vector<PublishedCell>{})) r.accept(m);
+    ASSERT_TRUE(r.consistent());
+  }
+  EXPECT_TRUE(s.deferred().empty());
+  for (const auto& [xy, c] : truth) {
+    const auto held = r.map().find(c.key);
+    const PublishedCell client = held.value_or(PublishedCell{c.key});
+    EXPECT_FALSE(client.visiblyDiffers(c)) << xy.first << "," << xy.second;
+  }
+}
+
+TEST(DeltaBudget, WaitingCellWhoseRegionWentToPagesIsNotSent) {
+  DeltaStream s({0.2, 1, 100}, PublishingRule{0.02, 0.0});
+  s.update(1, std::vector{cellAt(3, 3, 0.2)});
+  s.allow(0);
+  s.update(2, std::vector{cellAt(3, 3, 0.9)});
+  ASSERT_EQ(s.deferred().size(), 1u);
+  const auto checksum = s.map().checksum();
+  s.map().evict({0, 0, 0}, {8, 8, 1});  // its region leaves memory with the cell as published
+  s.allow(LinkBudget::kUnbounded);
+  const auto msgs = s.update(3, std::vector<PublishedCell>{});
+  EXPECT_TRUE(cellsIn(msgs).empty());
+  EXPECT_TRUE(s.deferred().empty());
+  EXPECT_EQ(static_cast<std::uint64_t>(msgs[0].map_checksum), checksum);  // clients still hold that map
+}
+
+TEST(LinkBudget, AccruesAtItsRateUpToItsBurstAndPacesDebt) {
+  LinkBudget b(1000.0, 0.5, 0);  // 1000 bytes/s, at most 500 held
+  EXPECT_EQ(b.allowance(), 500);
+  b.spend(800);
+  EXPECT_EQ(b.allowance(), 0);
+  EXPECT_EQ(b.debtUs(), 300'000);  // 300 bytes of debt at 1000 bytes/s
+  b.refill(100'000);
+  EXPECT_EQ(b.debtUs(), 200'000);
+  b.refill(1'000'000);
+  EXPECT_EQ(b.allowance(), 500);  // capped at the burst
+  b.refill(500'000);              // a clock going back adds nothing
+  EXPECT_EQ(b.allowance(), 500);
+  EXPECT_EQ(b.spent(), 800);
+  LinkBudget open(0.0, 1.0, 0);
+  EXPECT_FALSE(open.bounded());
+  EXPECT_EQ(open.allowance(), LinkBudget::kUnbounded);
+  open.spend(1'000'000);
+  EXPECT_EQ(open.debtUs(), 0);
+}
+
+}  // namespace
