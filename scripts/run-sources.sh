@@ -12,6 +12,7 @@
 # Outputs (default out/): map.ogfs, accuracy.txt, alone/*.ogfm, mapper.yaml, logs/, sim/.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+source "$here/scripts/run-common.sh"
 out=$here/out
 speed=1
 duration=20
@@ -55,16 +56,13 @@ rm -rf "$out/sim" "$out/state" "$out/alone"
 folders=()
 for d in "$out"/sim/*/; do [ -f "$d/sim.yaml" ] && folders+=("$(basename "$d")"); done
 if [ "${#folders[@]}" -lt 2 ]; then echo "run-sources.sh: ogf-sim wrote fewer than two sensors in $out/sim" >&2; exit 1; fi
-extrinsic_of() {  # the sensor's mount from its sim.yaml, as the mapper's extrinsic
-  sed -n 's/^sensor_to_body: {xyz: \(\[[^]]*\]\), quaternion_wxyz: \(\[[^]]*\]\)}.*/{translation: \1, quaternion: \2}/p' "$1/sim.yaml"
-}
 upper() { echo "$1" | tr '[:lower:]-' '[:upper:]_'; }
 {
   echo "sources:"
   for name in "${folders[@]}"; do
     if [ -n "$rig" ]; then robot=robot; pose=POSE; else robot=$name; pose=POSE_$(upper "$name"); fi
     echo "  - {name: $name, robot: $robot, scan_channel: VELODYNE_SCAN_$(upper "$name"), pose_channel: $pose,"
-    echo "     extrinsic: $(extrinsic_of "$out/sim/$name")}"
+    echo "     extrinsic: $(sim_extrinsic "$out/sim/$name")}"
   done
 } > "$out/mapper.yaml"
 echo "== the mapper's sources ($out/mapper.yaml)"; cat "$out/mapper.yaml"
@@ -107,14 +105,7 @@ for r in "${replays[@]}"; do wait "$r"; done
 echo "== stopping the drivers, waiting until the map clients' sequence stops moving, stopping the rest"
 sleep 0.5
 for d in "${drivers[@]}"; do kill -TERM "$d"; wait "$d" || true; done
-last=; same=0
-for _ in $(seq 1 120); do
-  sleep 1
-  now=$(grep '^seq ' "$out/logs/map-client-1.log" | tail -n 1 | cut -d' ' -f2)
-  if [ -n "$now" ] && [ "$now" = "$last" ]; then same=$((same + 1)); else same=0; fi
-  last=$now
-  if [ "$same" -ge 3 ]; then break; fi
-done
+wait_for_quiet_client "$out/logs/map-client-1.log"
 for c in "${clients[@]}"; do kill -TERM "$c"; wait "$c" || true; done
 kill -TERM "$mapper"; mapper_rc=0; wait "$mapper" || mapper_rc=$?
 pids=()
@@ -132,7 +123,7 @@ echo "== each source's map alone (ogf-map, offline, the same captures and odomet
 mkdir -p "$out/alone"
 alone=()
 for name in "${folders[@]}"; do
-  printf 'map:\n  extrinsic: %s\n' "$(extrinsic_of "$out/sim/$name")" > "$out/alone/$name.yaml"
+  printf 'map:\n  extrinsic: %s\n' "$(sim_extrinsic "$out/sim/$name")" > "$out/alone/$name.yaml"
   "$bin/ogf-map" --pcap "$out/sim/$name/capture.pcap" --odometry "$out/sim/$name/odometry.csv" \
     --config "$out/alone/$name.yaml" --out "$out/alone/$name.ogfm" >"$out/logs/alone-$name.log" 2>&1
   alone+=(--alone "$out/alone/$name.ogfm")

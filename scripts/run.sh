@@ -20,6 +20,7 @@
 # map_occupied.ply, png/*.png, accuracy.txt, octomap.bt, logs/, sim/ (capture, odometry, truth).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+source "$here/scripts/run-common.sh"
 out=$here/out
 speed=1
 duration=20
@@ -84,9 +85,8 @@ rm -rf "$out/sim" "$out/state"
   2>&1 | tee "$out/logs/sim.log"
 
 # The mapper must know where the sensor sits on the body: ogf-sim wrote it into sim.yaml.
-extrinsic=$(sed -n 's/^sensor_to_body: {xyz: \(\[[^]]*\]\), quaternion_wxyz: \(\[[^]]*\]\)}.*/translation: \1, quaternion: \2/p' "$out/sim/sim.yaml")
-if [ -z "$extrinsic" ]; then echo "run.sh: no sensor_to_body in $out/sim/sim.yaml" >&2; exit 1; fi
-printf 'map:\n  extrinsic: {%s}\n' "$extrinsic" > "$out/mapper.yaml"
+extrinsic=$(sim_extrinsic "$out/sim")
+printf 'map:\n  extrinsic: %s\n' "$extrinsic" > "$out/mapper.yaml"
 
 echo "== starting ogf-mapper, ogf-driver and ogf-map-client on $url"
 "$bin/ogf-mapper" --lcm-url "$url" --state-dir "$out/state" --config "$out/mapper.yaml" >"$out/logs/mapper.log" 2>&1 &
@@ -115,14 +115,7 @@ echo "== stopping the driver (it publishes the scan in progress), waiting until 
 echo "   stops moving (the mapper has drained its queue), then stopping the client and the mapper"
 sleep 0.5
 kill -TERM "$driver"; driver_rc=0; wait "$driver" || driver_rc=$?
-last=; same=0
-for _ in $(seq 1 120); do
-  sleep 1
-  now=$(grep '^seq ' "$out/logs/map-client.log" | tail -n 1 | cut -d' ' -f2)
-  if [ -n "$now" ] && [ "$now" = "$last" ]; then same=$((same + 1)); else same=0; fi
-  last=$now
-  if [ "$same" -ge 3 ]; then break; fi
-done
+wait_for_quiet_client "$out/logs/map-client.log"
 kill -TERM "$client"; client_rc=0; wait "$client" || client_rc=$?
 kill -TERM "$view" 2>/dev/null || true; wait "$view" 2>/dev/null || true
 kill -TERM "$mapper"; mapper_rc=0; wait "$mapper" || mapper_rc=$?
