@@ -1,4 +1,4 @@
-# Pieces scripts/run.sh and scripts/run-sources.sh share (sourced, not run).
+# Pieces scripts/run.sh, scripts/run-sources.sh and scripts/wire.sh share (sourced, not run).
 
 # sim_extrinsic DIR: the sensor's mount that ogf-sim wrote into DIR/sim.yaml, as the mapper's extrinsic
 # ({translation: [...], quaternion: [...]}); fails, saying so, when sim.yaml holds none.

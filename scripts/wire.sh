@@ -16,6 +16,7 @@
 #   ogf-map-client ended with the mapper's checksum.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+source "$here/scripts/run-common.sh"
 bin=${OGF_BUILD_DIR:-$here/build}/bin
 out=$here/out/wire
 lab_duration=20
@@ -80,15 +81,7 @@ run() {
     --start-delay 1.5 > "$dir/replay.txt"
   sleep 0.5
   kill -TERM "$driver"; wait "$driver" || true
-  # The mapper drains its queue; the client's sequence stops moving.
-  local last= same=0 now
-  for _ in $(seq 1 120); do
-    sleep 1
-    now=$(grep '^seq ' "$dir/client.log" | tail -n 1 | cut -d' ' -f2)
-    if [ -n "$now" ] && [ "$now" = "$last" ]; then same=$((same + 1)); else same=0; fi
-    last=$now
-    if [ "$same" -ge 3 ]; then break; fi
-  done
+  wait_for_quiet_client "$dir/client.log"  # the mapper drains its queue
   kill -TERM "$client"; wait "$client" || true
   kill -TERM "$mapper"; wait "$mapper" || true
   kill -INT "$logger"; wait "$logger" || true
