@@ -313,6 +313,10 @@ void declareBus(std::vector<ConfigKey>& k) {
                       [](auto& o) -> auto& { return o.query_channel; }));
   k.push_back(textKey("channels.command", "map commands in; answers on `<channel>_REPLY`", kMapper,
                       kServiceChannelLength, [](auto& o) -> auto& { return o.command_channel; }));
+  k.push_back(textKey("channels.nav_grid", "the 2-D navigation grid out (`ogf.nav_grid_t`)", kMapper, kChannelLength,
+                      [](auto& o) -> auto& { return o.nav_grid_channel; }));
+  k.push_back(textKey("channels.nav_request", "navigation grid keyframe requests in", kMapper, kChannelLength,
+                      [](auto& o) -> auto& { return o.nav_request_channel; }));
 }
 
 // Which clock the odometry is on and where the body's pose comes from.
@@ -551,6 +555,33 @@ void declareDeltas(std::vector<ConfigKey>& k) {
                         kMapper, positive, [](auto& o) -> auto& { return o.deltas.burst_s; }));
 }
 
+// A fraction in [0, 1].
+std::optional<std::string> fraction(double v) {
+  return v >= 0 && v <= 1 ? std::nullopt : std::optional<std::string>("must be 0 to 1");
+}
+
+// The nav section: the height band the 2-D navigation grid is projected from (live on channels.nav_grid,
+// offline by ogf-map --export-nav) and how often it goes out (docs/navigation.md).
+void declareNav(std::vector<ConfigKey>& k) {
+  k.push_back(boolKey("nav.enabled", "publish the 2-D navigation grid on `channels.nav_grid`", kMapper,
+                      [](auto& o) -> auto& { return o.nav.enabled; }));
+  k.push_back(numberKey("nav.floor_z", "m", "height of the floor in the map frame", kOffline, anyNumber,
+                        [](auto& o) -> auto& { return o.nav.band.floor_z; }));
+  k.push_back(numberKey("nav.min_height", "m",
+                        "the band starts this far above the floor (cells whose centre is lower are floor, not obstacle)",
+                        kOffline, anyNumber, [](auto& o) -> auto& { return o.nav.band.min_height; }));
+  k.push_back(numberKey("nav.max_height", "m", "the band ends this far above the floor: the robot's height", kOffline,
+                        anyNumber, [](auto& o) -> auto& { return o.nav.band.max_height; }));
+  k.push_back(numberKey("nav.min_free_fraction", "",
+                        "a column with no occupied cell in the band is free when at least this fraction of its "
+                        "layers holds a free cell, else unknown",
+                        kOffline, fraction, [](auto& o) -> auto& { return o.nav.band.min_free_fraction; }));
+  k.push_back(numberKey("nav.update_interval_s", "s", "changed tiles of the grid go out at most this often", kMapper,
+                        positive, [](auto& o) -> auto& { return o.nav.update_interval_s; }));
+  k.push_back(numberKey("nav.keyframe_interval_s", "s", "how often the whole grid is sent unasked", kMapper,
+                        positive, [](auto& o) -> auto& { return o.nav.keyframe_interval_s; }));
+}
+
 // Every key, section after section, in the order --print-config prints them.
 std::vector<ConfigKey> declare() {
   std::vector<ConfigKey> k;
@@ -560,6 +591,7 @@ std::vector<ConfigKey> declare() {
   declarePersistence(k);
   declarePublishing(k);
   declareDeltas(k);
+  declareNav(k);
   declareMap(k);
   declareFilter(k);
   declareFusion(k);

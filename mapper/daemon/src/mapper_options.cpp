@@ -127,7 +127,8 @@ Status MapperOptions::validate() const {
   if (pose_source == PoseSource::kStatic && pose_correction.corrector.mode != slam::CorrectionMode::kNone)
     return Error::configuration("pose_correction.mode: needs a moving sensor with odometry (pose_source: odometry)");
   for (const auto* ch : {&scan_channel, &pose_channel, &delta_channel, &request_channel, &status_channel,
-                         &corrected_pose_channel, &query_channel, &command_channel}) {
+                         &corrected_pose_channel, &query_channel, &command_channel, &nav_grid_channel,
+                         &nav_request_channel}) {
     if (ch->empty() || ch->size() > 63) return Error::configuration("channels: '" + *ch + "' must be 1 to 63 characters");
   }
   for (const auto* ch : {&query_channel, &command_channel}) {
@@ -144,6 +145,9 @@ Status MapperOptions::validate() const {
     return Error::configuration("page_out_distance_m: must be >= 0 (0 keeps the whole map in memory)");
   if (!(keyframe_interval_s > 0)) return Error::configuration("keyframe_interval_s: must be > 0");
   if (!(status_interval_s > 0)) return Error::configuration("status_interval_s: must be > 0");
+  if (auto st = nav.band.validate(map.filter.resolution); !st) return Error::configuration(st.error().message);
+  if (!(nav.update_interval_s > 0)) return Error::configuration("nav.update_interval_s: must be > 0");
+  if (!(nav.keyframe_interval_s > 0)) return Error::configuration("nav.keyframe_interval_s: must be > 0");
   if (!(test_drop_delta_fraction >= 0 && test_drop_delta_fraction < 1))
     return Error::configuration("test_drop_delta_fraction: must be in [0, 1)");
   // services:

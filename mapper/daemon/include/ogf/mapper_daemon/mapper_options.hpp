@@ -17,6 +17,7 @@
 #include "ogf/common/result.hpp"
 #include "ogf/correction/scan_pose_correction.hpp"
 #include "ogf/mapper_daemon/source_options.hpp"
+#include "ogf/navigation/nav_band.hpp"
 #include "ogf/pipeline/mapper_config.hpp"
 
 namespace ogf::mapper_daemon {
@@ -65,6 +66,17 @@ struct DeltaOptions {
   double burst_s = 0.25;
 };
 
+// The 2-D navigation grid (mapper/navigation): the `nav:` section. The band is also what ogf-map --export-nav
+// projects.
+struct NavOptions {
+  bool enabled = true;  // publish the grid on channels.nav_grid
+  navigation::NavBand band;
+  // Changed tiles go out at most this often (the changes of the scans between accumulate).
+  double update_interval_s = 0.5;
+  // The whole grid goes out unasked this often (and on request, on channels.nav_request).
+  double keyframe_interval_s = 5.0;
+};
+
 struct MapperOptions {
   std::string lcm_url;  // "" = $LCM_DEFAULT_URL, else LCM's default
   std::string scan_channel = "VELODYNE_SCAN";
@@ -76,6 +88,8 @@ struct MapperOptions {
   // Map services; each answers on its channel + "_REPLY".
   std::string query_channel = "OGF_MAP_QUERY";
   std::string command_channel = "OGF_MAP_COMMAND";
+  std::string nav_grid_channel = "OGF_NAV_GRID";
+  std::string nav_request_channel = "OGF_NAV_REQUEST";
   // Which scan clock the odometry's utime shares: the sensor's device time (GPS/PPS or top-of-hour +
   // host hour) or the driver host's receive time.
   ScanTimeBase time_base = ScanTimeBase::kAuto;
@@ -103,6 +117,7 @@ struct MapperOptions {
   double page_out_distance_m = 60.0;
   double keyframe_interval_s = 30.0;
   DeltaOptions deltas;
+  NavOptions nav;
   double status_interval_s = 1.0;
   ServicesOptions services;
 

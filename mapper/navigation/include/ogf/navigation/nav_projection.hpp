@@ -1,0 +1,94 @@
+// The 2-D navigation grid of a 3-D map, kept up to date cell by cell: it is told each cell's state after an
+// update (what the mapper publishes: quantised predictive probability, class, variance), keeps the band's
+// cells (NavBand) of every column in tiles of kTileSize × kTileSize columns, and reclassifies the columns a
+// change touched (column_rule.hpp). It answers with the tiles whose columns changed, a column, a tile's
+// values, the whole grid as a dense rectangle, and the checksum of the grid (nav_grid.hpp), which it keeps
+// up to date per change.
+//
+// Memory: 2 bytes per band layer per column of a touched tile, plus 2 bytes per column.
+#pragma once
+
+#include <ogf/common/result.hpp>
+#include <ogf/core/cell_key.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "ogf/navigation/column_rule.hpp"
+#include "ogf/navigation/nav_band.hpp"
+#include "ogf/navigation/nav_grid.hpp"
+
+namespace ogf::navigation {
+
+inline constexpr std::int32_t kTileSize = 32;
+
+struct TileKey {
+  std::int32_t x = 0;  // the tile holds columns [x·kTileSize, (x+1)·kTileSize) × [y·kTileSize, (y+1)·kTileSize)
+  std::int32_t y = 0;
+  friend constexpr bool operator==(const TileKey&, const TileKey&) = default;
+  friend constexpr auto operator<=>(const TileKey&, const TileKey&) = default;
+};
+
+TileKey tileOf(const ColumnKey& column);
+
+// A 3-D cell's state as the projection reads it.
+struct CellState {
+  CellKey key;
+  double probability = 0.5;  // predictive, [0, 1]
+  std::int8_t cell_class = kClassUnknown;
+  float variance = 0.0f;
+};
+
+class NavProjection {
+ public:
+  // Error when the band does not validate at `resolution` (NavBand::validate).
+  static Result<NavProjection> create(double resolution, const NavBand& band);
+
+  // Cells after an update; cells outside the band are ignored. Columns they touch are reclassified by the
+  // next refresh().
+  void update(std::span<const CellState> cells);
+  void update(const CellState& cell);
+  // Reclassifies the touched columns; the tiles in which a column's cost or class changed, sorted.
+  std::vector<TileKey> refresh();
+  // Forgets every cell (a new map).
+  void clear();
+
+  // The column's current value (as of the last refresh()); unknown for a column never touched.
+  NavColumn column(const ColumnKey& key) const;
+  // The tiles holding at least one known column, sorted.
+  std::vector<TileKey> knownTiles() const;
+  // The kTileSize² values of a tile, row-major from its south-west column (nav_grid_t's layout): cost and
+  // class spans must hold kTileSize² values.
+  void tileValues(const TileKey& tile, std::span<std::int8_t> cost, std::span<std::int8_t> column_class) const;
+  // The dense rectangle over every known column (empty grid, width 0, when none is).
+  NavGrid grid() const;
+
+  std::uint64_t checksum() const { return checksum_; }
+  std::size_t knownColumns() const { return known_columns_; }
+  std::size_t tiles() const { return tiles_.size(); }
+  double resolution() const { return resolution_; }
+  const NavBand& band() const { return band_; }
+  const LayerRange& layers() const { return layers_; }
+
+ private:
+  NavProjection(double resolution, const NavBand& band);
+  struct Tile;
+  struct TileKeyHash {
+    std::size_t operator()(const TileKey& k) const noexcept;
+  };
+  Tile& tileAt(const TileKey& key);
+
+  double resolution_;
+  NavBand band_;
+  LayerRange layers_;
+  std::int32_t free_layers_needed_;
+  std::unordered_map<TileKey, std::unique_ptr<Tile>, TileKeyHash> tiles_;
+  std::vector<ColumnKey> touched_;  // columns to reclassify, possibly repeated
+  std::uint64_t checksum_ = 0;
+  std::size_t known_columns_ = 0;
+};
+
+}  // namespace ogf::navigation
