@@ -51,6 +51,10 @@ NavProjection::NavProjection(double resolution, const NavBand& band)
       layers_(band.layers(resolution)),
       free_layers_needed_(band.freeLayersNeeded(resolution)) {}
 
+NavProjection::~NavProjection() = default;
+NavProjection::NavProjection(NavProjection&&) noexcept = default;
+NavProjection& NavProjection::operator=(NavProjection&&) noexcept = default;
+
 NavProjection::Tile& NavProjection::tileAt(const TileKey& key) {
   auto& slot = tiles_[key];
   if (!slot) slot = std::make_unique<Tile>(layers_.count());

@@ -46,6 +46,11 @@ class NavProjection {
  public:
   // Error when the band does not validate at `resolution` (NavBand::validate).
   static Result<NavProjection> create(double resolution, const NavBand& band);
+  ~NavProjection();
+  NavProjection(NavProjection&&) noexcept;
+  NavProjection& operator=(NavProjection&&) noexcept;
+  NavProjection(const NavProjection&) = delete;
+  NavProjection& operator=(const NavProjection&) = delete;
 
   // Cells after an update; cells outside the band are ignored. Columns they touch are reclassified by the
   // next refresh().
