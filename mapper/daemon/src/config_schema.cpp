@@ -358,12 +358,12 @@ void declarePersistence(std::vector<ConfigKey>& k) {
   k.push_back(numberKey("snapshot_interval_s", "s",
                         "how often the map is saved; a restart after a crash replays the scans since the last "
                         "snapshot, about 10 s at 20 s "
-                        "([docs/performance.md](docs/performance.md#restart-after-a-crash))",
+                        "([performance.md](performance.md#restart-after-a-crash))",
                         kMapper, positive, [](auto& o) -> auto& { return o.snapshot_interval_s; }));
   k.push_back(numberKey("page_out_distance_m", "m",
                         "map regions farther from the sensor wait in `<state_dir>/pages` and come back when a scan "
                         "reaches them; the same map, bit for bit; 0: all in memory "
-                        "([docs/mapping.md](docs/mapping.md#the-daemon-ogf-mapper))",
+                        "([mapping.md](mapping.md#the-daemon-ogf-mapper))",
                         kMapper, nonNegative, [](auto& o) -> auto& { return o.page_out_distance_m; }));
 }
 
@@ -405,7 +405,7 @@ void declareMap(std::vector<ConfigKey>& k) {
 void declareFilter(std::vector<ConfigKey>& k) {
   k.push_back(derivedNumberKey("filter.sigma", "m",
                                "how far a measurement's evidence spreads, the kernel's σ "
-                               "([docs/mapping.md](docs/mapping.md))",
+                               "([mapping.md](mapping.md))",
                                kAll, "resolution / 2", [](auto& o) -> auto& { return o.map.filter.kernelSigma; }));
   k.push_back(derivedNumberKey("filter.amplitude", "", "the kernel's amplitude", kAll, "1 / (σ √(2π))",
                                [](auto& o) -> auto& { return o.map.filter.kernelAmplitude; }));
@@ -431,7 +431,7 @@ void declareFilter(std::vector<ConfigKey>& k) {
   k.push_back(choiceKey<filter::OccupiedPriority>(
       "filter.occupied_priority",
       "`map`: a cell once hit ignores free measurements until `free_release_scans` free scans in a row (`scan`: "
-      "the exact filter; [docs/mapping.md](docs/mapping.md#occupied-priority))",
+      "the exact filter; [mapping.md](mapping.md#occupied-priority))",
       kAll, {{"map", filter::OccupiedPriority::kMap}, {"scan", filter::OccupiedPriority::kScan}},
       [](auto& o) -> auto& { return o.map.filter.occupiedPriority; }));
   k.push_back(integerKey("filter.free_release_scans", "", "see `occupied_priority`; 0: never released; `ogf-mapper` with several `sources` counts this many for each (at most 127)", kAll, 0,
@@ -439,13 +439,13 @@ void declareFilter(std::vector<ConfigKey>& k) {
   k.push_back(choiceKey<filter::CovarianceStorage>(
       "filter.covariance",
       "`compact`: 7 bytes a cell, covariances rebuilt from the prior; `banded`: covariances stored, eq. (5) "
-      "exactly inside the band, 57 bytes ([docs/mapping.md](docs/mapping.md#covariance-storage))",
+      "exactly inside the band, 57 bytes ([mapping.md](mapping.md#covariance-storage))",
       kAll, {{"compact", filter::CovarianceStorage::kCompact}, {"banded", filter::CovarianceStorage::kBanded}},
       [](auto& o) -> auto& { return o.map.filter.covariance; }));
   k.push_back(integerKey("filter.threads", "",
                          "filter update threads (the map is identical for any count); at 0.1 m, 2 take a street scan "
                          "from about 2.05× to 2.6× real time on a 2-CPU machine "
-                         "([docs/performance.md](docs/performance.md#where-the-time-goes-in-a-scan))",
+                         "([performance.md](performance.md#where-the-time-goes-in-a-scan))",
                          kAll, 1, 256, [](auto& o) -> auto& { return o.map.filter.threads; }));
 }
 
@@ -484,7 +484,7 @@ void declarePoseCorrection(std::vector<ConfigKey>& k) {
     modes.emplace_back(std::string(slam::toString(m)), m);
   k.push_back(choiceKey<slam::CorrectionMode>(
       "pose_correction.mode",
-      "`scan-match` or `rbpf` correct drifting odometry with the lidar before mapping ([docs/slam.md](docs/slam.md))",
+      "`scan-match` or `rbpf` correct drifting odometry with the lidar before mapping ([slam.md](slam.md))",
       kOffline, modes, [](auto& o) -> auto& { return o.pose_correction.corrector.mode; }));
   k.push_back(integerKey("pose_correction.particles", "", "particles of `rbpf`", kOffline, 1, 10'000,
                          [](auto& o) -> auto& { return o.pose_correction.corrector.slam.particles; }));

@@ -1,5 +1,5 @@
 // The declaration of the mapping programs' configuration keys (config_schema.cpp): the one source that
-// mapper_options.cpp makes the YAML reader, --print-config and the README's table of keys from.
+// mapper_options.cpp makes the YAML reader, --print-config and the table of keys in docs/configuration.md from.
 #pragma once
 
 #include <yaml-cpp/yaml.h>

@@ -92,7 +92,7 @@ ConfigKey sourcesKey() {
   return {"sources",
           "list of {" + std::string(kFields) + "}",
           "",
-          "several lidars and robots into one map ([docs/architecture.md](docs/architecture.md), \"Several "
+          "several lidars and robots into one map ([architecture.md](architecture.md), \"Several "
           "sources\"); each entry's `scan_channel` (or `packet_channel`, decoded here with its `calibration`), "
           "`pose_channel`, `time_base` and `extrinsic` default to `channels.*`, `time_base` and `map.extrinsic`; "
           "`[]`: one source on `channels.scan`",

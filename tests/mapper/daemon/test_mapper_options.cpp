@@ -1,6 +1,6 @@
 // The mapping programs' configuration schema: --print-config's YAML holds every key of the table and reads
 // back to the options it was printed from; values land in MapperOptions; older spellings are refused with
-// the new name; unknown keys and bad values are named with file, line and key; the README's table of keys
+// the new name; unknown keys and bad values are named with file, line and key; the table of keys in docs/configuration.md
 // is the schema's.
 #include <gtest/gtest.h>
 
@@ -166,23 +166,23 @@ TEST(MapperOptionsSchema, StateDirDefaultSaysStateDirectoryInThePrintAndTheTable
   EXPECT_NE(row.substr(0, row.find('\n')).find("`$STATE_DIRECTORY`"), std::string::npos) << table;
 }
 
-// The README's table of keys lies between two markers; the test fails when it differs from the schema,
+// The table of keys in docs/configuration.md lies between two markers; the test fails when it differs from the schema,
 // and says how to make it again.
-TEST(MapperOptionsSchema, TheReadmesConfigurationTableIsTheSchemas) {
-  std::ifstream in(OGF_README_PATH);
-  ASSERT_TRUE(in) << OGF_README_PATH;
+TEST(MapperOptionsSchema, TheConfigurationDocsTableIsTheSchemas) {
+  std::ifstream in(OGF_CONFIGURATION_DOC_PATH);
+  ASSERT_TRUE(in) << OGF_CONFIGURATION_DOC_PATH;
   std::stringstream text;
   text << in.rdbuf();
   const std::string readme = text.str();
   const std::string begin = "<!-- ogf-mapper --print-config=markdown -->\n";
   const std::string end = "<!-- end of ogf-mapper --print-config=markdown -->";
   const auto from = readme.find(begin);
-  ASSERT_NE(from, std::string::npos) << "README.md has no line " << begin;
+  ASSERT_NE(from, std::string::npos) << "docs/configuration.md has no line " << begin;
   const auto to = readme.find(end, from);
-  ASSERT_NE(to, std::string::npos) << "README.md has no line " << end;
+  ASSERT_NE(to, std::string::npos) << "docs/configuration.md has no line " << end;
   const std::string in_readme = readme.substr(from + begin.size(), to - from - begin.size());
   EXPECT_EQ(in_readme, mapperConfigMarkdown())
-      << "README.md's table of keys differs from the schema: replace the lines between the markers with the "
+      << "docs/configuration.md's table of keys differs from the schema: replace the lines between the markers with the "
          "output of build/bin/ogf-mapper --print-config=markdown";
 }
 

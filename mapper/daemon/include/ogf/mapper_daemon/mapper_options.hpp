@@ -2,7 +2,7 @@
 // state directory and the timers. The offline programs that map (ogf-map, ogf-eval) read the same file
 // with the same reader: one schema (config_schema.cpp) declares every key once, with its type, default,
 // unit, meaning, check and place in MapperOptions, and drives the YAML reader, --print-config and the
-// README's table of keys. Read from a YAML file (unknown keys are refused, so a typo never silently falls
+// table of keys in docs/configuration.md. Read from a YAML file (unknown keys are refused, so a typo never silently falls
 // back to a default), then overridden by flags, then validated as a whole.
 #pragma once
 
@@ -154,7 +154,7 @@ unsigned configKeyUsers(std::string_view path);
 // with its unit and meaning; reading it back gives `options` again. Printed by --print-config.
 std::string mapperConfigYaml(const MapperOptions& options = MapperOptions{});
 
-// The table of keys in Markdown (key, type, default, programs, meaning): the README's configuration table,
+// The table of keys in Markdown (key, type, default, programs, meaning): the table in docs/configuration.md,
 // printed by --print-config=markdown.
 std::string mapperConfigMarkdown();
 
