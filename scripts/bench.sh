@@ -7,9 +7,11 @@
 #                  are noisier than a full run's, which takes a few minutes
 #     --build-dir  the build tree (default $OGF_BUILD_DIR, else build/)
 #     --keep DIR   keep every program's raw output in DIR (default: a temporary folder, removed)
-# Programs: ogf-bench-octomap (street scans through the OGF and through OctoMap), ogf-bench-filter,
-# ogf-bench-fusion and ogf-bench-driver_decoding (Google Benchmark).
-# The decoding benchmark reads the real captures in ../shared/data/real; without them its rows say so.
+# Programs: ogf-bench-octomap (street scans, and the real static capture, through the OGF and through
+# OctoMap, and through Bonxai when it was built with -DOGF_BONXAI_DIR), ogf-bench-filter, ogf-bench-fusion and
+# ogf-bench-driver_decoding (Google Benchmark).
+# The capture rows and the decoding benchmark read the real captures in ../shared/data/real; without them
+# their rows say so.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${OGF_BUILD_DIR:-$here/build}
@@ -55,6 +57,13 @@ gbval() {
       split(substr($0, e + 3), f, ","); print f[h[col] - 1]; exit
     }' "$file"
 }
+# The Bonxai row beside OctoMap's, when ogf-bench-octomap was built with it: file, resolution, OGF ms, OGF MB.
+bonxai_rows() {
+  local bm bmem
+  bm=$(octo "$1" "$2" Bonxai 3); bmem=$(octo "$1" "$2" Bonxai 7)
+  [ -n "$bm" ] || return 0
+  echo "| same: Bonxai (ProbabilisticMap), ms per scan / memory MB | $3 / $4 | Bonxai $bm / $bmem | OGF $(ratio "$bm" "$3")× faster, $(ratio "$4" "$bmem")× the memory |"
+}
 fmt() { awk -v v="$1" -v f="$2" 'BEGIN { if (v == "") print "n/a"; else printf(f, v) }'; }
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "" || b == "" || b + 0 == 0) print "n/a"; else printf("%.2f", a / b) }'; }
 
@@ -62,6 +71,12 @@ echo "ogf benchmarks, $mode run; raw output in $work" >&2
 
 echo "== ogf-bench-octomap --scans $scans --resolutions $resolutions" >&2
 "$bin/ogf-bench-octomap" --scans "$scans" --resolutions "$resolutions" >"$work/octomap.txt"
+static_capture=$here/../shared/data/real/vlp-16-test-90deg-1-50-frames.pcap
+if [ -f "$static_capture" ]; then
+  capture_res=0.2; [ "$quick" = 0 ] && capture_res=0.2,0.1,0.05
+  echo "== ogf-bench-octomap --pcap $(basename "$static_capture") --scans 52 --resolutions $capture_res" >&2
+  "$bin/ogf-bench-octomap" --pcap "$static_capture" --scans 52 --resolutions "$capture_res" >"$work/capture.txt"
+fi
 if [ "$quick" = 0 ]; then
   echo "== ogf-bench-octomap --scans $scans --resolutions 0.2 --deltas" >&2
   "$bin/ogf-bench-octomap" --scans "$scans" --resolutions 0.2 --deltas >"$work/octomap_deltas.txt"
@@ -105,7 +120,19 @@ for r in $(tr ',' ' ' <<<"$resolutions"); do
   echo "| street VLP-16 scans, $r m cells, 30 m: ms per scan, mean / p99 ($scans scans, 1 thread) | $om / $op99 | OctoMap $cm / $cp99 | OGF $(ratio "$cm" "$om")× faster |"
   echo "| same: × real time (10 Hz) | $orf | OctoMap $crf | |"
   echo "| same: memory, MB | $omem | OctoMap $cmem | $(ratio "$omem" "$cmem")× OctoMap's |"
+  bonxai_rows "$o" "$res" "$om" "$omem"
 done
+c=$work/capture.txt
+if [ -f "$c" ]; then
+  for res in $(awk '$2 == "OGF" { print $1 }' "$c"); do
+    om=$(octo "$c" "$res" OGF 3); omem=$(octo "$c" "$res" OGF 7)
+    cm=$(octo "$c" "$res" OctoMap 3); cmem=$(octo "$c" "$res" OctoMap 7)
+    echo "| real static capture (52 VLP-16 scans), $res m cells, 30 m: ms per scan / memory MB | $om / $omem | OctoMap $cm / $cmem | OGF $(ratio "$cm" "$om")× faster, $(ratio "$omem" "$cmem")× the memory |"
+    bonxai_rows "$c" "$res" "$om" "$omem"
+  done
+else
+  echo "| real static capture | skipped (no ../shared/data/real captures) | | |"
+fi
 if [ "$quick" = 0 ]; then
   dm=$(octo "$work/octomap_deltas.txt" 0.20 OGF 3); drf=$(octo "$work/octomap_deltas.txt" 0.20 OGF 6)
   cm=$(octo "$o" 0.20 OctoMap 3)

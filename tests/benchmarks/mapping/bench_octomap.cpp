@@ -3,7 +3,9 @@
 // resolution and max range: the OGF through pipeline::ScanMapper (measurement set + banded filter update, one
 // thread), OctoMap through OcTree::insertPointCloud (Debian's liboctomap, built without OpenMP, so also one
 // thread). Prints per resolution: time per scan (mean, p50, p99), the real-time factor against a 10 Hz sensor
-// (100 ms per scan; times are thread CPU time), memory after the last scan and cell counts.
+// (100 ms per scan; times are thread CPU time), memory after the last scan and cell counts. Built with
+// -DOGF_BONXAI_DIR (tests/benchmarks/mapping/CMakeLists.txt), it also runs Bonxai's ProbabilisticMap
+// (OctoMap's log-odds model on a two-level sparse voxel grid) through its insertPointCloud on the same rays.
 //
 // Scans: by default synthetic full VLP-16 scans (16 rings at -15°..+15°, 1800 azimuths, 2 cm range
 // noise) driven 1 m apart down the simulator's "street" world (ogf::sim presets); or the scans of a
@@ -20,6 +22,10 @@
 #include <ogf/sim/vlp16_model.hpp>
 
 #include <time.h>
+
+#ifdef OGF_WITH_BONXAI
+#include <bonxai_map/probabilistic_map.hpp>
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -244,6 +250,27 @@ OctomapResult runOctomap(const std::vector<RayScan>& scans, double resolution, d
   return r;
 }
 
+#ifdef OGF_WITH_BONXAI
+struct BonxaiResult {
+  Timing total;
+  std::size_t memory = 0, cells = 0;
+};
+
+BonxaiResult runBonxai(const std::vector<RayScan>& scans, double resolution, double max_range) {
+  Bonxai::ProbabilisticMap map(resolution);
+  BonxaiResult r;
+  for (const RayScan& s : scans) {
+    const std::vector<Eigen::Vector3d>& points = s.endpoints;  // the points as they are, built outside the timing
+    const double t0 = cpuMs();
+    map.insertPointCloud(points, s.origin, max_range);
+    r.total.ms.push_back(cpuMs() - t0);
+  }
+  r.memory = map.grid().memUsage();
+  r.cells = map.grid().activeCellsCount();
+  return r;
+}
+#endif
+
 std::vector<double> parseList(const std::string& text) {
   std::vector<double> out;
   std::stringstream s(text);
@@ -370,6 +397,12 @@ int main(int argc, char** argv) {
     row("OctoMap", oct.total, oct.memory, oct.leaves, fmt::format("leaves ({} nodes)", oct.nodes));
     std::printf("%-6.2f OGF/OctoMap speed %.2fx, memory %.2fx\n", res, oct.total.mean() / ogf.total.mean(),
                 static_cast<double>(ogf.memory) / static_cast<double>(oct.memory));
+#ifdef OGF_WITH_BONXAI
+    const BonxaiResult bonxai = runBonxai(scans, res, max_range);
+    row("Bonxai", bonxai.total, bonxai.memory, bonxai.cells, "active cells");
+    std::printf("%-6.2f OGF/Bonxai speed %.2fx, memory %.2fx\n", res, bonxai.total.mean() / ogf.total.mean(),
+                static_cast<double>(ogf.memory) / static_cast<double>(bonxai.memory));
+#endif
     std::fflush(stdout);
   }
   return 0;
