@@ -52,7 +52,8 @@ Result<nav::NavGrid> projectCells(const MapCells& cells, const nav::NavBand& ban
 
 std::uint8_t navPixel(const nav::NavColumn& column, NavImageMode mode) {
   if (!column.known()) return kUnknownPixel;
-  if (mode == NavImageMode::kScale) return static_cast<std::uint8_t>(255 - std::lround(2.55 * column.cost));
+  // 255 - round(2.55 · cost), in integers so that a half rounds up whatever the floating point does.
+  if (mode == NavImageMode::kScale) return static_cast<std::uint8_t>(255 - (255 * column.cost + 50) / 100);
   return column.column_class == nav::kClassOccupied ? kOccupiedPixel : kFreePixel;
 }
 
