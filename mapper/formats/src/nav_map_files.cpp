@@ -82,7 +82,7 @@ Result<NavMapFiles> writeNavMap(const nav::NavGrid& grid, const std::filesystem:
   const bool scale = mode == NavImageMode::kScale;
   const std::string yaml = fmt::format(
       "image: map.pgm\nmode: {}\nresolution: {}\norigin: [{}, {}, 0.0]\nnegate: 0\noccupied_thresh: {}\nfree_thresh: {}\n",
-      toString(mode), grid.resolution, grid.originX(), grid.originY(), scale ? "0.995" : "0.65", scale ? "0.0" : "0.196");
+      toString(mode), grid.resolution, grid.originX(), grid.originY(), scale ? "1.0" : "0.65", scale ? "0.0" : "0.196");
   if (auto st = writeAll(out.yaml, "YAML file", yaml, {}); !st) return st.error();
   return out;
 }

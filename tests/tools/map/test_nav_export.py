@@ -2,10 +2,10 @@
 """ogf-map --export-nav read back by readers ogf did not write.
 
 Pillow decodes map.pgm and PyYAML map.yaml; the loading rules are those the ROS map_server documentation
-states ("Map format"): with negate 0 a pixel x reads p = (255 - x) / 255; in trinary mode p > occupied_thresh
-is occupied, p < free_thresh free, anything else unknown; in scale mode the values in between read
-99 (p - free_thresh) / (occupied_thresh - free_thresh); the image's last row is the map's bottom and `origin`
-is the pose of the lower-left pixel. The grid read that way must equal, column for column, the projection of
+states ("Map format"): with negate 0 a pixel x reads p = (255 - x) / 255; p > occupied_thresh is occupied,
+p < free_thresh free; in between, trinary mode reads unknown and scale mode, as nav2_map_server does,
+rint(100 (p - free_thresh) / (occupied_thresh - free_thresh)); the image's last row is the map's bottom and
+`origin` is the pose of the lower-left pixel. The grid read that way must equal, column for column, the projection of
 the map's CSV export computed here from the rule of mapper/navigation (any occupied cell in the band makes a
 column occupied; half of its layers free make it free), and the simulated lab's pillar, walls and the robot's
 path must be where the world puts them.
@@ -64,7 +64,7 @@ def load_map_server(yaml_path: str) -> tuple[dict, dict[tuple[int, int], int]]:
             elif mode == "trinary":
                 v = -1
             else:
-                v = round(99 * (p - free_t) / (occ_t - free_t))
+                v = round(100 * (p - free_t) / (occ_t - free_t))
             out[(col, height - 1 - row)] = v
     return meta, out
 
@@ -159,8 +159,8 @@ def main() -> int:
         smeta, sgrid = load_map_server(f"{d}/scale/map.yaml")
         check(smeta["mode"] == "scale", "--nav-mode scale writes mode: scale")
         off = [k for k, (cls, cost) in projected.items()
-               if abs(sgrid.get((k[0] - origin_col, k[1] - origin_row), -100) - cost) > 2]
-        check(not off, f"scale mode reads each known column's cost back within 2 ({len(off)} off: {off[:5]})")
+               if abs(sgrid.get((k[0] - origin_col, k[1] - origin_row), -100) - cost) > 1]
+        check(not off, f"scale mode reads each known column's cost back within 1 ({len(off)} off: {off[:5]})")
     print(f"{len(failures)} failed" if failures else "all passed")
     return 1 if failures else 0
 
