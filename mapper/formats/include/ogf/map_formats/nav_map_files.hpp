@@ -12,7 +12,7 @@
 //   free_thresh 0.196 a loader reads back exactly the three classes (205 reads p = 0.19608, not below 0.196).
 // scale: the pixel holds the column's cost, 255 - round(2.55 · cost), with free_thresh 0 and occupied_thresh 1,
 //   so nav2_map_server, which reads rint(100 (p − free) / (occupied − free)) between the thresholds
-//   (map_io.cpp, loadMapFromFile), reads the cost back exactly; ROS 1's map_server reads 1 + 98 times that
+//   (its loadMapFromFile), reads the cost back exactly; ROS 1's map_server reads 1 + 98 times that
 //   ratio, within two of it. A greyscale PGM has no alpha channel, the only way a scale-mode loader learns
 //   "unknown": unknown columns are written 205 and read back as a cost of about 20. Planners that need
 //   unknown space use trinary.
