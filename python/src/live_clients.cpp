@@ -121,7 +121,8 @@ void defineLiveClients(py::module_& m) {
       "the probability quantised as the deltas carry it. ValueError when the URL cannot be joined.");
   map_client.def(py::init<const std::optional<std::string>&, const std::string&, const std::string&>(),
                  py::arg("lcm_url") = py::none(), py::arg("channel") = "OGF_MAP_DELTA",
-                 py::arg("request_channel") = "OGF_MAP_REQUEST");
+                 py::arg("request_channel") = "OGF_MAP_REQUEST",
+                 "Joins the bus and subscribes to `channel`; nothing is received until poll() or wait_consistent().");
   defineStreamProperties(map_client, [](MapClient& c) -> MapFollower& { return c.follower; }, "OGF_MAP_DELTA");
   defineCellArrayProperties(map_client, [](MapClient& c) -> const CellArrays& { return c.arrays(); });
   map_client
@@ -144,7 +145,8 @@ void defineLiveClients(py::module_& m) {
       "$LCM_DEFAULT_URL, else LCM's default. ValueError when the URL cannot be joined.");
   nav_client.def(py::init<const std::optional<std::string>&, const std::string&, const std::string&>(),
                  py::arg("lcm_url") = py::none(), py::arg("channel") = "OGF_NAV_GRID",
-                 py::arg("request_channel") = "OGF_NAV_REQUEST");
+                 py::arg("request_channel") = "OGF_NAV_REQUEST",
+                 "Joins the bus and subscribes to `channel`; nothing is received until poll() or wait_consistent().");
   defineStreamProperties(nav_client, [](NavFollower& f) -> NavFollower& { return f; }, "OGF_NAV_GRID");
   nav_client
       .def(
