@@ -41,14 +41,21 @@ set(CPACK_DEBIAN_PACKAGE_DESCRIPTION "ogf-driver reads a Velodyne VLP-16 (or HDL
 capture and publishes scans on LCM; ogf-mapper builds an occupancy map from
 them with the Occupancy Grid Filter and keeps it across restarts. Both run
 as hardened systemd services (ogf.target, not enabled on install). Also
-ships the replay, simulation, decoding, map and evaluation tools, and
-lcmtypes_ogf.jar and ogf_spy.jar (its launcher) for lcm-spy.")
+ships the replay, simulation, decoding, map and evaluation tools,
+lcmtypes_ogf.jar and ogf_spy.jar (its launcher) for lcm-spy, and the Python
+package `ogf` (maps as numpy arrays, live map and 2-D grid clients).")
 # Depends from the ELF programs' DT_NEEDED, through dpkg-shlibdeps and the shlibs of installed packages,
 # after libjs-three: ogf-view serves its /usr/share/javascript/three/three.min.js.
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "libjs-three")
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 # lcm-logger records the bus on the robot; lcm-spy (a Java GUI, usually on a laptop) needs the rest.
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "liblcm-bin")
+# The Python package (python/, /usr/lib/python3/dist-packages/ogf) is an extension module for the Python it
+# was built with, and returns numpy arrays: recommended, as the robot's daemons need neither.
+if(OGF_PYTHON_PACKAGE_FOUND)
+  string(APPEND CPACK_DEBIAN_PACKAGE_RECOMMENDS ", python3 (>= ${OGF_PYTHON_VERSION}), "
+         "python3 (<< ${OGF_PYTHON_VERSION_NEXT}), python3-numpy")
+endif()
 set(CPACK_DEBIAN_PACKAGE_SUGGESTS "liblcm-java, libjchart2d-java, default-jre")
 set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA
     "${PROJECT_SOURCE_DIR}/packaging/debian/conffiles"

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the package built by test_deb_contents.sh into a clean Debian 12 (debootstrap minbase) with
 # apt, so apt resolves its Depends from the mirror and nothing from this machine leaks in; then runs the
-# programs there (every program's libraries resolve, ogf-decode --help, ogf-mapper --print-config),
+# programs there (every program's libraries resolve, ogf-decode --help, ogf-mapper --print-config), imports
+# the Python package after installing its Recommends python3 and python3-numpy,
 # verifies the installed units with the host's systemd-analyze, removes and purges the package.
 # The bootstrapped system and the downloaded .debs are cached in CACHE_DIR, so a rerun takes seconds.
 # Usage: test_deb_chroot.sh DEB_DIR CACHE_DIR ; exit 77 (skip) when not root, without debootstrap or
@@ -75,6 +76,21 @@ echo "  ogf-mapper --print-config: $(wc -l <<<"$out") lines"
 out=$(in_root ogf-mapper --config /etc/ogf/mapper.yaml --print-config 2>&1) ||
   bad "ogf-mapper reading the packaged /etc/ogf/mapper.yaml: $out"
 in_root dpkg-query -W -f='${Conffiles}\n' ogf | grep -q '/etc/ogf/driver.yaml' || bad "dpkg does not list the conffiles"
+
+if in_root test -d /usr/lib/python3/dist-packages/ogf; then
+  stage "the Python package with its Recommends (python3, python3-numpy)"
+  recommends=$(dpkg-deb -f "$deb" Recommends | tr ',' '\n' | sed -n 's/^ *\(python3[a-z-]*\).*/\1/p' | sort -u)
+  if in_root apt-get install -y -q --no-install-recommends $recommends >"$cache/apt-python.log" 2>&1; then
+    cp "$root"/var/cache/apt/archives/*.deb "$cache/debs/" 2>/dev/null
+    out=$(in_root python3 -c 'import ogf, numpy; print(ogf.NavGrid.__doc__ is not None, ogf.load_map.__doc__ is not None)' 2>&1)
+    [ "$out" = "True True" ] || bad "import ogf in the installed system: $out"
+    out=$(in_root python3 -c 'import ogf; ogf.load_map("/etc/ogf/mapper.yaml")' 2>&1)
+    grep -q 'MapFileError: /etc/ogf/mapper.yaml' <<<"$out" || bad "ogf.load_map of a non-map: $out"
+    echo "  import ogf: ok; load_map of a non-map: $(tail -1 <<<"$out")"
+  else
+    bad "apt-get install $recommends: $(tail -3 "$cache/apt-python.log")"
+  fi
+fi
 
 stage "systemd-analyze verify the installed units"
 if in_root sh -c 'command -v systemd-analyze' >/dev/null; then

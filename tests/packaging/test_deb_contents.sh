@@ -2,7 +2,8 @@
 # Builds the Debian package with CPack in the build tree and checks it: control fields (name, version,
 # Depends computed by dpkg-shlibdeps naming the libraries the programs link), every installed program
 # and only those, units where systemd looks and agreeing with the programs' paths, /etc/ogf conffiles,
-# the LCM jar, docs, maintainer scripts that enable nothing; lintian errors fail when lintian is present.
+# the LCM jar, docs, the Python package (when built), maintainer scripts that enable nothing; lintian errors
+# fail when lintian is present.
 # Usage: test_deb_contents.sh BUILD_DIR OUT_DIR VERSION ; exit 77 (skip) without Debian's tools.
 # Expected programs: every BUILD_DIR/bin/ogf-* except the benchmarks (ogf-bench-*).
 set -u
@@ -70,6 +71,13 @@ for unit in ogf-driver ogf-mapper; do
   grep -q '^ConfigurationDirectory=ogf$' "$data/lib/systemd/system/$unit.service" && [ -f "$data/etc/ogf/$conf" ] ||
     bad "$unit.service reads /etc/ogf/$conf, which the package does not install"
 done
+# The Python package, when the build made it: where Debian's python3 looks, with numpy recommended.
+if compgen -G "$build/python/ogf/_ogf*.so" >/dev/null; then
+  has /usr/lib/python3/dist-packages/ogf/__init__.py
+  grep -q '^/usr/lib/python3/dist-packages/ogf/_ogf\.cpython-[0-9]*-.*\.so$' <<<"$files" ||
+    bad "no extension module /usr/lib/python3/dist-packages/ogf/_ogf.cpython-*.so"
+  grep -q 'python3-numpy' <<<"$(field Recommends)" || bad "Recommends lacks python3-numpy: $(field Recommends)"
+fi
 echo "files: $(grep -c '[^/]$' <<<"$files") ($(grep -c '^/usr/bin/.' <<<"$files") programs)"
 
 if command -v lintian >/dev/null; then
