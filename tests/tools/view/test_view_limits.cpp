@@ -16,6 +16,7 @@
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -27,6 +28,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include <ogf/map_delta_t.hpp>
+#include <ogf/map_request_t.hpp>
 #include <ogf/nav_grid_t.hpp>
 
 #include "nav_room.hpp"
@@ -255,6 +257,52 @@ TEST(ViewLimits, MalformedNavMessagesAreCountedAndTheViewKeepsServingTheGrid) {
   EXPECT_EQ(counted, sent) << view.log();
   EXPECT_EQ(httpGet(port, "/").status, 200);
   EXPECT_NE(view.log().find("OGF_NAV_GRID"), std::string::npos) << "no log line names the channel\n" << view.log();
+}
+
+// A lost update of the navigation grid is a gap: the view asks for a keyframe on OGF_NAV_REQUEST, naming
+// the last update it applied, and the keyframe makes its grid equal to the mapper's again.
+TEST(ViewLimits, AGapInTheNavGridMakesTheViewAskForAKeyframeAndTheKeyframeRepairsIt) {
+  if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << *why;
+  const std::string bus = ogf::testing::loopbackUdpmUrl(35);
+  lcm::LCM lcm(bus);
+  ASSERT_TRUE(lcm.good());
+  struct Requests {
+    std::vector<std::int64_t> last_seq;
+    void on(const lcm::ReceiveBuffer*, const std::string&, const ogf::map_request_t* m) { last_seq.push_back(m->last_seq); }
+  } requests;
+  lcm.subscribe("OGF_NAV_REQUEST", &Requests::on, &requests);
+  ViewProcess view({"--lcm-url", bus, "--port", "0", "--rate", "10"}, "nav-gap");
+  const std::uint16_t port = view.port();
+  ASSERT_NE(port, 0);
+  Feed feed(port);
+  ASSERT_EQ(feed.status, 101);
+  // Reads the feed until a status says the grid is at `seq` and equal to the mapper's, publishing `msgs`
+  // now and then (a datagram may be lost on loopback) and taking the requests that came meanwhile.
+  const auto gridAt = [&](int seq, const std::vector<ogf::nav_grid_t>& msgs) {
+    const std::regex at("\"nav\":\\{\"seq\":" + std::to_string(seq) + ",[^}]*\"consistent\":true");
+    for (int i = 0; i < 600; ++i) {
+      if (i % 5 == 0) ogf::testing::publishAll(lcm, "OGF_NAV_GRID", msgs);
+      lcm.handleTimeout(0);
+      const auto msg = feed.read();
+      if (!msg) return false;
+      if (std::regex_search(*msg, at)) return true;
+    }
+    return false;
+  };
+
+  ogf::testing::NavRoom room;
+  ASSERT_TRUE(gridAt(0, room.keyframe(1))) << view.log();
+  room.addObstacle(6, 9, 6, 9, 2);  // update 1, lost
+  const auto update2 = room.addObstacle(2, 4, 2, 4, 3);
+  ogf::testing::publishAll(lcm, "OGF_NAV_GRID", update2);
+  bool asked = false;
+  for (int i = 0; i < 50 && !asked; ++i) {
+    lcm.handleTimeout(100);
+    asked = std::find(requests.last_seq.begin(), requests.last_seq.end(), 0) != requests.last_seq.end();
+  }
+  EXPECT_TRUE(asked) << "no keyframe request naming update 0 after the gap\n" << view.log();
+  EXPECT_TRUE(gridAt(2, room.keyframe(4))) << view.log();
+  EXPECT_NE(view.log().find("gap in the navigation grid"), std::string::npos) << view.log();
 }
 
 TEST(ViewLimits, ClientsBeyondTheMaximumAreRefusedWhileTheOthersKeepTheirFeed) {
