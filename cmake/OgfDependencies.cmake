@@ -20,3 +20,12 @@ endif()
 if(OGF_BUILD_BENCHMARKS)
   find_package(benchmark REQUIRED)                      # libbenchmark-dev
 endif()
+
+# The Python that has Debian's packages (numpy, pytest, Pillow, PyYAML, matplotlib; scripts/install-deps.sh):
+# /usr/bin/python3, not whatever python3 comes first on PATH (a pyenv shim, a virtualenv). The Python package
+# (python/) is built for it and the Python tests run with it.
+find_program(OGF_PYTHON3 NAMES python3 PATHS /usr/bin NO_DEFAULT_PATH)
+if(NOT OGF_PYTHON3)
+  find_package(Python3 COMPONENTS Interpreter REQUIRED)
+  set(OGF_PYTHON3 "${Python3_EXECUTABLE}" CACHE FILEPATH "The Python with Debian's packages" FORCE)
+endif()

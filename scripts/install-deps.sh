@@ -19,6 +19,9 @@ PACKAGES=(
   # fuzzing (clang's libFuzzer runtime) and tooling used by the tests (wireshark-common: editcap writes
   # the pcapng copy of a real capture that the capture reader's pcapng test reads)
   clang libclang-rt-14-dev iproute2 unzip python3 wireshark-common
+  # the Python package (python/, pybind11) and the Python tests: numpy arrays, pytest, Pillow and PyYAML as
+  # the independent readers of the navigation grid's files, matplotlib for the examples in docs/python.md
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-pil python3-yaml python3-matplotlib
   # packaging: cpack's Depends (dpkg-shlibdeps), the package check, the clean Debian 12 to install it in
   dpkg-dev lintian debootstrap
 )

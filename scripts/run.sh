@@ -127,7 +127,12 @@ cp "$out/state/snapshot.ogfs" "$out/map.ogfs"
 
 echo "== scoring the map against the ground truth and an OctoMap of the same rays"
 "$bin/ogf-eval" --map "$out/map.ogfs" --truth "$out/sim" --png "$out/png" --export-ply "$out/map_occupied.ply" \
-  --write-octomap "$out/octomap.bt" | tee "$out/accuracy.txt"
+  --write-octomap "$out/octomap.bt" --nav | tee "$out/accuracy.txt"
+echo "== the 2-D navigation grid for a planner (map_server's map.pgm and map.yaml)"
+if ! "$bin/ogf-map" --from-map "$out/map.ogfs" --export-nav "$out/nav" >"$out/logs/nav.log" 2>&1; then
+  echo "run.sh: ogf-map --export-nav failed (see $out/logs/nav.log)" >&2; exit 1
+fi
+grep -m1 -o '[^ ]*/nav: map.pgm.*' "$out/logs/nav.log"
 
 echo
 echo "map:        $out/map.ogfs        (the mapper's final snapshot; the live state stays in $out/state)"
@@ -135,5 +140,6 @@ echo "PLY:        $out/map_occupied.ply (occupied cells)"
 echo "PNG:        $out/png/ (truth, ogf/octomap classes and errors, occupancy, entropy; the walls' band, chosen from the truth)"
 echo "accuracy:   $out/accuracy.txt"
 echo "OctoMap:    $out/octomap.bt"
+echo "nav grid:   $out/nav/map.pgm $out/nav/map.yaml (2-D grid of the band 0.25 to 1.5 m above the floor, for nav2/map_server)"
 echo "logs:       $out/logs/ (sim, mapper, driver, map-client, view); replay summary $out/replay.txt"
 echo "browser:    $bin/ogf-view --map $out/map.ogfs   (then open http://127.0.0.1:$view_port/)"

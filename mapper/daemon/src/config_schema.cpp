@@ -565,17 +565,17 @@ std::optional<std::string> fraction(double v) {
 void declareNav(std::vector<ConfigKey>& k) {
   k.push_back(boolKey("nav.enabled", "publish the 2-D navigation grid on `channels.nav_grid`", kMapper,
                       [](auto& o) -> auto& { return o.nav.enabled; }));
-  k.push_back(numberKey("nav.floor_z", "m", "height of the floor in the map frame", kOffline, anyNumber,
+  k.push_back(numberKey("nav.floor_z", "m", "height of the floor in the map frame", kAll, anyNumber,
                         [](auto& o) -> auto& { return o.nav.band.floor_z; }));
   k.push_back(numberKey("nav.min_height", "m",
                         "the band starts this far above the floor (cells whose centre is lower are floor, not obstacle)",
-                        kOffline, anyNumber, [](auto& o) -> auto& { return o.nav.band.min_height; }));
-  k.push_back(numberKey("nav.max_height", "m", "the band ends this far above the floor: the robot's height", kOffline,
+                        kAll, anyNumber, [](auto& o) -> auto& { return o.nav.band.min_height; }));
+  k.push_back(numberKey("nav.max_height", "m", "the band ends this far above the floor: the robot's height", kAll,
                         anyNumber, [](auto& o) -> auto& { return o.nav.band.max_height; }));
   k.push_back(numberKey("nav.min_free_fraction", "",
                         "a column with no occupied cell in the band is free when at least this fraction of its "
                         "layers holds a free cell, else unknown",
-                        kOffline, fraction, [](auto& o) -> auto& { return o.nav.band.min_free_fraction; }));
+                        kAll, fraction, [](auto& o) -> auto& { return o.nav.band.min_free_fraction; }));
   k.push_back(numberKey("nav.update_interval_s", "s", "changed tiles of the grid go out at most this often", kMapper,
                         positive, [](auto& o) -> auto& { return o.nav.update_interval_s; }));
   k.push_back(numberKey("nav.keyframe_interval_s", "s", "how often the whole grid is sent unasked", kMapper,

@@ -48,33 +48,7 @@ bool NavReceiver::wellFormed(const ogf::nav_grid_t& m) {
   return true;
 }
 
-bool NavReceiver::addPart(std::map<std::int64_t, Assembly>& table, const ogf::nav_grid_t& m) {
-  Assembly& a = table[m.seq];
-  if (a.part_count == 0) {
-    a.kind = m.kind;
-    a.map_id = m.map_id;
-    a.part_count = m.part_count;
-    a.checksum = static_cast<std::uint64_t>(m.grid_checksum);
-    a.resolution = m.resolution;
-    a.band.floor_z = m.floor_z;
-    a.band.min_height = m.min_height;
-    a.band.max_height = m.max_height;
-  } else if (a.part_count != m.part_count || a.map_id != m.map_id) {
-    return false;
-  }
-  if (a.parts.count(m.part_index) != 0) return true;  // duplicate part
-  auto& tiles = a.parts[m.part_index];
-  for (std::size_t t = 0; t < m.tile_x.size(); ++t) {
-    const auto from = static_cast<std::ptrdiff_t>(t * kTileColumns);
-    const auto to = from + static_cast<std::ptrdiff_t>(kTileColumns);
-    tiles.push_back({{m.tile_x[t], m.tile_y[t]},
-                     {std::vector<std::int8_t>(m.cost.begin() + from, m.cost.begin() + to),
-                      std::vector<std::int8_t>(m.column_class.begin() + from, m.column_class.begin() + to)}});
-  }
-  return true;
-}
-
-void NavReceiver::setTile(const TileKey& key, TileValues values) {
+void NavReceiver::setTile(const TileKey& key, const TileValues& values) {
   const auto it = tiles_.find(key);
   if (it != tiles_.end()) {
     for (std::size_t slot = 0; slot < kTileColumns; ++slot) {
@@ -91,105 +65,43 @@ void NavReceiver::setTile(const TileKey& key, TileValues values) {
     checksum_ += columnChecksum(columnAt(key, slot), {values.cost[slot], values.column_class[slot]});
   }
   known_columns_ += known;
-  tiles_.emplace(key, std::move(values));
+  tiles_.emplace(key, values);
 }
 
-void NavReceiver::applyTiles(Assembly& a) {
-  for (auto& [index, part] : a.parts)
-    for (auto& [key, values] : part) setTile(key, std::move(values));
-  resolution_ = a.resolution;
-  band_ = a.band;
-  server_checksum_ = a.checksum;
+void NavReceiver::applyUpdate(const Sequence::Assembly& a) {
+  for (const auto& [index, part] : a.parts)
+    for (const auto& [key, values] : part) setTile(key, values);
+  meta_ = a.meta;
 }
 
-void NavReceiver::applyKeyframe(std::int64_t seq, Assembly& a) {
+void NavReceiver::applyKeyframe(const Sequence::Assembly& a) {
   tiles_.clear();
   checksum_ = 0;
   known_columns_ = 0;
-  applyTiles(a);
-  applied_seq_ = seq;
-  map_id_ = a.map_id;
-  need_keyframe_ = false;
-  ++keyframes_applied_;
-  // Everything at or before the keyframe is in it; `a` is erased here, so its map id is read first.
-  const std::int64_t map_id = a.map_id;
-  for (auto it = keyframes_.begin(); it != keyframes_.end() && it->first <= seq;) it = keyframes_.erase(it);
-  for (auto it = updates_.begin(); it != updates_.end() && it->first <= seq;) it = updates_.erase(it);
-  for (auto it = updates_.begin(); it != updates_.end();)
-    it = (it->second.map_id != map_id) ? updates_.erase(it) : std::next(it);
-}
-
-NavReceiver::Outcome NavReceiver::drain() {
-  bool applied = false;
-  while (!need_keyframe_) {
-    auto next = updates_.find(applied_seq_ + 1);
-    if (next != updates_.end() && next->second.complete()) {
-      applyTiles(next->second);
-      applied_seq_ = next->first;
-      updates_.erase(next);
-      applied = true;
-      continue;
-    }
-    // A later update complete while the next is not: the mapper sends an update's parts back to back, so
-    // the missing ones are lost.
-    const bool later_complete = std::any_of(updates_.begin(), updates_.end(), [&](const auto& entry) {
-      return entry.first > applied_seq_ + 1 && entry.second.complete();
-    });
-    if (later_complete) {
-      need_keyframe_ = true;
-      ++gaps_;
-      return Outcome::kGap;
-    }
-    break;
-  }
-  return applied ? Outcome::kApplied : Outcome::kPartial;
-}
-
-void NavReceiver::trim() {
-  while (updates_.size() > max_buffered_) updates_.erase(updates_.begin());
-  while (keyframes_.size() > 4) keyframes_.erase(keyframes_.begin());
+  applyUpdate(a);
 }
 
 NavReceiver::Outcome NavReceiver::accept(const ogf::nav_grid_t& m) {
-  if (!wellFormed(m)) {
-    ++malformed_;
-    return Outcome::kMalformed;
-  }
-  if (m.kind == ogf::nav_grid_t::KIND_KEYFRAME) {
-    if (map_id_ && *map_id_ == m.map_id && !need_keyframe_ && m.seq <= applied_seq_) return Outcome::kStale;
-    if (m.base_seq != -1 || !addPart(keyframes_, m)) {
-      ++malformed_;
-      keyframes_.erase(m.seq);
-      return Outcome::kMalformed;
+  const bool keyframe = m.kind == ogf::nav_grid_t::KIND_KEYFRAME;
+  if (!wellFormed(m) || (keyframe && m.base_seq != -1)) return sequence_.countMalformed();
+  const delta::PartPlace place{keyframe, m.map_id, m.seq, m.base_seq, m.part_index, m.part_count,
+                               static_cast<std::uint64_t>(m.grid_checksum)};
+  GridMeta meta{m.resolution, {}};
+  meta.band.floor_z = m.floor_z;
+  meta.band.min_height = m.min_height;
+  meta.band.max_height = m.max_height;
+  const auto tiles = [&m] {
+    std::vector<std::pair<TileKey, TileValues>> out;
+    for (std::size_t t = 0; t < m.tile_x.size(); ++t) {
+      const auto from = static_cast<std::ptrdiff_t>(t * kTileColumns);
+      const auto to = from + static_cast<std::ptrdiff_t>(kTileColumns);
+      out.push_back({{m.tile_x[t], m.tile_y[t]},
+                     {std::vector<std::int8_t>(m.cost.begin() + from, m.cost.begin() + to),
+                      std::vector<std::int8_t>(m.column_class.begin() + from, m.column_class.begin() + to)}});
     }
-    Assembly& a = keyframes_[m.seq];
-    if (!a.complete()) {
-      trim();
-      return Outcome::kPartial;
-    }
-    applyKeyframe(m.seq, a);
-    drain();
-    return need_keyframe_ ? Outcome::kGap : Outcome::kKeyframeApplied;
-  }
-  if (map_id_ && *map_id_ != m.map_id && !need_keyframe_) {
-    // A new map: only a keyframe can tell its grid.
-    need_keyframe_ = true;
-    ++gaps_;
-    updates_.clear();
-  }
-  if (!need_keyframe_ && m.seq <= applied_seq_) return Outcome::kStale;
-  if (m.base_seq != m.seq - 1) {
-    ++malformed_;
-    return Outcome::kMalformed;
-  }
-  if (!addPart(updates_, m)) {
-    ++malformed_;
-    updates_.erase(m.seq);
-    return Outcome::kMalformed;
-  }
-  trim();
-  if (need_keyframe_) return Outcome::kBuffered;
-  return drain();
+    return out;
+  };
+  return sequence_.accept(place, meta, tiles, *this);
 }
 
 NavColumn NavReceiver::column(const ColumnKey& key) const {
@@ -203,8 +115,8 @@ NavColumn NavReceiver::column(const ColumnKey& key) const {
 
 NavGrid NavReceiver::grid() const {
   NavGrid g;
-  g.resolution = resolution_;
-  g.band = band_;
+  g.resolution = meta_.resolution;
+  g.band = meta_.band;
   if (known_columns_ == 0) return g;
   constexpr auto kMax = std::numeric_limits<std::int32_t>::max();
   constexpr auto kMin = std::numeric_limits<std::int32_t>::min();
@@ -250,19 +162,6 @@ void NavReceiver::tileValues(const TileKey& tile, std::span<std::int8_t> cost,
   }
   std::copy(it->second.cost.begin(), it->second.cost.end(), cost.begin());
   std::copy(it->second.column_class.begin(), it->second.column_class.end(), column_class.begin());
-}
-
-std::string toString(NavReceiver::Outcome o) {
-  switch (o) {
-    case NavReceiver::Outcome::kApplied: return "applied";
-    case NavReceiver::Outcome::kPartial: return "partial";
-    case NavReceiver::Outcome::kBuffered: return "buffered";
-    case NavReceiver::Outcome::kKeyframeApplied: return "keyframe applied";
-    case NavReceiver::Outcome::kGap: return "gap";
-    case NavReceiver::Outcome::kStale: return "stale";
-    case NavReceiver::Outcome::kMalformed: return "malformed";
-  }
-  return "?";
 }
 
 }  // namespace ogf::navigation

@@ -28,6 +28,7 @@
 #include "ogf/eval/held_out.hpp"
 #include "ogf/eval/map_estimate.hpp"
 #include "ogf/eval/map_scores.hpp"
+#include "ogf/eval/nav_scores.hpp"
 #include "ogf/eval/octomap_baseline.hpp"
 #include "ogf/eval/ray_ends.hpp"
 #include "ogf/eval/score_tables.hpp"
@@ -38,6 +39,7 @@
 #include "ogf/eval/trajectory_error.hpp"
 #include "ogf/map_formats/cell_ply.hpp"
 #include "ogf/map_formats/map_cells.hpp"
+#include "ogf/map_formats/nav_map_files.hpp"
 #include "ogf/map_io/map_config_file.hpp"
 #include "ogf/map_formats/map_loader.hpp"
 #include "ogf/map_io/topdown_png.hpp"
@@ -97,6 +99,7 @@ struct Options {
   std::uint64_t seed = 1;
   bool held_out = false, is_static = false;
   bool no_octomap = false;
+  bool nav = false;
   std::optional<double> png_zmin, png_zmax;  // default: the walls' band of the truth
   int scale = 1;
   // The options whose value replaces the configuration file's only when given.
@@ -154,6 +157,9 @@ void addOptions(CLI::App& app, Options& o) {
       ->check(CLI::ExistingFile);
   app.add_option("--corrected", o.corrected_path, "Corrected poses to score (CSV utime,x,y,z,qw,qx,qy,qz)")
       ->check(CLI::ExistingFile);
+  app.add_flag("--nav", o.nav,
+               "Also score the map's 2-D navigation grid (the band of the --config file's nav.* keys) against the "
+               "truth's columns");
   app.add_option("--log-level", o.log_level, "trace|debug|info|warn|error")->capture_default_str();
 }
 
@@ -163,6 +169,7 @@ struct Settings {
   ogf::map_io::TimeBase clock = ogf::map_io::TimeBase::kAuto;
   bool is_static = false;
   std::optional<ev::HeldOutSplit> split;
+  ogf::navigation::NavBand nav_band;
 };
 
 Stop resolveSettings(const Options& o, Settings& s) {
@@ -177,6 +184,7 @@ Stop resolveSettings(const Options& o, Settings& s) {
     file = read->options;
   }
   s.built = file.map;
+  s.nav_band = file.nav.band;
   s.clock = o.time_opt->count() == 0 ? file.time_base
             : o.time_base == "host"  ? ogf::map_io::TimeBase::kHost
             : o.time_base == "device" ? ogf::map_io::TimeBase::kDevice
@@ -538,6 +546,14 @@ int scoreSimRun(const Options& o, const Settings& s, const Trajectories& traject
   columns.insert(columns.begin() + 1, alone.columns.begin(), alone.columns.end());
   std::fputs(ev::scoreTable(columns, run.gaps).c_str(), stdout);
   printAloneComparison(*truth, combined, alone);
+  if (o.nav) {
+    auto grid = ogf::map_formats::projectCells(ogf::map_formats::collectCells(scored.map()), s.nav_band);
+    if (!grid) {
+      spdlog::error("--nav: {}", grid.error().message);
+      return kExitUsage;
+    }
+    std::fputs(ev::navScoreTable(ev::scoreNavGrid(*truth, *grid), *grid).c_str(), stdout);
+  }
   if (auto stop = scoreHeldOut(o, s, scored)) return *stop;
 
   int rc = kExitOk;

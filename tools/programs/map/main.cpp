@@ -152,8 +152,29 @@ bool writeExports(const ogf::filter::BandedOgf& map, const mio::MapExports& expo
   return ok;
 }
 
-// --from-map: the exports of a map made before (a map file or a daemon snapshot), no mapping.
-int exportMapFile(const mio::MapRequest& r) {
+// Each step of a mapping run returns nullopt to go on, or the exit code ogf-map stops with (its reason
+// logged).
+using Stop = std::optional<int>;
+
+// The --config file into `config` (left empty without one); its keys ogf-map does not use are said once.
+Stop readConfig(const mio::MapRequest& r, std::optional<mio::OfflineConfig>& config) {
+  if (r.config_path.empty()) return std::nullopt;
+  auto read = mio::readOfflineConfig(r.config_path, ogf::mapper_daemon::kUsedByMap);
+  if (!read) {
+    spdlog::error("--config: {}", read.error().message);
+    return ogf::cli::exitCodeFor(read.error());
+  }
+  if (const auto note = read->unusedNote("ogf-map"); !note.empty()) spdlog::info("--config: {}", note);
+  config = std::move(*read);
+  return std::nullopt;
+}
+
+// --from-map: the exports of a map made before (a map file or a daemon snapshot), no mapping; the --config
+// file gives the navigation grid's band.
+int exportMapFile(mio::MapRequest r) {
+  std::optional<mio::OfflineConfig> config;
+  if (const Stop stop = readConfig(r, config)) return *stop;
+  if (config) r.exports.nav_band = config->options.nav.band;
   auto loaded = ogf::map_formats::loadOgfMap(r.from_map);
   if (!loaded) {
     spdlog::error("--from-map: {}", loaded.error().message);
@@ -172,22 +193,6 @@ int exportMapFile(const mio::MapRequest& r) {
   return rc;
 }
 
-// Each step of a mapping run returns nullopt to go on, or the exit code ogf-map stops with (its reason
-// logged).
-using Stop = std::optional<int>;
-
-// The --config file into `config` (left empty without one); its keys ogf-map does not use are said once.
-Stop readConfig(const mio::MapRequest& r, std::optional<mio::OfflineConfig>& config) {
-  if (r.config_path.empty()) return std::nullopt;
-  auto read = mio::readOfflineConfig(r.config_path, ogf::mapper_daemon::kUsedByMap);
-  if (!read) {
-    spdlog::error("--config: {}", read.error().message);
-    return ogf::cli::exitCodeFor(read.error());
-  }
-  if (const auto note = read->unusedNote("ogf-map"); !note.empty()) spdlog::info("--config: {}", note);
-  config = std::move(*read);
-  return std::nullopt;
-}
 
 // A ROS 2 bag input: the bag and the topics its packets and poses are read from.
 struct BagInput {
@@ -465,13 +470,14 @@ int writeOutputs(Session& s) {
 }
 
 // A map from the input, written with its exports; the closing line on stdout.
-int mapFromInput(const mio::MapRequest& r) {
+int mapFromInput(mio::MapRequest r) {
   if (auto st = mio::checkMappingRequest(r); !st) {
     spdlog::error("{}", st.error().message);
     return kExitUsage;
   }
   std::optional<mio::OfflineConfig> config;
   if (const Stop stop = readConfig(r, config)) return *stop;
+  if (config) r.exports.nav_band = config->options.nav.band;
   auto setup = mio::prepareOfflineMapping(r, config ? &*config : nullptr);
   if (!setup) {
     spdlog::error("{}", setup.error().message);

@@ -102,6 +102,26 @@ void addExportOptions(CLI::App& app, map_io::MapRequest& r) {
   app.add_option("--png-zmax", r.exports.png_zmax,
                  "Top of the height band of --png, metres (default: the walls' band)")
       ->needs(png_opt);
+  auto* nav_opt = app.add_option("--export-nav", r.exports.nav_dir,
+                                 "Folder for the 2-D navigation grid as map.pgm and map.yaml (ROS/nav2 map_server "
+                                 "format) of the band --nav-* (or the --config file's nav.*) sets");
+  app.add_option("--nav-floor-z", r.exports.nav_floor_z, "Height of the floor in the map frame, metres (nav.floor_z; 0)")
+      ->needs(nav_opt);
+  app.add_option("--nav-min-height", r.exports.nav_min_height,
+                 "The band starts this far above the floor, metres (nav.min_height; 0.25)")
+      ->needs(nav_opt);
+  app.add_option("--nav-max-height", r.exports.nav_max_height,
+                 "The band ends this far above the floor: the robot's height, metres (nav.max_height; 1.5)")
+      ->needs(nav_opt);
+  app.add_option("--nav-min-free-fraction", r.exports.nav_min_free_fraction,
+                 "A column with nothing occupied in the band is free when this fraction of its layers holds free "
+                 "cells (nav.min_free_fraction; 0.5)")
+      ->needs(nav_opt);
+  app.add_option("--nav-mode", r.exports.nav_mode,
+                 "trinary: occupied, free, unknown as map_saver writes them; scale: each column's cost 0..100")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"trinary", "scale"}))
+      ->needs(nav_opt);
 }
 
 // The filter's threads, the pose correction, the drive report and paging.

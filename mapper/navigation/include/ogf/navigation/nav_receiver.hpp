@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include <ogf/delta/update_sequence.hpp>
+
 #include "ogf/navigation/nav_grid.hpp"
 #include "ogf/navigation/nav_projection.hpp"
 
@@ -21,25 +23,18 @@ namespace ogf::navigation {
 
 class NavReceiver {
  public:
-  enum class Outcome {
-    kApplied,          // an update (and any buffered ones after it) is now in the grid
-    kPartial,          // part of an update or keyframe, waiting for the rest
-    kBuffered,         // a later update, held until the grid catches up (or a keyframe arrives)
-    kKeyframeApplied,  // a keyframe replaced the grid
-    kGap,              // an update was lost: the grid is stale until a keyframe arrives
-    kStale,            // an update the grid already has, or one of an old map id: ignored
-    kMalformed,        // inconsistent message: ignored
-  };
+  // kApplied, kPartial, kBuffered, kKeyframeApplied, kGap, kStale, kMalformed (delta/update_sequence.hpp).
+  using Outcome = delta::SequenceOutcome;
 
-  explicit NavReceiver(std::size_t max_buffered_updates = 64) : max_buffered_(max_buffered_updates) {}
+  explicit NavReceiver(std::size_t max_buffered_updates = 64) : sequence_(max_buffered_updates) {}
 
   Outcome accept(const ogf::nav_grid_t& msg);
 
-  bool needsKeyframe() const { return need_keyframe_; }
-  std::int64_t appliedSeq() const { return applied_seq_; }
-  std::optional<std::int64_t> mapId() const { return map_id_; }
+  bool needsKeyframe() const { return sequence_.needsKeyframe(); }
+  std::int64_t appliedSeq() const { return sequence_.appliedSeq(); }
+  std::optional<std::int64_t> mapId() const { return sequence_.mapId(); }
 
-  // The grid rebuilt so far (resolution and band from the last message applied).
+  // The grid rebuilt so far (resolution and band from the last update applied).
   NavColumn column(const ColumnKey& key) const;
   NavGrid grid() const;
   // The tiles holding at least one known column, sorted, and a tile's kTileSize² values row-major from its
@@ -47,59 +42,41 @@ class NavReceiver {
   // tile by tile without building the dense rectangle, whose size tiles far apart would make unbounded.
   std::vector<TileKey> knownTiles() const;
   // The resolution and band of the last message applied (0 and the default band before any).
-  double resolution() const { return resolution_; }
-  const NavBand& band() const { return band_; }
+  double resolution() const { return meta_.resolution; }
+  const NavBand& band() const { return meta_.band; }
   void tileValues(const TileKey& tile, std::span<std::int8_t> cost, std::span<std::int8_t> column_class) const;
   std::size_t knownColumns() const { return known_columns_; }
   std::uint64_t checksum() const { return checksum_; }
   // The mapper's checksum after appliedSeq().
-  std::optional<std::uint64_t> serverChecksum() const { return server_checksum_; }
-  bool consistent() const { return server_checksum_ && *server_checksum_ == checksum_; }
+  std::optional<std::uint64_t> serverChecksum() const { return sequence_.serverChecksum(); }
+  bool consistent() const { return serverChecksum() && *serverChecksum() == checksum_; }
 
-  std::uint64_t gaps() const { return gaps_; }
-  std::uint64_t keyframesApplied() const { return keyframes_applied_; }
-  std::uint64_t malformed() const { return malformed_; }
+  std::uint64_t gaps() const { return sequence_.gaps(); }
+  std::uint64_t keyframesApplied() const { return sequence_.keyframesApplied(); }
+  std::uint64_t malformed() const { return sequence_.malformed(); }
 
  private:
   struct TileValues {
     std::vector<std::int8_t> cost, column_class;  // kTileSize² each
   };
-  struct Assembly {
-    std::int8_t kind = 0;
-    std::int64_t map_id = 0;
-    std::int32_t part_count = 0;
-    std::uint64_t checksum = 0;
+  struct GridMeta {
     double resolution = 0.0;
     NavBand band;
-    std::map<std::int32_t, std::vector<std::pair<TileKey, TileValues>>> parts;
-    bool complete() const { return static_cast<std::int32_t>(parts.size()) == part_count; }
   };
+  using Sequence = delta::UpdateSequence<std::vector<std::pair<TileKey, TileValues>>, GridMeta>;
+  friend Sequence;
 
   static bool wellFormed(const ogf::nav_grid_t& m);
-  bool addPart(std::map<std::int64_t, Assembly>& table, const ogf::nav_grid_t& m);
-  void applyTiles(Assembly& a);
-  void applyKeyframe(std::int64_t seq, Assembly& a);
-  Outcome drain();
-  void trim();
-  void setTile(const TileKey& key, TileValues values);
+  // UpdateSequence's sink.
+  void applyKeyframe(const Sequence::Assembly& a);
+  void applyUpdate(const Sequence::Assembly& a);
+  void setTile(const TileKey& key, const TileValues& values);
 
-  std::size_t max_buffered_;
+  Sequence sequence_;
   std::map<TileKey, TileValues> tiles_;
-  double resolution_ = 0.0;
-  NavBand band_;
+  GridMeta meta_;
   std::size_t known_columns_ = 0;
   std::uint64_t checksum_ = 0;
-  std::optional<std::int64_t> map_id_;
-  std::int64_t applied_seq_ = -1;
-  bool need_keyframe_ = true;
-  std::optional<std::uint64_t> server_checksum_;
-  std::map<std::int64_t, Assembly> updates_;
-  std::map<std::int64_t, Assembly> keyframes_;
-  std::uint64_t gaps_ = 0;
-  std::uint64_t keyframes_applied_ = 0;
-  std::uint64_t malformed_ = 0;
 };
-
-std::string toString(NavReceiver::Outcome o);
 
 }  // namespace ogf::navigation

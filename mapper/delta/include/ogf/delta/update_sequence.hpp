@@ -1,0 +1,195 @@
+// What the receivers of ogf's numbered streams (OGF_MAP_DELTA's MapReceiver, OGF_NAV_GRID's
+// navigation::NavReceiver) share: updates numbered seq, each applying on top of seq - 1, and keyframes that
+// replace the whole, both sent in parts. UpdateSequence assembles the parts, applies updates strictly in
+// sequence, holds later ones until the earlier arrive, declares a gap when a later update is complete while
+// the next one is not (the sender sends an update's parts back to back, so the missing parts are gone), and
+// then needs a keyframe, as it does at start and when the sender starts a new map (a new map id). It never
+// guesses. What a part carries (cells, tiles) and how it is applied is the receiver's: UpdateSequence hands it
+// whole assemblies, in order.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <iterator>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+
+namespace ogf::delta {
+
+enum class SequenceOutcome {
+  kApplied,          // an update (and any buffered ones after it) is now applied
+  kPartial,          // part of an update or keyframe, waiting for the rest
+  kBuffered,         // a later update, held until the receiver catches up (or a keyframe arrives)
+  kKeyframeApplied,  // a keyframe replaced everything
+  kGap,              // an update was lost: stale until a keyframe arrives
+  kStale,            // an update already applied, or one of an old map id: ignored
+  kMalformed,        // inconsistent message: ignored
+};
+
+std::string toString(SequenceOutcome o);
+
+// Where a part belongs, as every message of the streams says it.
+struct PartPlace {
+  bool keyframe = false;
+  std::int64_t map_id = 0;
+  std::int64_t seq = 0;
+  std::int64_t base_seq = 0;  // seq - 1 for an update; a keyframe's is not looked at
+  std::int32_t part_index = 0;
+  std::int32_t part_count = 1;
+  std::uint64_t checksum = 0;  // the sender's, of the whole after this update
+};
+
+// Part: what one message carries, converted; Meta: what the receiver keeps of an update's first part besides
+// (resolution, band).
+template <class Part, class Meta>
+class UpdateSequence {
+ public:
+  struct Assembly {
+    Meta meta{};
+    std::int64_t map_id = 0;
+    std::int32_t part_count = 0;
+    std::uint64_t checksum = 0;
+    // Parts by index, only those that arrived (a part count claims no memory): applied in part order
+    // whatever order they arrived in.
+    std::map<std::int32_t, Part> parts;
+    bool complete() const { return static_cast<std::int32_t>(parts.size()) == part_count; }
+  };
+
+  // At most this many complete or partial updates are held while waiting; older ones are discarded.
+  explicit UpdateSequence(std::size_t max_buffered_updates) : max_buffered_(max_buffered_updates) {}
+
+  // Takes one part. `make_part()` converts the message's content, called only for a part not seen before.
+  // `sink` applies whole assemblies: sink.applyKeyframe(const Assembly&) replaces everything,
+  // sink.applyUpdate(const Assembly&) applies an update on top.
+  template <class MakePart, class Sink>
+  SequenceOutcome accept(const PartPlace& place, const Meta& meta, MakePart&& make_part, Sink& sink) {
+    if (place.keyframe) {
+      if (map_id_ && *map_id_ == place.map_id && !need_keyframe_ && place.seq <= applied_seq_)
+        return SequenceOutcome::kStale;
+      if (!addPart(keyframes_, place, meta, make_part)) return malformedPart(keyframes_, place.seq);
+      Assembly& a = keyframes_[place.seq];
+      if (!a.complete()) {
+        trim();
+        return SequenceOutcome::kPartial;
+      }
+      applyKeyframe(place.seq, a, sink);
+      drain(sink);  // buffered updates after the keyframe
+      return need_keyframe_ ? SequenceOutcome::kGap : SequenceOutcome::kKeyframeApplied;
+    }
+    if (map_id_ && *map_id_ != place.map_id && !need_keyframe_) {
+      // The sender started a new map (a restart): only a keyframe can tell its state.
+      need_keyframe_ = true;
+      ++gaps_;
+      updates_.clear();
+    }
+    if (!need_keyframe_ && place.seq <= applied_seq_) return SequenceOutcome::kStale;
+    if (place.base_seq != place.seq - 1) return countMalformed();
+    if (!addPart(updates_, place, meta, make_part)) return malformedPart(updates_, place.seq);
+    trim();
+    if (need_keyframe_) return SequenceOutcome::kBuffered;
+    return drain(sink);
+  }
+
+  // A message the receiver's own checks refused.
+  SequenceOutcome countMalformed() {
+    ++malformed_;
+    return SequenceOutcome::kMalformed;
+  }
+
+  bool needsKeyframe() const { return need_keyframe_; }
+  std::int64_t appliedSeq() const { return applied_seq_; }
+  std::optional<std::int64_t> mapId() const { return map_id_; }
+  std::optional<std::uint64_t> serverChecksum() const { return server_checksum_; }
+  std::uint64_t gaps() const { return gaps_; }
+  std::uint64_t keyframesApplied() const { return keyframes_applied_; }
+  std::uint64_t malformed() const { return malformed_; }
+
+ private:
+  using Table = std::map<std::int64_t, Assembly>;
+
+  // Adds the part to the assembly of its seq; false when its part count or map id disagrees with the parts
+  // before it. A duplicate part is ignored.
+  template <class MakePart>
+  static bool addPart(Table& table, const PartPlace& place, const Meta& meta, MakePart& make_part) {
+    Assembly& a = table[place.seq];
+    if (a.part_count == 0) {
+      a.meta = meta;
+      a.map_id = place.map_id;
+      a.part_count = place.part_count;
+      a.checksum = place.checksum;
+    } else if (a.part_count != place.part_count || a.map_id != place.map_id) {
+      return false;
+    }
+    if (a.parts.count(place.part_index) == 0) a.parts.emplace(place.part_index, make_part());
+    return true;
+  }
+
+  SequenceOutcome malformedPart(Table& table, std::int64_t seq) {
+    table.erase(seq);
+    return countMalformed();
+  }
+
+  template <class Sink>
+  void applyKeyframe(std::int64_t seq, Assembly& a, Sink& sink) {
+    sink.applyKeyframe(a);
+    applied_seq_ = seq;
+    map_id_ = a.map_id;
+    server_checksum_ = a.checksum;
+    need_keyframe_ = false;
+    ++keyframes_applied_;
+    // Everything at or before the keyframe is in it. `a` is among the keyframes erased here, so its map id is
+    // read first (reading it after the erase was a use after free, found by fuzz_map_delta_stream).
+    const std::int64_t map_id = a.map_id;
+    for (auto it = keyframes_.begin(); it != keyframes_.end() && it->first <= seq;) it = keyframes_.erase(it);
+    for (auto it = updates_.begin(); it != updates_.end() && it->first <= seq;) it = updates_.erase(it);
+    for (auto it = updates_.begin(); it != updates_.end();)
+      it = (it->second.map_id != map_id) ? updates_.erase(it) : std::next(it);
+  }
+
+  // Applies complete buffered updates in order; declares a gap when a later update is complete while the
+  // next one is not.
+  template <class Sink>
+  SequenceOutcome drain(Sink& sink) {
+    bool applied = false;
+    while (!need_keyframe_) {
+      auto next = updates_.find(applied_seq_ + 1);
+      if (next != updates_.end() && next->second.complete()) {
+        sink.applyUpdate(next->second);
+        server_checksum_ = next->second.checksum;
+        applied_seq_ = next->first;
+        updates_.erase(next);
+        applied = true;
+        continue;
+      }
+      for (const auto& [seq, a] : updates_) {
+        if (seq > applied_seq_ + 1 && a.complete()) {
+          need_keyframe_ = true;
+          ++gaps_;
+          return SequenceOutcome::kGap;
+        }
+      }
+      break;
+    }
+    return applied ? SequenceOutcome::kApplied : SequenceOutcome::kPartial;
+  }
+
+  void trim() {
+    while (updates_.size() > max_buffered_) updates_.erase(updates_.begin());
+    while (keyframes_.size() > 4) keyframes_.erase(keyframes_.begin());
+  }
+
+  std::size_t max_buffered_;
+  std::optional<std::int64_t> map_id_;
+  std::int64_t applied_seq_ = -1;
+  bool need_keyframe_ = true;
+  std::optional<std::uint64_t> server_checksum_;
+  Table updates_;    // by seq
+  Table keyframes_;  // by seq
+  std::uint64_t gaps_ = 0;
+  std::uint64_t keyframes_applied_ = 0;
+  std::uint64_t malformed_ = 0;
+};
+
+}  // namespace ogf::delta
