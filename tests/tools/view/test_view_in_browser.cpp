@@ -103,8 +103,23 @@ std::size_t occupiedCount(const std::vector<ogf::delta::PublishedCell>& cells) {
   }));
 }
 
+// The value the page's figures panel shows in the row whose name starts with `name` ("" without one).
+std::string panelFigure(HeadlessChromium& browser, const std::string& name) {
+  return browser.evaluate("[...document.querySelectorAll('#figures tr')].filter(r => r.cells[0].textContent.startsWith('" +
+                          name + "')).map(r => r.cells[1].textContent).join('')");
+}
+
+// Presses `n` and waits until the page's title no longer counts navigation columns (the layer hidden).
+void hideNavLayer(HeadlessChromium& browser) {
+  browser.evaluate("document.dispatchEvent(new KeyboardEvent('keydown', {key: 'n'}))");
+  for (int i = 0; i < 50 && browser.title().find("nav columns") != std::string::npos; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_EQ(browser.title().find("nav columns"), std::string::npos) << browser.title();
+}
+
 // The room saved to a file, shown by ogf-view started with `args`, opened at its printed address plus
-// `query`; the page's title and the screenshot say whether it was drawn.
+// `query`; the page's title and the screenshot say whether it was drawn (the boxes, with the navigation
+// layer hidden), and the panel shows the room's navigation grid: its 15 × 15 columns known.
 void expectSavedRoomDrawn(std::vector<std::string> args, const std::string& query, const std::string& name) {
   HeadlessChromium browser;
   if (auto why = browser.start(kWidth, kHeight)) GTEST_SKIP() << "chromium cannot run here: " << *why;
@@ -130,6 +145,11 @@ void expectSavedRoomDrawn(std::vector<std::string> args, const std::string& quer
   fs::remove(map_path);
   if (title.find("no WebGL") != std::string::npos) GTEST_SKIP() << "chromium has no WebGL here: " << title;
   ASSERT_NE(title.find(want), std::string::npos) << "title: " << title << "\n" << view.log();
+  EXPECT_NE(browser.waitForTitle("nav columns 225", std::chrono::seconds(10)).find("nav columns 225"), std::string::npos)
+      << "the saved map's navigation grid is not drawn: " << browser.title();
+  EXPECT_EQ(panelFigure(browser, "nav columns known"), "225");
+  EXPECT_EQ(panelFigure(browser, "nav = mapper"), "file");
+  hideNavLayer(browser);
 
   const RgbImage img = screenshot(browser, name + ".png");
   EXPECT_EQ(img.width, kWidth);
@@ -369,12 +389,6 @@ PixelClass freeColumnPixels(const RgbImage& img) {
   });
 }
 
-// The value the page's figures panel shows in the row whose name starts with `name` ("" without one).
-std::string panelFigure(HeadlessChromium& browser, const std::string& name) {
-  return browser.evaluate("[...document.querySelectorAll('#figures tr')].filter(r => r.cells[0].textContent.startsWith('" +
-                          name + "')).map(r => r.cells[1].textContent).join('')");
-}
-
 // The title once the page drew the grid with `columns` known columns and showed nav seq `seq` in its
 // figures, publishing `msgs` every half second until then (a datagram may be lost on loopback).
 std::string waitForGrid(HeadlessChromium& browser, lcm::LCM& lcm, const std::vector<ogf::nav_grid_t>& msgs,
@@ -448,10 +462,8 @@ TEST(ViewInBrowser, NavGridIsDrawnInItsColoursWhereItsColumnsAreAndItsToggleHide
   EXPECT_EQ(panelFigure(browser, "nav seq"), "1");
 
   // `n` hides the layer, the checkbox shows it again.
-  browser.evaluate("document.dispatchEvent(new KeyboardEvent('keydown', {key: 'n'}))");
-  for (int i = 0; i < 50 && browser.title().find("nav columns") != std::string::npos; ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  ASSERT_EQ(browser.title().find("nav columns"), std::string::npos) << browser.title();
+  hideNavLayer(browser);
+  if (HasFatalFailure()) return;
   EXPECT_EQ(browser.evaluate("String(document.getElementById('nav-on').checked)"), "false");
   const RgbImage off = screenshot(browser, "nav-off.png");
   // What stays red is the x axis (1 m, red).

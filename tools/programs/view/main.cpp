@@ -37,6 +37,7 @@
 #include "ogf/delta/map_receiver.hpp"
 #include "ogf/map_formats/map_loader.hpp"
 #include "ogf/navigation/nav_receiver.hpp"
+#include "ogf/navigation/nav_stream.hpp"
 #include "ogf/pipeline/published_cells.hpp"
 #include "ogf/transport/daemon_loop.hpp"
 #include "ogf/transport/lcm_asio_bridge.hpp"
@@ -68,6 +69,7 @@ struct Options {
   std::string request_channel = "OGF_MAP_REQUEST";
   std::string nav_channel = "OGF_NAV_GRID";
   std::string nav_request_channel = "OGF_NAV_REQUEST";
+  ogf::navigation::NavBand nav_band;  // --map: the band of the saved map's grid
   std::string pose_channel = "POSE";
   std::string corrected_channel = "POSE_CORRECTED";
   std::string mapper_status_channel = "OGF_MAPPER_STATUS";
@@ -95,6 +97,16 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--request-channel", o.request_channel, "Keyframe request channel")->capture_default_str();
   app.add_option("--nav-channel", o.nav_channel, "2-D navigation grid channel (ogf.nav_grid_t)")->capture_default_str();
   app.add_option("--nav-request-channel", o.nav_request_channel, "Navigation grid keyframe request channel")
+      ->capture_default_str();
+  app.add_option("--nav-floor-z", o.nav_band.floor_z,
+                 "--map: height of the floor in the map frame, metres (nav.floor_z of the mapper)")
+      ->capture_default_str();
+  app.add_option("--nav-min-height", o.nav_band.min_height, "--map: the band starts this far above the floor, metres")
+      ->capture_default_str();
+  app.add_option("--nav-max-height", o.nav_band.max_height, "--map: the band ends this far above the floor, metres")
+      ->capture_default_str();
+  app.add_option("--nav-min-free-fraction", o.nav_band.min_free_fraction,
+                 "--map: fraction of the band's layers seen free that makes a column free")
       ->capture_default_str();
   app.add_option("--pose-channel", o.pose_channel, "Odometry channel (ogf.odometry_t or bot_core.pose_t)")
       ->capture_default_str();
@@ -217,6 +229,19 @@ Stop showSavedMap(const Options& o, ogf::view::FeedState& feed) {
   stream.resolution = loaded->map.config().resolution;
   spdlog::info("{} ({}): {} cells, {} occupied, drawn as {} boxes of {} cells a side", o.map_path, loaded->kind,
                cells.size(), slots.occupiedCells(), slots.occupied(), slots.lod());
+  // The map's 2-D navigation grid, projected as the mapper does and given to the feed as one keyframe.
+  auto projection = ogf::navigation::NavProjection::create(stream.resolution, o.nav_band);
+  if (!projection) {
+    spdlog::error("--nav-*: {}", projection.error().message);
+    return kExitUsage;
+  }
+  for (const auto& c : cells)
+    projection->update(
+        {c.key, static_cast<double>(c.probability) / ogf::delta::kProbabilityScale, c.cell_class, c.variance});
+  projection->refresh();
+  for (const auto& m : ogf::navigation::NavStream(0).keyframe(0, *projection)) feed.navReceiver().accept(m);
+  spdlog::info("navigation grid of the band {:.2f}..{:.2f} m above z = {:.2f} m: {} known columns",
+               o.nav_band.min_height, o.nav_band.max_height, o.nav_band.floor_z, feed.navReceiver().knownColumns());
   return std::nullopt;
 }
 

@@ -30,7 +30,6 @@ std::vector<Frame> FeedState::navFrames(std::span<const NavTile> tiles, bool ful
 }
 
 std::vector<NavTile> FeedState::refreshNav() {
-  if (!live_) return {};
   const auto& r = nav_receiver_;
   std::vector<NavTile> changed;
   if (r.mapId() != nav_synced_map_ || r.appliedSeq() != nav_synced_seq_ ||
@@ -76,7 +75,7 @@ std::vector<Frame> FeedState::wholeState() {
   if (whole_cells_.empty()) whole_cells_ = cellFrames(slots_.filledSlots(), true);
   if (!whole_figures_) {
     refreshStream();
-    whole_figures_ = textFrame(figures_.json(stream_, 0, 0, live_ ? &nav_ : nullptr));
+    whole_figures_ = textFrame(figures_.json(stream_, 0, 0, showsNav() ? &nav_ : nullptr));
   }
   if (whole_nav_.empty()) whole_nav_ = navFrames(nav_tiles_.all(), true);
   std::vector<Frame> out = whole_cells_;
@@ -103,7 +102,7 @@ std::vector<Frame> FeedState::takeUpdate() {
     for (auto& f : navFrames(tiles, false)) update.push_back(std::move(f));
   }
   whole_figures_.reset();
-  update.push_back(textFrame(figures_.json(stream_, raw_sent_, corrected_sent_, live_ ? &nav_ : nullptr)));
+  update.push_back(textFrame(figures_.json(stream_, raw_sent_, corrected_sent_, showsNav() ? &nav_ : nullptr)));
   raw_sent_ = figures_.trail(false).points().size();
   corrected_sent_ = figures_.trail(true).points().size();
   return update;

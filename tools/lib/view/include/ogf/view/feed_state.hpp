@@ -33,7 +33,7 @@ class FeedState {
   delta::MapReceiver& receiver() { return receiver_; }
   // A message on a subscribed channel that did not decode (shown with the stream's malformed count).
   void countDecodeError() { ++decode_errors_; }
-  // The 2-D navigation grid followed from OGF_NAV_GRID (live only).
+  // The 2-D navigation grid: followed from OGF_NAV_GRID, or a saved map's grid given as a keyframe.
   navigation::NavReceiver& navReceiver() { return nav_receiver_; }
   // A message on the nav channel: `decoded` false when it did not decode (counted with the grid's
   // malformed messages).
@@ -52,6 +52,8 @@ class FeedState {
 
  private:
   void refreshStream();
+  // Live, or a saved map's grid given: the figures carry "nav".
+  bool showsNav() const { return live_ || nav_receiver_.keyframesApplied() > 0; }
   // The grid's figures; the tiles that changed since the last call when the receiver applied anything.
   std::vector<NavTile> refreshNav();
   std::vector<Frame> cellFrames(std::span<const std::uint32_t> which, bool full) const;
