@@ -491,6 +491,11 @@ TEST(ViewProgram, ExitCodesSayUsageOrFailure) {
   EXPECT_EQ(run({"--no-such-flag"}), 2);
   EXPECT_EQ(run({"--port", "70000"}), 2);
   EXPECT_EQ(run({"--map", "/nonexistent.ogfm"}), 2);
+  const fs::path block = fs::temp_directory_path() / ("ogf-view-rc-block-" + std::to_string(::getpid()) + ".ogfm");
+  ogf::testing::writeBlockMap(block, 4, 4, 4);
+  EXPECT_EQ(run({"--map", block.string(), "--port", "0", "--nav-min-height", "2", "--nav-max-height", "1"}), 2)
+      << "a navigation band with no layer is a usage error";
+  fs::remove(block);
   EXPECT_EQ(run({"--three-dir", "/nonexistent", "--port", "0"}), 1);
   EXPECT_EQ(run({"--bind", "not-an-address", "--port", "0", "--lcm-url", "memq://"}), 1);
   const fs::path short_token = fs::temp_directory_path() / ("ogf-view-short-token-" + std::to_string(::getpid()));
