@@ -145,4 +145,23 @@ NavGrid NavReceiver::grid() const {
   return g;
 }
 
+std::vector<TileKey> NavReceiver::knownTiles() const {
+  std::vector<TileKey> out;
+  out.reserve(tiles_.size());
+  for (const auto& [key, values] : tiles_) out.push_back(key);
+  return out;
+}
+
+void NavReceiver::tileValues(const TileKey& tile, std::span<std::int8_t> cost,
+                             std::span<std::int8_t> column_class) const {
+  const auto it = tiles_.find(tile);
+  if (it == tiles_.end()) {
+    std::fill(cost.begin(), cost.begin() + kTileColumns, kUnknownCost);
+    std::fill(column_class.begin(), column_class.begin() + kTileColumns, kClassUnknown);
+    return;
+  }
+  std::copy(it->second.cost.begin(), it->second.cost.end(), cost.begin());
+  std::copy(it->second.column_class.begin(), it->second.column_class.end(), column_class.begin());
+}
+
 }  // namespace ogf::navigation

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "ogf/navigation/nav_receiver.hpp"
@@ -51,6 +52,27 @@ TEST_F(NavStreamTest, AKeyframeThenUpdatesRebuildTheGridToTheMappersChecksum) {
   EXPECT_EQ(theirs.column_class, mine.column_class);
   EXPECT_DOUBLE_EQ(theirs.resolution, kRes);
   EXPECT_DOUBLE_EQ(theirs.band.max_height, NavBand{}.max_height);
+}
+
+// A viewer reads the receiver tile by tile: the tiles it holds are the mapper's known tiles, each with the
+// mapper's values, and a tile it does not hold reads unknown.
+TEST_F(NavStreamTest, TheReceiversTilesAreTheMappersKnownTilesWithTheirValues) {
+  scan();
+  for (const auto& m : stream_.keyframe(1, projection_)) receiver_.accept(m);
+  const auto tiles = receiver_.knownTiles();
+  ASSERT_FALSE(tiles.empty());
+  EXPECT_EQ(tiles, projection_.knownTiles());
+  constexpr std::size_t kColumns = static_cast<std::size_t>(kTileSize) * kTileSize;
+  std::vector<std::int8_t> cost(kColumns), cls(kColumns), want_cost(kColumns), want_cls(kColumns);
+  for (const auto& t : tiles) {
+    receiver_.tileValues(t, cost, cls);
+    projection_.tileValues(t, want_cost, want_cls);
+    EXPECT_EQ(cost, want_cost);
+    EXPECT_EQ(cls, want_cls);
+  }
+  receiver_.tileValues({1000, 1000}, cost, cls);
+  EXPECT_TRUE(std::all_of(cost.begin(), cost.end(), [](std::int8_t c) { return c == kUnknownCost; }));
+  EXPECT_TRUE(std::all_of(cls.begin(), cls.end(), [](std::int8_t c) { return c == kClassUnknown; }));
 }
 
 TEST_F(NavStreamTest, EveryMessageFitsOneDatagram) {

@@ -2,13 +2,15 @@
 // on a live bus the picture follows the deltas. Pixels of the screenshots decide, not the page's word:
 // cells are drawn in saturated colours the background, the grid and the panel never have. The screenshots
 // stay in build/tests/view-screenshots/ for a person to look at. Skips, saying why, when Chromium cannot
-// run here or udpm has no loopback route. The mapper's sources appear as trails in their robot's colour.
+// run here or udpm has no loopback route. The mapper's sources appear as trails in their robot's colour;
+// the 2-D navigation grid lies at its floor in its colours and its toggle hides it.
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
 #include <unistd.h>
 
 #include <ogf/filter/map_file.hpp>
 #include <ogf/map_delta_t.hpp>
+#include <ogf/map_request_t.hpp>
 #include <ogf/mapper_status_t.hpp>
 #include <ogf/odometry_t.hpp>
 
@@ -20,6 +22,7 @@
 #include <thread>
 
 #include "headless_chromium.hpp"
+#include "nav_room.hpp"
 #include "ogf/delta/delta_stream.hpp"
 #include "ogf/pipeline/published_cells.hpp"
 #include "png_image.hpp"
@@ -100,8 +103,23 @@ std::size_t occupiedCount(const std::vector<ogf::delta::PublishedCell>& cells) {
   }));
 }
 
+// The value the page's figures panel shows in the row whose name starts with `name` ("" without one).
+std::string panelFigure(HeadlessChromium& browser, const std::string& name) {
+  return browser.evaluate("[...document.querySelectorAll('#figures tr')].filter(r => r.cells[0].textContent.startsWith('" +
+                          name + "')).map(r => r.cells[1].textContent).join('')");
+}
+
+// Presses `n` and waits until the page's title no longer counts navigation columns (the layer hidden).
+void hideNavLayer(HeadlessChromium& browser) {
+  browser.evaluate("document.dispatchEvent(new KeyboardEvent('keydown', {key: 'n'}))");
+  for (int i = 0; i < 50 && browser.title().find("nav columns") != std::string::npos; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_EQ(browser.title().find("nav columns"), std::string::npos) << browser.title();
+}
+
 // The room saved to a file, shown by ogf-view started with `args`, opened at its printed address plus
-// `query`; the page's title and the screenshot say whether it was drawn.
+// `query`; the page's title and the screenshot say whether it was drawn (the boxes, with the navigation
+// layer hidden), and the panel shows the room's navigation grid: its 15 × 15 columns known.
 void expectSavedRoomDrawn(std::vector<std::string> args, const std::string& query, const std::string& name) {
   HeadlessChromium browser;
   if (auto why = browser.start(kWidth, kHeight)) GTEST_SKIP() << "chromium cannot run here: " << *why;
@@ -127,6 +145,11 @@ void expectSavedRoomDrawn(std::vector<std::string> args, const std::string& quer
   fs::remove(map_path);
   if (title.find("no WebGL") != std::string::npos) GTEST_SKIP() << "chromium has no WebGL here: " << title;
   ASSERT_NE(title.find(want), std::string::npos) << "title: " << title << "\n" << view.log();
+  EXPECT_NE(browser.waitForTitle("nav columns 225", std::chrono::seconds(10)).find("nav columns 225"), std::string::npos)
+      << "the saved map's navigation grid is not drawn: " << browser.title();
+  EXPECT_EQ(panelFigure(browser, "nav columns known"), "225");
+  EXPECT_EQ(panelFigure(browser, "nav = mapper"), "file");
+  hideNavLayer(browser);
 
   const RgbImage img = screenshot(browser, name + ".png");
   EXPECT_EQ(img.width, kWidth);
@@ -337,6 +360,123 @@ TEST(ViewInBrowser, ARealMappersTwoRobotsAreDrawnAsTwoTrailsAndListedWithTheirCo
   EXPECT_TRUE(mapper.stop());
 }
 
+// Where pixels of one colour class lie right of the panel: how many, and their bounding box.
+struct PixelClass {
+  std::size_t count = 0;
+  int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
+};
+
+template <class Is>
+PixelClass pixelsWhere(const RgbImage& img, Is is) {
+  PixelClass c;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = kPanelRight; x < img.width; ++x) {
+      const auto* p = img.at(x, y);
+      if (!is(int{p[0]}, int{p[1]}, int{p[2]})) continue;
+      ++c.count;
+      c.x0 = std::min(c.x0, x), c.y0 = std::min(c.y0, y), c.x1 = std::max(c.x1, x), c.y1 = std::max(c.y1, y);
+    }
+  return c;
+}
+// The page's occupied columns: dark red (red well above green and blue). Nothing else on this page is.
+PixelClass occupiedColumnPixels(const RgbImage& img) {
+  return pixelsWhere(img, [](int r, int g, int b) { return r >= 70 && r >= 3 * g && r >= 3 * b; });
+}
+// The page's free columns: light grey (the background, the 1 m grid and the axes are dark or saturated).
+PixelClass freeColumnPixels(const RgbImage& img) {
+  return pixelsWhere(img, [](int r, int g, int b) {
+    return std::min({r, g, b}) >= 150 && std::max({r, g, b}) - std::min({r, g, b}) <= 40;
+  });
+}
+
+// The title once the page drew the grid with `columns` known columns and showed nav seq `seq` in its
+// figures, publishing `msgs` every half second until then (a datagram may be lost on loopback).
+std::string waitForGrid(HeadlessChromium& browser, lcm::LCM& lcm, const std::vector<ogf::nav_grid_t>& msgs,
+                        std::size_t columns, int seq) {
+  const std::string want = "nav columns " + std::to_string(columns);
+  std::string title;
+  for (int i = 0; i < 60; ++i) {
+    ogf::testing::publishAll(lcm, "OGF_NAV_GRID", msgs);
+    title = browser.waitForTitle(want, std::chrono::milliseconds(500));
+    if (title.find(want) == std::string::npos) continue;
+    if (panelFigure(browser, "nav seq") == std::to_string(seq)) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+  return title;
+}
+
+// The grid of a room published as ogf-mapper publishes it (NavStream over a NavProjection, real udpm): the
+// view asks for a keyframe on OGF_NAV_REQUEST at start; the page lays the grid flat at its floor, the walls'
+// columns dark red around the light free floor; an update (a table in the room) adds dark red inside; the
+// `n` key hides the layer (its pixels vanish) and the checkbox brings it back. The panel shows the grid's
+// figures.
+TEST(ViewInBrowser, NavGridIsDrawnInItsColoursWhereItsColumnsAreAndItsToggleHidesIt) {
+  if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << *why;
+  HeadlessChromium browser;
+  if (auto why = browser.start(kWidth, kHeight)) GTEST_SKIP() << "chromium cannot run here: " << *why;
+
+  const std::string bus = ogf::testing::loopbackUdpmUrl(32);
+  lcm::LCM lcm(bus);
+  ASSERT_TRUE(lcm.good());
+  struct Requests {
+    std::vector<ogf::map_request_t> seen;
+    void on(const lcm::ReceiveBuffer*, const std::string&, const ogf::map_request_t* m) { seen.push_back(*m); }
+  } requests;
+  lcm.subscribe("OGF_NAV_REQUEST", &Requests::on, &requests);
+  ViewProcess view({"--lcm-url", bus, "--port", "0", "--rate", "5"}, "nav");
+  const std::string url = view.url();
+  ASSERT_FALSE(url.empty());
+  for (int i = 0; i < 40 && requests.seen.empty(); ++i) lcm.handleTimeout(100);  // at start, then every second
+  ASSERT_FALSE(requests.seen.empty()) << "ogf-view asked for no navigation keyframe\n" << view.log();
+  EXPECT_EQ(requests.seen.front().last_seq, -1);
+  EXPECT_NE(requests.seen.front().requester.find("ogf-view"), std::string::npos) << requests.seen.front().requester;
+
+  ogf::testing::NavRoom room;
+  const std::size_t columns = room.knownColumns();
+  ASSERT_EQ(columns, static_cast<std::size_t>(ogf::testing::NavRoom::kSide * ogf::testing::NavRoom::kSide));
+  ASSERT_TRUE(browser.open(url));
+  std::string title = waitForGrid(browser, lcm, room.keyframe(1), columns, 0);
+  if (title.find("no WebGL") != std::string::npos) GTEST_SKIP() << "chromium has no WebGL here: " << title;
+  ASSERT_NE(title.find("nav columns " + std::to_string(columns)), std::string::npos) << "title: " << title << "\n" << view.log();
+  EXPECT_EQ(panelFigure(browser, "nav columns known"), std::to_string(columns));
+  EXPECT_EQ(panelFigure(browser, "nav = mapper"), "yes");
+  EXPECT_EQ(panelFigure(browser, "nav malformed"), "0");
+
+  const RgbImage on = screenshot(browser, "nav-on.png");
+  const PixelClass walls = occupiedColumnPixels(on), floor = freeColumnPixels(on);
+  EXPECT_GT(walls.count, 2000u) << "the walls' columns are not dark red (nav-on.png)";
+  EXPECT_GT(floor.count, 10000u) << "the free floor is not light (nav-on.png)";
+  // The walls surround the floor.
+  EXPECT_LT(walls.x0, floor.x0);
+  EXPECT_GT(walls.x1, floor.x1);
+  EXPECT_LT(walls.y0, floor.y0);
+  EXPECT_GT(walls.y1, floor.y1);
+
+  // A table in the middle of the room: one changed tile, dark red where the floor was light.
+  const auto update = room.addObstacle(6, 9, 6, 9, 2);
+  title = waitForGrid(browser, lcm, update, columns, 1);
+  const RgbImage table = screenshot(browser, "nav-table.png");
+  const PixelClass walls_and_table = occupiedColumnPixels(table);
+  EXPECT_GT(walls_and_table.count, walls.count + 500) << "the table is not drawn (nav-table.png)";
+  EXPECT_LT(freeColumnPixels(table).count, floor.count - 500);
+  EXPECT_EQ(panelFigure(browser, "nav seq"), "1");
+
+  // `n` hides the layer, the checkbox shows it again.
+  hideNavLayer(browser);
+  if (HasFatalFailure()) return;
+  EXPECT_EQ(browser.evaluate("String(document.getElementById('nav-on').checked)"), "false");
+  const RgbImage off = screenshot(browser, "nav-off.png");
+  // What stays red is the x axis (1 m, red).
+  EXPECT_LT(occupiedColumnPixels(off).count, walls.count / 50) << "dark red stays with the layer hidden (nav-off.png)";
+  EXPECT_LT(freeColumnPixels(off).count, floor.count / 50) << "light pixels stay with the layer hidden (nav-off.png)";
+
+  browser.evaluate("document.getElementById('nav-on').click()");
+  title = browser.waitForTitle("nav columns " + std::to_string(columns), std::chrono::seconds(10));
+  ASSERT_NE(title.find("nav columns"), std::string::npos) << title;
+  const RgbImage again = screenshot(browser, "nav-on-again.png");
+  EXPECT_GT(occupiedColumnPixels(again).count, walls.count);
+}
+
 TEST(ViewProgram, ExitCodesSayUsageOrFailure) {
   const std::string exe = std::string(OGF_BIN_DIR) + "/ogf-view";
   const auto run = [&](std::vector<std::string> args) {
@@ -351,6 +491,11 @@ TEST(ViewProgram, ExitCodesSayUsageOrFailure) {
   EXPECT_EQ(run({"--no-such-flag"}), 2);
   EXPECT_EQ(run({"--port", "70000"}), 2);
   EXPECT_EQ(run({"--map", "/nonexistent.ogfm"}), 2);
+  const fs::path block = fs::temp_directory_path() / ("ogf-view-rc-block-" + std::to_string(::getpid()) + ".ogfm");
+  ogf::testing::writeBlockMap(block, 4, 4, 4);
+  EXPECT_EQ(run({"--map", block.string(), "--port", "0", "--nav-min-height", "2", "--nav-max-height", "1"}), 2)
+      << "a navigation band with no layer is a usage error";
+  fs::remove(block);
   EXPECT_EQ(run({"--three-dir", "/nonexistent", "--port", "0"}), 1);
   EXPECT_EQ(run({"--bind", "not-an-address", "--port", "0", "--lcm-url", "memq://"}), 1);
   const fs::path short_token = fs::temp_directory_path() / ("ogf-view-short-token-" + std::to_string(::getpid()));

@@ -1,7 +1,8 @@
 // ogf-view holds its ground against the clients that reach its port (tools/lib/view/include/ogf/view/
 // view_server.hpp): real ogf-view processes showing a saved map, real TCP, HTTP and WebSocket clients on
 // loopback. Each test is one way a client could take the view down: too many clients, silent ones,
-// clients that never read, an oversized message, a descriptor flood, no token on a network address.
+// clients that never read, an oversized message, a descriptor flood, no token on a network address; and
+// against what reaches it on the bus: malformed navigation grid messages.
 // Memory figures are printed as "[ figures ]" lines.
 #include <gtest/gtest.h>
 #include <netinet/in.h>
@@ -15,6 +16,7 @@
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -26,8 +28,12 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include <ogf/map_delta_t.hpp>
+#include <ogf/map_request_t.hpp>
+#include <ogf/nav_grid_t.hpp>
 
+#include "nav_room.hpp"
 #include "ogf/delta/delta_stream.hpp"
+#include "ogf/view/nav_frame.hpp"
 #include "ogf/view/view_server.hpp"
 #include "support/multicast.hpp"
 #include "support/process_memory.hpp"
@@ -196,6 +202,107 @@ double cpuSeconds(pid_t pid) {
   while (rest >> field) f.push_back(field);
   if (f.size() < 13) return -1.0;
   return static_cast<double>(std::stoll(f[11]) + std::stoll(f[12])) / static_cast<double>(::sysconf(_SC_CLK_TCK));
+}
+
+// Malformed messages on OGF_NAV_GRID (bytes that are no nav_grid_t, a truncated one, well-formed ones whose
+// fields disagree) are counted in the grid's figures, and the view keeps serving: the page, and on the feed
+// the grid of the good keyframe published after them, equal to the mapper's.
+TEST(ViewLimits, MalformedNavMessagesAreCountedAndTheViewKeepsServingTheGrid) {
+  if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << *why;
+  const std::string bus = ogf::testing::loopbackUdpmUrl(27);
+  lcm::LCM lcm(bus);
+  ASSERT_TRUE(lcm.good());
+  ViewProcess view({"--lcm-url", bus, "--port", "0", "--rate", "10"}, "nav-malformed");
+  const std::uint16_t port = view.port();
+  ASSERT_NE(port, 0);
+
+  ogf::testing::NavRoom room;
+  const auto good = room.keyframe(1);
+  ASSERT_EQ(good.size(), 1u);
+  std::vector<std::uint8_t> encoded(static_cast<std::size_t>(good[0].getEncodedSize()));
+  good[0].encode(encoded.data(), 0, static_cast<int>(encoded.size()));
+  const std::string garbage = "not a nav_grid_t at all";
+  std::vector<ogf::nav_grid_t> disagreeing(4, good[0]);
+  disagreeing[0].tile_size = 16;
+  disagreeing[1].num_columns -= 1;
+  disagreeing[2].cost[0] = 120;
+  disagreeing[3].part_count = -3;
+  // Each malformed message is sent once, small datagrams on loopback, before the good keyframe.
+  const int sent = 2 + static_cast<int>(disagreeing.size());
+  lcm.publish("OGF_NAV_GRID", garbage.data(), static_cast<unsigned>(garbage.size()));
+  lcm.publish("OGF_NAV_GRID", encoded.data(), static_cast<unsigned>(encoded.size() / 2));
+  ogf::testing::publishAll(lcm, "OGF_NAV_GRID", disagreeing);
+
+  Feed feed(port);
+  ASSERT_EQ(feed.status, 101);
+  const std::regex malformed(R"("nav":\{[^}]*"malformed":([0-9]+))");
+  const std::regex consistent(R"("nav":\{"seq":0,"known_columns":225,[^}]*"consistent":true)");
+  std::int64_t counted = -1;
+  std::size_t tiles = 0;
+  bool grid = false;
+  for (int i = 0; i < 600 && !(grid && tiles > 0); ++i) {
+    if (i % 5 == 0) ogf::testing::publishAll(lcm, "OGF_NAV_GRID", good);
+    const auto msg = feed.read();
+    ASSERT_TRUE(msg.has_value()) << "the feed closed\n" << view.log();
+    if (const auto nav = ogf::view::decodeNavFrame({reinterpret_cast<const std::uint8_t*>(msg->data()), msg->size()})) {
+      tiles += nav->tiles.size();
+      continue;
+    }
+    std::smatch m;
+    if (std::regex_search(*msg, m, malformed)) counted = std::stoll(m[1]);
+    grid = std::regex_search(*msg, consistent);
+  }
+  EXPECT_TRUE(grid) << "the good keyframe after the malformed messages did not make the grid\n" << view.log();
+  EXPECT_EQ(tiles, 1u) << "the room's one tile did not reach the feed";
+  EXPECT_EQ(counted, sent) << view.log();
+  EXPECT_EQ(httpGet(port, "/").status, 200);
+  EXPECT_NE(view.log().find("OGF_NAV_GRID"), std::string::npos) << "no log line names the channel\n" << view.log();
+}
+
+// A lost update of the navigation grid is a gap: the view asks for a keyframe on OGF_NAV_REQUEST, naming
+// the last update it applied, and the keyframe makes its grid equal to the mapper's again.
+TEST(ViewLimits, AGapInTheNavGridMakesTheViewAskForAKeyframeAndTheKeyframeRepairsIt) {
+  if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << *why;
+  const std::string bus = ogf::testing::loopbackUdpmUrl(35);
+  lcm::LCM lcm(bus);
+  ASSERT_TRUE(lcm.good());
+  struct Requests {
+    std::vector<std::int64_t> last_seq;
+    void on(const lcm::ReceiveBuffer*, const std::string&, const ogf::map_request_t* m) { last_seq.push_back(m->last_seq); }
+  } requests;
+  lcm.subscribe("OGF_NAV_REQUEST", &Requests::on, &requests);
+  ViewProcess view({"--lcm-url", bus, "--port", "0", "--rate", "10"}, "nav-gap");
+  const std::uint16_t port = view.port();
+  ASSERT_NE(port, 0);
+  Feed feed(port);
+  ASSERT_EQ(feed.status, 101);
+  // Reads the feed until a status says the grid is at `seq` and equal to the mapper's, publishing `msgs`
+  // now and then (a datagram may be lost on loopback) and taking the requests that came meanwhile.
+  const auto gridAt = [&](int seq, const std::vector<ogf::nav_grid_t>& msgs) {
+    const std::regex at("\"nav\":\\{\"seq\":" + std::to_string(seq) + ",[^}]*\"consistent\":true");
+    for (int i = 0; i < 600; ++i) {
+      if (i % 5 == 0) ogf::testing::publishAll(lcm, "OGF_NAV_GRID", msgs);
+      lcm.handleTimeout(0);
+      const auto msg = feed.read();
+      if (!msg) return false;
+      if (std::regex_search(*msg, at)) return true;
+    }
+    return false;
+  };
+
+  ogf::testing::NavRoom room;
+  ASSERT_TRUE(gridAt(0, room.keyframe(1))) << view.log();
+  room.addObstacle(6, 9, 6, 9, 2);  // update 1, lost
+  const auto update2 = room.addObstacle(2, 4, 2, 4, 3);
+  ogf::testing::publishAll(lcm, "OGF_NAV_GRID", update2);
+  bool asked = false;
+  for (int i = 0; i < 50 && !asked; ++i) {
+    lcm.handleTimeout(100);
+    asked = std::find(requests.last_seq.begin(), requests.last_seq.end(), 0) != requests.last_seq.end();
+  }
+  EXPECT_TRUE(asked) << "no keyframe request naming update 0 after the gap\n" << view.log();
+  EXPECT_TRUE(gridAt(2, room.keyframe(4))) << view.log();
+  EXPECT_NE(view.log().find("gap in the navigation grid"), std::string::npos) << view.log();
 }
 
 TEST(ViewLimits, ClientsBeyondTheMaximumAreRefusedWhileTheOthersKeepTheirFeed) {

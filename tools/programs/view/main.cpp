@@ -1,7 +1,8 @@
 // ogf-view: the map in a browser. Follows OGF_MAP_DELTA as ogf-map-client does (a keyframe at start and
-// after every gap, asked for on OGF_MAP_REQUEST), the robot's poses (POSE, POSE_CORRECTED) and the two
-// status channels, or shows a saved map (--map), and serves one page with a WebSocket feed: the occupied
-// cells as binary frames a few times a second, the figures and the poses as JSON.
+// after every gap, asked for on OGF_MAP_REQUEST), the 2-D navigation grid on OGF_NAV_GRID likewise
+// (keyframes asked for on OGF_NAV_REQUEST), the robot's poses (POSE, POSE_CORRECTED) and the two status
+// channels, or shows a saved map (--map), and serves one page with a WebSocket feed: the occupied cells and
+// the grid's changed tiles as binary frames a few times a second, the figures and the poses as JSON.
 //
 // Who can connect and what each connection may cost is bounded (view_server.hpp); on an address other
 // than loopback every request needs a token (access_token.hpp), read from --token FILE or made at start
@@ -19,6 +20,7 @@
 #include <ogf/map_delta_t.hpp>
 #include <ogf/map_request_t.hpp>
 #include <ogf/mapper_status_t.hpp>
+#include <ogf/nav_grid_t.hpp>
 
 #include <chrono>
 #include <cstdio>
@@ -34,6 +36,8 @@
 #include "ogf/delta/keyframe_request.hpp"
 #include "ogf/delta/map_receiver.hpp"
 #include "ogf/map_formats/map_loader.hpp"
+#include "ogf/navigation/nav_receiver.hpp"
+#include "ogf/navigation/nav_stream.hpp"
 #include "ogf/pipeline/published_cells.hpp"
 #include "ogf/transport/daemon_loop.hpp"
 #include "ogf/transport/lcm_asio_bridge.hpp"
@@ -63,6 +67,9 @@ struct Options {
   std::uint16_t port = 8765;
   std::string delta_channel = "OGF_MAP_DELTA";
   std::string request_channel = "OGF_MAP_REQUEST";
+  std::string nav_channel = "OGF_NAV_GRID";
+  std::string nav_request_channel = "OGF_NAV_REQUEST";
+  ogf::navigation::NavBand nav_band;  // --map: the band of the saved map's grid
   std::string pose_channel = "POSE";
   std::string corrected_channel = "POSE_CORRECTED";
   std::string mapper_status_channel = "OGF_MAPPER_STATUS";
@@ -88,6 +95,19 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--port", o.port, "TCP port to serve on (0: any free port, printed at start)")->capture_default_str();
   app.add_option("--channel", o.delta_channel, "Delta channel")->capture_default_str();
   app.add_option("--request-channel", o.request_channel, "Keyframe request channel")->capture_default_str();
+  app.add_option("--nav-channel", o.nav_channel, "2-D navigation grid channel (ogf.nav_grid_t)")->capture_default_str();
+  app.add_option("--nav-request-channel", o.nav_request_channel, "Navigation grid keyframe request channel")
+      ->capture_default_str();
+  app.add_option("--nav-floor-z", o.nav_band.floor_z,
+                 "--map: height of the floor in the map frame, metres (nav.floor_z of the mapper)")
+      ->capture_default_str();
+  app.add_option("--nav-min-height", o.nav_band.min_height, "--map: the band starts this far above the floor, metres")
+      ->capture_default_str();
+  app.add_option("--nav-max-height", o.nav_band.max_height, "--map: the band ends this far above the floor, metres")
+      ->capture_default_str();
+  app.add_option("--nav-min-free-fraction", o.nav_band.min_free_fraction,
+                 "--map: fraction of the band's layers seen free that makes a column free")
+      ->capture_default_str();
   app.add_option("--pose-channel", o.pose_channel, "Odometry channel (ogf.odometry_t or bot_core.pose_t)")
       ->capture_default_str();
   app.add_option("--corrected-channel", o.corrected_channel, "Corrected pose channel")->capture_default_str();
@@ -209,6 +229,19 @@ Stop showSavedMap(const Options& o, ogf::view::FeedState& feed) {
   stream.resolution = loaded->map.config().resolution;
   spdlog::info("{} ({}): {} cells, {} occupied, drawn as {} boxes of {} cells a side", o.map_path, loaded->kind,
                cells.size(), slots.occupiedCells(), slots.occupied(), slots.lod());
+  // The map's 2-D navigation grid, projected as the mapper does and given to the feed as one keyframe.
+  auto projection = ogf::navigation::NavProjection::create(stream.resolution, o.nav_band);
+  if (!projection) {
+    spdlog::error("--nav-*: {}", projection.error().message);
+    return kExitUsage;
+  }
+  for (const auto& c : cells)
+    projection->update(
+        {c.key, static_cast<double>(c.probability) / ogf::delta::kProbabilityScale, c.cell_class, c.variance});
+  projection->refresh();
+  for (const auto& m : ogf::navigation::NavStream(0).keyframe(0, *projection)) feed.navReceiver().accept(m);
+  spdlog::info("navigation grid of the band {:.2f}..{:.2f} m above z = {:.2f} m: {} known columns",
+               o.nav_band.min_height, o.nav_band.max_height, o.nav_band.floor_z, feed.navReceiver().knownColumns());
   return std::nullopt;
 }
 
@@ -226,7 +259,8 @@ struct PoseSubscription {
   }
 };
 
-// The bus: the delta stream into the feed's receiver (a keyframe asked for at start and after every gap),
+// The bus: the delta stream into the feed's receiver and the navigation grid into its own (for each, a
+// keyframe asked for at start and after every gap, and again every --keyframe-retry while one is needed),
 // the two status channels into the figures, the poses into the trails.
 class BusFeed {
  public:
@@ -244,6 +278,7 @@ class BusFeed {
     subscribe();
     bridge_ = std::make_unique<ogf::transport::LcmAsioBridge>(io, *lcm_);
     requestKeyframe();
+    requestNavKeyframe();
     return std::nullopt;
   }
 
@@ -255,6 +290,9 @@ class BusFeed {
     if (receiver.needsKeyframe() &&
         std::chrono::steady_clock::now() - last_request_ > std::chrono::duration<double>(o_.keyframe_retry_s))
       requestKeyframe();
+    if (feed_.navReceiver().needsKeyframe() &&
+        std::chrono::steady_clock::now() - last_nav_request_ > std::chrono::duration<double>(o_.keyframe_retry_s))
+      requestNavKeyframe();
     auto& slots = feed_.slots();
     if (slots.occupied() > o_.max_boxes) {
       const auto cells = receiver.map().sortedCells();
@@ -269,6 +307,34 @@ class BusFeed {
     const ogf::map_request_t req = ogf::delta::keyframeRequest(feed_.receiver(), requester_);
     lcm_->publish(o_.request_channel, &req);
     last_request_ = std::chrono::steady_clock::now();
+  }
+
+  void requestNavKeyframe() {
+    ogf::map_request_t req{};
+    req.utime = std::chrono::duration_cast<std::chrono::microseconds>(
+                    std::chrono::system_clock::now().time_since_epoch()).count();
+    req.requester = requester_;
+    req.last_seq = feed_.navReceiver().appliedSeq();
+    lcm_->publish(o_.nav_request_channel, &req);
+    last_nav_request_ = std::chrono::steady_clock::now();
+  }
+
+  void onNavGrid(const ogf::nav_grid_t& m, const std::string& channel, std::size_t size) {
+    auto& receiver = feed_.navReceiver();
+    feed_.countNavMessage(true);
+    const bool needed_before = receiver.needsKeyframe();
+    const auto outcome = receiver.accept(m);
+    if (outcome == ogf::navigation::NavReceiver::Outcome::kMalformed) {
+      if (auto n = malformed_log_.allow())
+        spdlog::warn("message on {} ({} bytes, seq {}, part {} of {}) does not agree with itself: ignored ({} more)",
+                     channel, size, m.seq, m.part_index, m.part_count, *n);
+    } else if (outcome == ogf::navigation::NavReceiver::Outcome::kGap) {
+      spdlog::warn("gap in the navigation grid after seq {}: asking for a keyframe", receiver.appliedSeq());
+    } else if (outcome == ogf::navigation::NavReceiver::Outcome::kKeyframeApplied) {
+      spdlog::debug("navigation keyframe applied: map {} seq {} known columns {}", receiver.mapId().value_or(-1),
+                    receiver.appliedSeq(), receiver.knownColumns());
+    }
+    if (receiver.needsKeyframe() && !needed_before) requestNavKeyframe();
   }
 
   void onDelta(const ogf::map_delta_t& m) {
@@ -296,6 +362,15 @@ class BusFeed {
       if (auto n = malformed_log_.allow()) spdlog::warn("message on {} ({} bytes) {} ({} more)", channel, size, why, *n);
     };
     auto& figures = feed_.figures();
+    subscriptions_.push_back(std::make_shared<ogf::transport::Subscriber<ogf::nav_grid_t>>(
+        *lcm_, o_.nav_channel,
+        [this](const ogf::nav_grid_t& m, const lcm::ReceiveBuffer& rbuf, const std::string& channel) {
+          onNavGrid(m, channel, rbuf.data_size);
+        },
+        [this](const std::string& channel, std::size_t size, std::string_view why) {
+          feed_.countNavMessage(false);
+          if (auto n = malformed_log_.allow()) spdlog::warn("message on {} ({} bytes) {} ({} more)", channel, size, why, *n);
+        }));
     subscriptions_.push_back(std::make_shared<ogf::transport::Subscriber<ogf::map_delta_t>>(
         *lcm_, o_.delta_channel,
         [this](const ogf::map_delta_t& m, const lcm::ReceiveBuffer&, const std::string&) { onDelta(m); }, on_error));
@@ -321,6 +396,7 @@ class BusFeed {
   PoseSubscription raw_poses_;
   PoseSubscription corrected_poses_;
   std::chrono::steady_clock::time_point last_request_{};
+  std::chrono::steady_clock::time_point last_nav_request_{};
   const std::string requester_ = ogf::delta::requesterName() + ":ogf-view";
   std::uint64_t keyframes_seen_ = 0;
   ogf::transport::LogRateLimiter malformed_log_;
@@ -363,8 +439,8 @@ class Ticker {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Show the ogf map in a browser: follows OGF_MAP_DELTA (or shows a saved map) and serves a 3-D "
-               "page with a live WebSocket feed."};
+  CLI::App app{"Show the ogf map in a browser: follows OGF_MAP_DELTA and the 2-D navigation grid OGF_NAV_GRID (or "
+               "shows a saved map) and serves a 3-D page with a live WebSocket feed."};
   Options o;
   addOptions(app, o);
   OGF_PARSE_COMMAND_LINE(app, argc, argv);

@@ -3,24 +3,17 @@
 #include <algorithm>
 #include <cstring>
 
+#include "frame_bytes.hpp"
+
 namespace ogf::view {
 namespace {
+
+using frame_bytes::get;
+using frame_bytes::put;
 
 std::size_t frameBytes(std::size_t n) {
   const std::size_t raw = kCellFrameHeaderBytes + n * (4 + 12 + 4 + 2);
   return (raw + 3) & ~std::size_t{3};
-}
-
-template <class T>
-void put(std::uint8_t* at, T value) {
-  std::memcpy(at, &value, sizeof(T));  // little-endian hosts only (x86-64, arm64)
-}
-
-template <class T>
-T get(const std::uint8_t* at) {
-  T value;
-  std::memcpy(&value, at, sizeof(T));
-  return value;
 }
 
 }  // namespace

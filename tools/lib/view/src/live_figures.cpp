@@ -61,11 +61,20 @@ void LiveFigures::mapperStatus(const ogf::mapper_status_t& s) {
 
 void LiveFigures::driverStatus(const ogf::driver_status_t& s) { driver_ = s; }
 
-std::string LiveFigures::json(const StreamFigures& st, std::size_t raw_from, std::size_t corrected_from) const {
+std::string LiveFigures::json(const StreamFigures& st, std::size_t raw_from, std::size_t corrected_from,
+                              const NavFigures* nav) const {
   const std::string stream = fmt::format(
       R"({{"source":{},"seq":{},"cells":{},"occupied":{},"boxes":{},"lod":{},"gaps":{},"keyframes":{},"malformed":{},"messages":{},"consistent":{},"waiting_for_keyframe":{},"resolution":{}}})",
       ogf::jsonString(st.source), st.seq, st.cells, st.occupied, st.boxes, st.lod, st.gaps, st.keyframes, st.malformed, st.messages,
       st.consistent, st.waiting_for_keyframe, number(st.resolution));
+  std::string nav_json = "null";
+  if (nav) {
+    const auto& n = *nav;
+    nav_json = fmt::format(
+        R"({{"seq":{},"known_columns":{},"tiles":{},"tiles_not_drawn":{},"gaps":{},"keyframes":{},"malformed":{},"messages":{},"consistent":{},"waiting_for_keyframe":{},"resolution":{},"floor_z":{},"min_height":{},"max_height":{}}})",
+        n.seq, n.known_columns, n.tiles, n.tiles_not_drawn, n.gaps, n.keyframes, n.malformed, n.messages, n.consistent,
+        n.waiting_for_keyframe, number(n.resolution), number(n.floor_z), number(n.min_height), number(n.max_height));
+  }
   std::string mapper = "null";
   if (mapper_) {
     const auto& m = *mapper_;
@@ -83,8 +92,8 @@ std::string LiveFigures::json(const StreamFigures& st, std::size_t raw_from, std
         d.utime, ogf::jsonString(d.source), number(d.rpm), number(d.packet_rate_hz), number(d.scan_rate_hz), d.packets_lost,
         d.kernel_drops, d.bad_size + d.bad_block_flag + d.foreign_sender + d.bad_other, static_cast<int>(d.pps_state));
   }
-  return fmt::format(R"({{"type":"status","stream":{},"mapper":{},"driver":{},"pose":{},"corrected":{}}})", stream,
-                     mapper, driver, poseJson(raw_, raw_from), poseJson(corrected_, corrected_from));
+  return fmt::format(R"({{"type":"status","stream":{},"nav":{},"mapper":{},"driver":{},"pose":{},"corrected":{}}})",
+                     stream, nav_json, mapper, driver, poseJson(raw_, raw_from), poseJson(corrected_, corrected_from));
 }
 
 }  // namespace ogf::view

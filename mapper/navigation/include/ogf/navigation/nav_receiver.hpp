@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,14 @@ class NavReceiver {
   // The grid rebuilt so far (resolution and band from the last update applied).
   NavColumn column(const ColumnKey& key) const;
   NavGrid grid() const;
+  // The tiles holding at least one known column, sorted, and a tile's kTileSize² values row-major from its
+  // south-west column (unknown for a tile not held), as NavProjection gives them: a viewer follows the grid
+  // tile by tile without building the dense rectangle, whose size tiles far apart would make unbounded.
+  std::vector<TileKey> knownTiles() const;
+  // The resolution and band of the last message applied (0 and the default band before any).
+  double resolution() const { return meta_.resolution; }
+  const NavBand& band() const { return meta_.band; }
+  void tileValues(const TileKey& tile, std::span<std::int8_t> cost, std::span<std::int8_t> column_class) const;
   std::size_t knownColumns() const { return known_columns_; }
   std::uint64_t checksum() const { return checksum_; }
   // The mapper's checksum after appliedSeq().
