@@ -2,8 +2,8 @@
 # Builds every libFuzzer target with clang (ASan+UBSan) in build-fuzz and runs each for a bounded time
 # (OGF_FUZZ_SECONDS, default 20), starting from tests/fuzz/corpus/<name>/ when it exists. Fails when a
 # target crashes or UBSan reports anything (halt_on_error: undefined behaviour such as a signed overflow is a
-# failure, not a line in a log); the crashing input is left in build-fuzz/fuzz/artifacts/. Nine targets at
-# 20 s each run for 3 min, which with the build keeps the stage within about 7 min on two cores.
+# failure, not a line in a log); the crashing input is left in build-fuzz/fuzz/artifacts/. Ten targets at
+# 20 s each run for 3.3 min, which with the build keeps the stage within about 7 min on two cores.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${OGF_FUZZ_BUILD_DIR:-$here/build-fuzz}

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # What ogf costs on the wire, counted on the bus: bytes per second of a robot's scans (VELODYNE_SCAN,
-# ogf.lidar_scan_t) and raw packets (VELODYNE_PACKETS), and of the map delta stream (OGF_MAP_DELTA, what
-# every map client receives: multicast sends one copy per link) at each resolution, with the publishing
+# ogf.lidar_scan_t) and raw packets (VELODYNE_PACKETS), of the map delta stream (OGF_MAP_DELTA, what
+# every map client receives: multicast sends one copy per link) and of the 2-D navigation grid
+# (OGF_NAV_GRID, the nav.* defaults) at each resolution, with the publishing
 # rule and budget of the configuration's defaults ("rule") and with every visible change sent unbounded
 # ("all": deltas.probability_step 0, deltas.max_bytes_per_s 0).
 #   scripts/wire.sh [--lab-duration S] [--drive-duration S] [--resolutions "0.2 0.1"] [--rules "all rule"]
@@ -13,7 +14,7 @@
 #   with lcm-logger writing into a pipe read by scripts/lcm_bytes.py (nothing is stored). Prints a Markdown
 #   table: MB/s are the bytes of a channel divided by the seconds driven; "busiest s" is its largest
 #   second; the delta messages counted are checked against those ogf-map-client received; "mapped" is the scans ogf-mapper mapped of those it received; "client" says whether
-#   ogf-map-client ended with the mapper's checksum.
+#   ogf-map-client (following both with --nav) ended with the mapper's checksum of the map / of the grid.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 source "$here/scripts/run-common.sh"
@@ -73,7 +74,7 @@ run() {
   "$bin/ogf-driver" --lcm-url "$url" --bind-address 127.0.0.1 --data-port "$data_port" \
     --position-port "$position_port" >"$dir/driver.log" 2>&1 &
   local driver=$!; pids+=("$driver")
-  "$bin/ogf-map-client" --lcm-url "$url" --progress >"$dir/client.log" 2>&1 &
+  "$bin/ogf-map-client" --lcm-url "$url" --nav --progress >"$dir/client.log" 2>&1 &
   local client=$!; pids+=("$client")
   sleep 1
   "$bin/ogf-replay" --pcap "$sim/capture.pcap" --dest 127.0.0.1 --data-port "$data_port" \
@@ -98,12 +99,17 @@ mapper = open(f"{d}/mapper.log").read()
 m = re.search(r"stopping: (\d+) scans in, (\d+) mapped", mapper)
 mapped = f"{m.group(2)}/{m.group(1)}" if m else "?"
 client = open(f"{d}/client.log").read().strip().splitlines()
-c = re.search(r"consistent (\w+)", client[-1] if client else "")
-got = re.search(r" messages (\d+)", client[-1] if client else "")
+last = ([l for l in client if l.startswith("map_id ")] or [""])[-1]
+nav = ([l for l in client if l.startswith("nav_map_id ")] or [""])[-1]
+c = re.search(r" consistent (\w+)", last)
+n = re.search(r"nav_consistent (\w+)", nav)
+got = re.search(r" messages (\d+)", last)
 deltas = b.get("OGF_MAP_DELTA", {})
 print(f"| {drive} ({seconds} s) | {res} | {rule} | {rate('VELODYNE_SCAN'):.2f} | {rate('VELODYNE_PACKETS'):.2f} | "
       f"{rate('OGF_MAP_DELTA'):.3f} | {rate('OGF_MAP_DELTA', 'peak_bytes_per_s'):.2f} | "
-      f"{deltas.get('messages', 0)} / {got.group(1) if got else '?'} | {mapped} | {c.group(1) if c else '?'} |")
+      f"{rate('OGF_NAV_GRID') * 1000:.1f} | {rate('OGF_NAV_GRID', 'peak_bytes_per_s') * 1000:.1f} | "
+      f"{deltas.get('messages', 0)} / {got.group(1) if got else '?'} | {mapped} | "
+      f"{c.group(1) if c else '?'} / {n.group(1) if n else '?'} |")
 PY
   tail -n 1 "$out/rows.md" >&2
 }
@@ -127,6 +133,6 @@ for drive in $drives; do
 done
 
 echo
-echo "| drive | cell m | deltas | VELODYNE_SCAN MB/s | VELODYNE_PACKETS MB/s | OGF_MAP_DELTA MB/s | OGF_MAP_DELTA busiest s MB | delta messages counted / client's | mapped | client |"
-echo "|---|---|---|---|---|---|---|---|---|---|"
+echo "| drive | cell m | deltas | VELODYNE_SCAN MB/s | VELODYNE_PACKETS MB/s | OGF_MAP_DELTA MB/s | OGF_MAP_DELTA busiest s MB | OGF_NAV_GRID kB/s | OGF_NAV_GRID busiest s kB | delta messages counted / client's | mapped | client map / grid |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 cat "$out/rows.md"

@@ -2,9 +2,10 @@
 // scans and odometry, the scan and POSE channels receive messages with a wrong fingerprint, truncated
 // ones, counts claiming 2^31 or 10^7 elements without the bytes, NaN and Inf coordinates and poses,
 // non-unit quaternions, random bytes and a genuine scan above the configured pending-points limit.
-// The map request channel gets malformed requests too (wrong fingerprint, truncated, lying string lengths,
-// random bytes). Checked: every one is counted (OGF_MAPPER_STATUS scans_rejected, poses_rejected,
-// requests_rejected, scans_dropped_behind),
+// The map request channel and the navigation grid's request channel (OGF_NAV_REQUEST) get malformed requests
+// too (wrong fingerprint, truncated, lying string lengths, random bytes). Checked: every one is counted
+// (OGF_MAPPER_STATUS scans_rejected, poses_rejected, requests_rejected, nav_requests_rejected,
+// scans_dropped_behind),
 // the daemon keeps running, its peak RSS (VmHWM) does not grow by what the claims would have allocated,
 // and the map after the bad input is exactly the map of the valid scans alone (same filter checksum as an
 // offline ScanMapper fed only those).
@@ -183,8 +184,9 @@ class MapperBadInput : public ::testing::Test {
   void SetUp() override {
     if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
     dir_ = ogf::testing::emptyTestDirectory("ogf-badinput-mapper");
-    std::ofstream(dir_ / "mapper.yaml") << "status_interval_s: 0.1\nfusion:\n  max_pending_points: "
-                                        << kMaxPendingPoints << "\n";
+    // No periodic grid keyframe: the one after the bad requests answers the well-formed request.
+    std::ofstream(dir_ / "mapper.yaml") << "status_interval_s: 0.1\nnav:\n  keyframe_interval_s: 1000\nfusion:\n"
+                                        << "  max_pending_points: " << kMaxPendingPoints << "\n";
   }
   void TearDown() override { fs::remove_all(dir_); }
   fs::path dir_;
@@ -227,6 +229,7 @@ TEST_F(MapperBadInput, MalformedScansAndPosesAreCountedAndRefusedAndTheMapIsThat
   }
   for (const auto& m : bad_requests) {
     lcm.publish("OGF_MAP_REQUEST", m.data(), static_cast<unsigned int>(m.size()));
+    lcm.publish("OGF_NAV_REQUEST", m.data(), static_cast<unsigned int>(m.size()));
     std::this_thread::sleep_for(2ms);
   }
   // A well-formed scan beyond the configured limit, timed between scans 4 and 5 so it is not late.
@@ -242,14 +245,16 @@ TEST_F(MapperBadInput, MalformedScansAndPosesAreCountedAndRefusedAndTheMapIsThat
       [&](const ogf::mapper_status_t& s) {
         return s.scans_rejected - before->scans_rejected == n_scans &&
                s.poses_rejected - before->poses_rejected == n_poses &&
-               s.requests_rejected - before->requests_rejected == n_requests && s.scans_dropped_behind == 1;
+               s.requests_rejected - before->requests_rejected == n_requests &&
+               s.nav_requests_rejected - before->nav_requests_rejected == n_requests && s.scans_dropped_behind == 1;
       },
       30s);
   const auto last = mapper.latestStatus();
   ASSERT_TRUE(last);
   EXPECT_TRUE(counted) << "scans_rejected " << last->scans_rejected << " (sent " << n_scans << "), poses_rejected "
                        << last->poses_rejected << " (sent " << n_poses << "), requests_rejected "
-                       << last->requests_rejected << " (sent " << n_requests << "), scans_dropped_behind "
+                       << last->requests_rejected << " (sent " << n_requests << "), nav_requests_rejected "
+                       << last->nav_requests_rejected << " (sent " << n_requests << "), scans_dropped_behind "
                        << last->scans_dropped_behind << "\n"
                        << mapper.log();
   EXPECT_TRUE(mapper.running()) << "the mapper exited:\n" << mapper.log();
@@ -270,6 +275,7 @@ TEST_F(MapperBadInput, MalformedScansAndPosesAreCountedAndRefusedAndTheMapIsThat
   EXPECT_EQ(static_cast<std::uint64_t>(after->filter_checksum), ogf::testing::offlineChecksum(10, kPoints))
       << "the bad input changed the map";
   EXPECT_EQ(after->requests_in, n_requests) << "only the malformed requests were sent";
+  EXPECT_EQ(after->nav_requests_in, n_requests) << "only the malformed navigation grid requests were sent";
   // A well-formed request after the bad ones is still answered.
   ogf::map_request_t request{};
   request.requester = "bad-input-test";
@@ -278,8 +284,15 @@ TEST_F(MapperBadInput, MalformedScansAndPosesAreCountedAndRefusedAndTheMapIsThat
       [&](const ogf::mapper_status_t& s) { return s.requests_in == n_requests + 1 && s.keyframes_sent > after->keyframes_sent; },
       30s);
   EXPECT_TRUE(answered) << mapper.log();
+  lcm.publish("OGF_NAV_REQUEST", &request);
+  const auto nav_answered = mapper.waitForStatus(
+      [&](const ogf::mapper_status_t& s) {
+        return s.nav_requests_in == n_requests + 1 && s.nav_keyframes_sent > after->nav_keyframes_sent;
+      },
+      30s);
+  EXPECT_TRUE(nav_answered) << mapper.log();
   std::printf("[ figures  ] mapper bad input: %lld malformed scans, %lld malformed poses and %lld malformed map "
-              "requests counted, 1 scan of %d points dropped; VmHWM %lld kB before, %lld kB after; map checksum "
+              "(and as many navigation grid) requests counted, 1 scan of %d points dropped; VmHWM %lld kB before, %lld kB after; map checksum "
               "%016llx = reference\n",
               static_cast<long long>(n_scans), static_cast<long long>(n_poses), static_cast<long long>(n_requests),
               kMaxPendingPoints + 1000,

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <limits>
 #include <vector>
 
 #include "ogf/messages/decode_message.hpp"
@@ -111,6 +112,29 @@ TEST(EncodedSizeCheck, RefusesAbsurdDeltaPacketAndCovarianceCounts) {
   EXPECT_FALSE(EncodedSizeCheck<ogf::odometry_t>::check(bo.data(), bo.size()));
   patch(bo, countOffset(bo, 36, 8), 100'000'000);
   EXPECT_TRUE(EncodedSizeCheck<ogf::odometry_t>::check(bo.data(), bo.size()));
+}
+
+// A navigation grid message's tile and column counts (found by fuzz_nav_grid_stream: a count of 2^31 tiles
+// made decode() allocate 16 GB).
+TEST(EncodedSizeCheck, RefusesNavGridTileAndColumnCountsBeyondTheBytes) {
+  ogf::nav_grid_t g{};
+  g.tile_size = 2;
+  g.num_tiles = 3;
+  g.tile_x = {7, 8, 9};
+  g.tile_y = {7, 8, 9};
+  g.num_columns = 12;
+  g.cost.assign(12, 1);
+  g.column_class.assign(12, 1);
+  const auto good = encode(g);
+  EXPECT_FALSE(EncodedSizeCheck<ogf::nav_grid_t>::check(good.data(), good.size()));
+  for (const std::int32_t claim : {1 << 30, std::numeric_limits<std::int32_t>::max(), -1}) {
+    auto tiles = good;
+    patch(tiles, countOffset(tiles, 3, 8), claim);
+    EXPECT_TRUE(EncodedSizeCheck<ogf::nav_grid_t>::check(tiles.data(), tiles.size())) << claim;
+    auto columns = good;
+    patch(columns, countOffset(columns, 12, 8), claim);
+    EXPECT_TRUE(EncodedSizeCheck<ogf::nav_grid_t>::check(columns.data(), columns.size())) << claim;
+  }
 }
 
 }  // namespace

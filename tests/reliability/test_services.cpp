@@ -1,7 +1,7 @@
 // ogf-mapper's map services attacked as issue 42 describes, with real processes on udpm loopback: forged
 // and replayed commands, exports aimed outside the export directory or at the state files, a requester
-// that tries to inject a log line, box queries too large to answer, and a flood of forged commands and
-// largest-allowed box queries during a replay. Each test names the property it checks.
+// that tries to inject a log line, box queries too large to answer, and a flood of forged commands,
+// navigation grid keyframe requests and largest-allowed box queries during a replay. Each test names the property it checks.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -11,6 +11,7 @@
 #include <ogf/map_command_t.hpp>
 #include <ogf/map_delta_t.hpp>
 #include <ogf/map_query_t.hpp>
+#include <ogf/map_request_t.hpp>
 #include <ogf/mapper_status_t.hpp>
 
 #include <algorithm>
@@ -390,7 +391,8 @@ struct ReplayFigures {
 };
 
 // Attacks 3 and 6: scans replayed at the VLP-16's 10 scans/s into ogf-mapper, with (`flood`) another
-// process sending forged exports and resets every 10 ms and a largest-allowed box query every 100 ms.
+// process sending forged exports and resets and a navigation grid keyframe request every 10 ms and a
+// largest-allowed box query every 100 ms.
 ReplayFigures replay(const fs::path& dir, const std::string& url, const fs::path& key_path, bool flood, int scans) {
   ReplayFigures f;
   std::ofstream(dir / "flood.yaml") << "status_interval_s: 0.1\nservices:\n  commands_enabled: true\n  key_file: "
@@ -431,6 +433,10 @@ ReplayFigures replay(const fs::path& dir, const std::string& url, const fs::path
         auto c = command(i % 2 == 0 ? "export" : "reset", "csv", (dir / ("flood-" + std::to_string(i) + ".csv")).string());
         for (auto& b : c.mac) b = static_cast<std::int8_t>(rng());
         bus.publish("OGF_MAP_COMMAND", &c);
+        ogf::map_request_t nav{};
+        nav.requester = "flood";
+        nav.last_seq = -1;
+        bus.publish("OGF_NAV_REQUEST", &nav);
         if (i % 10 == 0) {
           q.request_id = i;
           q.utime = nowUtime();
@@ -482,15 +488,18 @@ TEST_F(ServicesTest, AFloodOfForgedCommandsAndLargestBoxQueriesLeavesDropsAndDel
   const auto flood = replay(dir_, ogf::testing::loopbackUdpmUrl(86), key_path_, true, scans);
   for (const auto* r : {&quiet, &flood}) {
     std::printf("[ figures  ] %s: %d scans at 10/s: mapped %lld dropped behind %lld; %lld deltas, largest gap %.3f s; "
-                "commands refused unauthenticated %lld, queries refused %lld, service requests %lld\n",
+                "commands refused unauthenticated %lld, queries refused %lld, service requests %lld, navigation "
+                "grid requests %lld (keyframes %lld)\n",
                 r == &quiet ? "without flood" : "with flood   ", scans, static_cast<long long>(r->status.scans_mapped),
                 static_cast<long long>(r->status.scans_dropped_behind), static_cast<long long>(r->deltas),
                 r->largest_gap_s, static_cast<long long>(r->status.commands_refused_unauthenticated),
                 static_cast<long long>(r->status.queries_refused),
-                static_cast<long long>(r->status.service_requests_in));
+                static_cast<long long>(r->status.service_requests_in), static_cast<long long>(r->status.nav_requests_in),
+                static_cast<long long>(r->status.nav_keyframes_sent));
   }
   // The flood happened: hundreds of forged commands were heard and refused, none carried out.
   EXPECT_GE(flood.status.commands_refused_unauthenticated, scans * 5);
+  EXPECT_GE(flood.status.nav_requests_in, scans * 5);
   EXPECT_EQ(flood.status.map_resets, 0);
   for (const auto& e : fs::directory_iterator(dir_))
     EXPECT_EQ(e.path().filename().string().rfind("flood-", 0), std::string::npos) << "a forged export was written";

@@ -27,7 +27,7 @@ using ogf::mapper_daemon::MapperOptions;
 struct Flags {
   std::string config_path;
   std::string url, state_dir, time_base, log_level = "info";
-  std::optional<double> resolution, max_range, min_range, snapshot_s, keyframe_s, drop_fraction;
+  std::optional<double> resolution, max_range, min_range, snapshot_s, keyframe_s, drop_fraction, drop_nav_fraction;
   std::optional<int> threads;
   std::optional<std::string> scan_ch, pose_ch, delta_ch, request_ch, status_ch;
   bool in_memory = false;
@@ -59,6 +59,9 @@ void declareFlags(CLI::App& app, Flags& f) {
   app.add_option("--status-channel", f.status_ch, "Status channel (default OGF_MAPPER_STATUS)");
   app.add_option("--test-drop-deltas", f.drop_fraction, "Testing: drop this fraction of delta updates (gap injection)")
       ->check(ogf::cli::between(0.0, 0.99));
+  app.add_option("--test-drop-nav", f.drop_nav_fraction,
+                 "Testing: drop this fraction of navigation grid updates (gap injection)")
+      ->check(ogf::cli::between(0.0, 0.99));
   app.add_option("--log-level", f.log_level, "trace, debug, info, warn, error")->capture_default_str();
   app.add_option("--print-config", f.print_config,
                  "Print the configuration (every key with its value: the defaults, then --config's and the flags') "
@@ -88,6 +91,7 @@ void applyFlags(const Flags& f, MapperOptions& options) {
   if (f.request_ch) options.request_channel = *f.request_ch;
   if (f.status_ch) options.status_channel = *f.status_ch;
   if (f.drop_fraction) options.test_drop_delta_fraction = *f.drop_fraction;
+  if (f.drop_nav_fraction) options.test_drop_nav_fraction = *f.drop_nav_fraction;
 }
 
 // The configuration: the defaults, then the file's values, then the flags'; the reason when invalid.

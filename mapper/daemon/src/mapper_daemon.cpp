@@ -75,7 +75,8 @@ MapperDaemon::MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, transpor
       services_(options_, lcm, shared_, mapper_, deltas_, persistence_, std::move(key),
                 {[this] { resetMap(); }, [this] { refreshMapFigures(); }}),
       status_(options_, lcm, loop, shared_, intake_, services_),
-      publisher_(options_, lcm, deltas_, persistence_, shared_) {
+      publisher_(options_, lcm, deltas_, persistence_, shared_),
+      nav_(options_, lcm, shared_, deltas_.mapId()) {
   shared_.stats.persistence_ok = true;
   persistence_.setPinnedPages([this] { return publisher_.pinnedPages(); });
 }
@@ -84,8 +85,11 @@ MapperDaemon::~MapperDaemon() { stop(); }
 
 void MapperDaemon::restore() {
   const std::int64_t seq = persistence_.restore();
-  deltas_.reset(mapper_.publishedCells(), seq);
+  const auto cells = mapper_.publishedCells();
+  deltas_.reset(cells, seq);
   persistence_.holdPublished();
+  const persistence::MapPager* pager = persistence_.pager();
+  nav_.restored(cells, pager ? pager->heldPublishedPages() : std::vector<std::filesystem::path>{});
   std::lock_guard lk(shared_.mu);
   shared_.stats.delta_seq = seq;
   fillMapFigures();
@@ -96,6 +100,7 @@ void MapperDaemon::start() {
   started_ = true;
   intake_.subscribe();
   services_.subscribe();
+  nav_.subscribe();
   intake_.subscribePoses();
   {
     std::lock_guard lk(shared_.mu);
@@ -130,6 +135,7 @@ void MapperDaemon::stop() {
   status_.stop();
   intake_.unsubscribe();
   services_.unsubscribe();
+  nav_.unsubscribe();
   persistence_.takeSnapshot(true);
 }
 
@@ -210,6 +216,7 @@ bool MapperDaemon::betweenScans(bool keyframe_requested) {
   const bool services_waiting = services_.waiting();
   const auto now = steadyUtime();
   publisher_.keyframeTurn(keyframe_requested, now);
+  nav_.turn(now);
   persistence_.finishSnapshotWrite(false);
   if (persistence_.snapshotDue(now)) persistence_.takeSnapshot();
   return services_waiting;
@@ -225,6 +232,7 @@ void MapperDaemon::mapScan(const ScanPtr& scan, SourceIntake& source) {
   const auto deltas = deltas_.update(scan->utime, changes_);
   persistence_.pageOut();  // after the delta: the published cells of a region leave with it
   publisher_.publishDeltas(deltas);
+  nav_.scanMapped(scan->utime, changes_, steadyUtime());
   std::lock_guard lk(shared_.mu);
   ++shared_.stats.scans_mapped;
   shared_.stats.measurements += static_cast<std::int64_t>(measurements.size());
@@ -250,6 +258,7 @@ void MapperDaemon::resetMap() {
   persistence_.beginNewMap(id);
   persistence_.takeSnapshot();
   publisher_.keyframeOfNewMap();
+  nav_.newMap(id, steadyUtime());
   refreshMapFigures();
 }
 

@@ -150,6 +150,8 @@ Status MapperOptions::validate() const {
   if (!(nav.keyframe_interval_s > 0)) return Error::configuration("nav.keyframe_interval_s: must be > 0");
   if (!(test_drop_delta_fraction >= 0 && test_drop_delta_fraction < 1))
     return Error::configuration("test_drop_delta_fraction: must be in [0, 1)");
+  if (!(test_drop_nav_fraction >= 0 && test_drop_nav_fraction < 1))
+    return Error::configuration("test_drop_nav_fraction: must be in [0, 1)");
   // services:
   if (services.commands_enabled && services.key_file.empty())
     return Error::configuration("services.commands_enabled: needs services.key_file (ogf-map-query keygen FILE makes one)");

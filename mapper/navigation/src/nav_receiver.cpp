@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 namespace ogf::navigation {
@@ -41,6 +42,12 @@ bool NavReceiver::wellFormed(const ogf::nav_grid_t& m) {
   if (m.tile_size != kTileSize || m.num_tiles < 0 || m.num_tiles > kMaxTilesPerPart) return false;
   const auto tiles = static_cast<std::size_t>(m.num_tiles);
   if (m.tile_x.size() != tiles || m.tile_y.size() != tiles) return false;
+  // A tile's columns must be ColumnKeys (int32): beyond, tile × kTileSize overflows.
+  constexpr std::int32_t kMaxTile = std::numeric_limits<std::int32_t>::max() / kTileSize - 1;
+  for (std::size_t t = 0; t < tiles; ++t)
+    if (std::abs(static_cast<std::int64_t>(m.tile_x[t])) > kMaxTile ||
+        std::abs(static_cast<std::int64_t>(m.tile_y[t])) > kMaxTile)
+      return false;
   if (m.num_columns < 0 || static_cast<std::size_t>(m.num_columns) != tiles * kTileColumns) return false;
   if (m.cost.size() != tiles * kTileColumns || m.column_class.size() != tiles * kTileColumns) return false;
   for (std::size_t i = 0; i < m.cost.size(); ++i)

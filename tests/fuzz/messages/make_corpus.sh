@@ -4,6 +4,7 @@
 # stay small, ogf-mapper, ogf-map-client), logs the bus with lcm-logger, and cuts the log into
 #   tests/fuzz/corpus/lcm_messages/<channel>-<n>      one message payload per file (each type, the smallest)
 #   tests/fuzz/corpus/map_delta_stream/stream-<n>     OGF_MAP_DELTA payloads in order, 2-byte BE length each
+#   tests/fuzz/corpus/nav_grid_stream/stream-<n>      OGF_NAV_GRID payloads likewise
 # Usage: make_corpus.sh BIN_DIR (needs a multicast route over lo: scripts/multicast-loopback.sh).
 set -euo pipefail
 bin=${1:?usage: make_corpus.sh BIN_DIR}
@@ -56,5 +57,15 @@ for n in range(3):
         chunk += struct.pack(">H", len(p)) + p
         total += len(p) + 2
     open(os.path.join(stream, f"stream-{n}"), "wb").write(chunk)
+grids = by_channel.get("OGF_NAV_GRID", [])
+nav = os.path.join(out, "nav_grid_stream"); os.makedirs(nav, exist_ok=True)
+for n in range(3):
+    chunk, total = b"", 0
+    for p in grids[n * 3:]:
+        if total + len(p) > 65536:
+            continue
+        chunk += struct.pack(">H", len(p)) + p
+        total += len(p) + 2
+    open(os.path.join(nav, f"stream-{n}"), "wb").write(chunk)
 print({ch: len(p) for ch, p in by_channel.items()})
 PY

@@ -4,15 +4,22 @@
 // quantised probability, class, variance), which equals the checksum the mapper stamps on each delta
 // when nothing was missed. Neither is the status's filter_checksum (every float the filter stores).
 //
+// With --nav (or --nav-only, without the 3-D deltas) it follows the 2-D navigation grid on OGF_NAV_GRID the
+// same way (navigation::NavReceiver; keyframes asked for on OGF_NAV_REQUEST) and prints the grid's checksum.
+//
 // Output: a line per second while running (with --progress) and, at the end,
 //   map_id <id> seq <n> cells <n> published_checksum <hex> mapper_published_checksum <hex>
 //   consistent <yes|no> gaps <n> keyframes <n> malformed <n> messages <n>
+// and with --nav or --nav-only (the first line only without --nav-only)
+//   nav_map_id <id> nav_seq <n> nav_known_columns <n> nav_checksum <hex> mapper_nav_checksum <hex>
+//   nav_consistent <yes|no> nav_gaps <n> nav_keyframes <n> nav_malformed <n>
 #include <CLI/CLI.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <lcm/lcm-cpp.hpp>
 
 #include <ogf/map_delta_t.hpp>
 #include <ogf/map_request_t.hpp>
+#include <ogf/nav_grid_t.hpp>
 
 #include <chrono>
 #include <cstdio>
@@ -23,6 +30,7 @@
 #include "ogf/common/command_line.hpp"
 #include "ogf/delta/keyframe_request.hpp"
 #include "ogf/delta/map_receiver.hpp"
+#include "ogf/navigation/nav_receiver.hpp"
 #include "ogf/transport/daemon_loop.hpp"
 #include "ogf/transport/lcm_asio_bridge.hpp"
 #include "ogf/transport/lcm_url.hpp"
@@ -40,12 +48,19 @@ const char* const kDescription =
     "the two are equal: nothing was missed), gaps, keyframes, malformed, messages.\n"
     "Both checksums cover the published cells (quantised probability, class, variance). The filter_checksum in "
     "OGF_MAPPER_STATUS covers every float the filter stores: a different number, to compare only with another "
-    "mapper's filter_checksum or with the checksum ogf-map prints.";
+    "mapper's filter_checksum or with the checksum ogf-map prints.\n"
+    "With --nav (or --nav-only) it also (only) follows the 2-D navigation grid on OGF_NAV_GRID and prints at the "
+    "end nav_map_id, nav_seq, nav_known_columns, nav_checksum (of the grid it rebuilt), mapper_nav_checksum (the "
+    "mapper's for the same nav_seq), nav_consistent, nav_gaps, nav_keyframes, nav_malformed.";
 
 struct Options {
   std::string url;
   std::string delta_channel = "OGF_MAP_DELTA";
   std::string request_channel = "OGF_MAP_REQUEST";
+  bool nav = false;
+  bool nav_only = false;
+  std::string nav_channel = "OGF_NAV_GRID";
+  std::string nav_request_channel = "OGF_NAV_REQUEST";
   double duration_s = 0;
   std::int64_t until_seq = -1;
   double idle_exit_s = 0;
@@ -58,11 +73,17 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--lcm-url", o.url, "LCM URL (default: $LCM_DEFAULT_URL, else LCM's default)");
   app.add_option("--channel", o.delta_channel, "Delta channel")->capture_default_str();
   app.add_option("--request-channel", o.request_channel, "Keyframe request channel")->capture_default_str();
+  app.add_flag("--nav", o.nav, "Also follow the 2-D navigation grid");
+  app.add_flag("--nav-only", o.nav_only, "Follow only the 2-D navigation grid, not the 3-D deltas");
+  app.add_option("--nav-channel", o.nav_channel, "Navigation grid channel")->capture_default_str();
+  app.add_option("--nav-request-channel", o.nav_request_channel, "Navigation grid keyframe request channel")
+      ->capture_default_str();
   app.add_option("--duration", o.duration_s, "Stop after this many seconds (0: run until SIGINT/SIGTERM)")
       ->check(ogf::cli::nonNegative());
-  app.add_option("--until-seq", o.until_seq, "Stop once the map is consistent at this update sequence or later");
+  app.add_option("--until-seq", o.until_seq,
+                 "Stop once the map is consistent at this update sequence or later (with --nav-only: the grid)");
   app.add_option("--idle-exit", o.idle_exit_s,
-                 "Stop after this many seconds without a delta once the map is consistent (0: never)")
+                 "Stop after this many seconds without a message once the map (and the grid) is consistent (0: never)")
       ->check(ogf::cli::nonNegative());
   app.add_option("--keyframe-retry", o.keyframe_retry_s, "Seconds between keyframe requests while one is needed")
       ->check(ogf::cli::positive())->capture_default_str();
@@ -70,93 +91,161 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--log-level", o.log_level, "trace, debug, info, warn, error")->capture_default_str();
 }
 
-// The delta stream rebuilt into a map: a keyframe asked for at start and after every gap, and the stops
-// --until-seq and --idle-exit ask for.
-class DeltaFollower {
+// What the followers of the two streams say, each in its own words: the progress line, the line at the end
+// (see the top of this file), the size of what a keyframe brought, and the keyframe request.
+void printProgress(const ogf::delta::MapReceiver& r, std::uint64_t messages) {
+  std::printf("seq %lld cells %zu published_checksum %016llx gaps %llu messages %llu\n",
+              static_cast<long long>(r.appliedSeq()), r.map().size(), static_cast<unsigned long long>(r.map().checksum()),
+              static_cast<unsigned long long>(r.gaps()), static_cast<unsigned long long>(messages));
+}
+void printProgress(const ogf::navigation::NavReceiver& r, std::uint64_t messages) {
+  std::printf("nav_seq %lld nav_known_columns %zu nav_checksum %016llx nav_gaps %llu nav_messages %llu\n",
+              static_cast<long long>(r.appliedSeq()), r.knownColumns(), static_cast<unsigned long long>(r.checksum()),
+              static_cast<unsigned long long>(r.gaps()), static_cast<unsigned long long>(messages));
+}
+void printSummary(const ogf::delta::MapReceiver& r, std::uint64_t malformed, std::uint64_t messages) {
+  std::printf("map_id %lld seq %lld cells %zu published_checksum %016llx mapper_published_checksum %016llx "
+              "consistent %s gaps %llu keyframes %llu malformed %llu messages %llu\n",
+              static_cast<long long>(r.mapId().value_or(-1)), static_cast<long long>(r.appliedSeq()), r.map().size(),
+              static_cast<unsigned long long>(r.map().checksum()),
+              static_cast<unsigned long long>(r.serverChecksum().value_or(0)), r.consistent() ? "yes" : "no",
+              static_cast<unsigned long long>(r.gaps()), static_cast<unsigned long long>(r.keyframesApplied()),
+              static_cast<unsigned long long>(malformed), static_cast<unsigned long long>(messages));
+}
+void printSummary(const ogf::navigation::NavReceiver& r, std::uint64_t malformed, std::uint64_t) {
+  std::printf("nav_map_id %lld nav_seq %lld nav_known_columns %zu nav_checksum %016llx mapper_nav_checksum %016llx "
+              "nav_consistent %s nav_gaps %llu nav_keyframes %llu nav_malformed %llu\n",
+              static_cast<long long>(r.mapId().value_or(-1)), static_cast<long long>(r.appliedSeq()), r.knownColumns(),
+              static_cast<unsigned long long>(r.checksum()), static_cast<unsigned long long>(r.serverChecksum().value_or(0)),
+              r.consistent() ? "yes" : "no", static_cast<unsigned long long>(r.gaps()),
+              static_cast<unsigned long long>(r.keyframesApplied()), static_cast<unsigned long long>(malformed));
+}
+std::string holding(const ogf::delta::MapReceiver& r) { return fmt::format("cells {}", r.map().size()); }
+std::string holding(const ogf::navigation::NavReceiver& r) { return fmt::format("known columns {}", r.knownColumns()); }
+ogf::map_request_t requestOf(const ogf::delta::MapReceiver& r, const std::string& requester) {
+  return ogf::delta::keyframeRequest(r, requester);
+}
+ogf::map_request_t requestOf(const ogf::navigation::NavReceiver& r, const std::string& requester) {
+  ogf::map_request_t req{};
+  req.utime = std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+                  .count();
+  req.requester = requester;
+  req.last_seq = r.appliedSeq();
+  return req;
+}
+
+// One stream rebuilt by its receiver (the 3-D map from OGF_MAP_DELTA, or the navigation grid from
+// OGF_NAV_GRID): a keyframe asked for at start, after every gap and every --keyframe-retry while one is
+// needed, and the stop --until-seq asks for (`until_seq`: whether it applies to this stream).
+template <class Receiver, class Message>
+class StreamFollower {
  public:
-  DeltaFollower(const Options& o, lcm::LCM& lcm, ogf::transport::DaemonLoop& loop)
-      : o_(o), lcm_(lcm), loop_(loop), tick_(loop.io()),
-        sub_(lcm, o.delta_channel,
-             [this](const ogf::map_delta_t& m, const lcm::ReceiveBuffer&, const std::string&) { onDelta(m); },
+  struct Stream {
+    std::string channel, request_channel;
+    std::string name;  // in the log: "delta stream", "navigation grid"
+    bool until_seq = false;
+  };
+
+  StreamFollower(const Options& o, Stream stream, lcm::LCM& lcm, ogf::transport::DaemonLoop& loop)
+      : o_(o), stream_(std::move(stream)), lcm_(lcm), loop_(loop),
+        sub_(lcm, stream_.channel,
+             [this](const Message& m, const lcm::ReceiveBuffer&, const std::string&) { onMessage(m); },
              [this](const std::string& channel, std::size_t size, std::string_view why) {
                ++decode_errors_;
                if (auto n = malformed_log_.allow())
                  spdlog::warn("message on {} ({} bytes) {} ({} more)", channel, size, why, *n);
              }) {}
 
-  // Housekeeping every 100 ms: keyframe requests while needed, progress, idle exit.
-  void housekeeping() {
-    const auto now = std::chrono::steady_clock::now();
+  // Housekeeping every 100 ms: keyframe requests while needed, progress.
+  void housekeeping(std::chrono::steady_clock::time_point now) {
     if (receiver_.needsKeyframe() && now - last_request_ > std::chrono::duration<double>(o_.keyframe_retry_s))
       requestKeyframe();
     if (o_.progress && now - last_progress_ >= std::chrono::seconds(1)) {
       last_progress_ = now;
-      std::printf("seq %lld cells %zu published_checksum %016llx gaps %llu messages %llu\n",
-                  static_cast<long long>(receiver_.appliedSeq()), receiver_.map().size(),
-                  static_cast<unsigned long long>(receiver_.map().checksum()),
-                  static_cast<unsigned long long>(receiver_.gaps()), static_cast<unsigned long long>(messages_));
+      printProgress(receiver_, messages_);
       std::fflush(stdout);
     }
-    if (o_.idle_exit_s > 0 && receiver_.consistent() && now - last_delta_ > std::chrono::duration<double>(o_.idle_exit_s)) {
-      loop_.requestStop(0);
-      return;
-    }
-    tick_.expires_after(std::chrono::milliseconds(100));
-    tick_.async_wait([this](const boost::system::error_code& ec) { if (!ec) housekeeping(); });
   }
-
-  // The line printed at the end (see the top of this file).
-  void printSummary() const {
-    const auto server = receiver_.serverChecksum();
-    std::printf("map_id %lld seq %lld cells %zu published_checksum %016llx mapper_published_checksum %016llx "
-                "consistent %s gaps %llu keyframes %llu malformed %llu messages %llu\n",
-                static_cast<long long>(receiver_.mapId().value_or(-1)), static_cast<long long>(receiver_.appliedSeq()),
-                receiver_.map().size(), static_cast<unsigned long long>(receiver_.map().checksum()),
-                static_cast<unsigned long long>(server.value_or(0)), receiver_.consistent() ? "yes" : "no",
-                static_cast<unsigned long long>(receiver_.gaps()),
-                static_cast<unsigned long long>(receiver_.keyframesApplied()),
-                static_cast<unsigned long long>(receiver_.malformed() + decode_errors_),
-                static_cast<unsigned long long>(messages_));
+  // Consistent, and no message for `idle`.
+  bool quiet(std::chrono::steady_clock::time_point now, std::chrono::duration<double> idle) const {
+    return receiver_.consistent() && now - last_message_ > idle;
   }
+  void printSummary() const { ::printSummary(receiver_, receiver_.malformed() + decode_errors_, messages_); }
 
  private:
   void requestKeyframe() {
-    const ogf::map_request_t req = ogf::delta::keyframeRequest(receiver_, requester_);
-    lcm_.publish(o_.request_channel, &req);
+    const ogf::map_request_t req = requestOf(receiver_, requester_);
+    lcm_.publish(stream_.request_channel, &req);
     last_request_ = std::chrono::steady_clock::now();
-    spdlog::debug("asked for a keyframe (last applied seq {})", req.last_seq);
+    spdlog::debug("asked for a keyframe of the {} (last applied seq {})", stream_.name, req.last_seq);
   }
 
-  void onDelta(const ogf::map_delta_t& m) {
+  void onMessage(const Message& m) {
     ++messages_;
-    last_delta_ = std::chrono::steady_clock::now();
+    last_message_ = std::chrono::steady_clock::now();
     const bool needed_before = receiver_.needsKeyframe();
     const auto outcome = receiver_.accept(m);
-    if (outcome == ogf::delta::MapReceiver::Outcome::kGap) {
-      spdlog::warn("gap in the delta stream after seq {}: asking for a keyframe", receiver_.appliedSeq());
-    } else if (outcome == ogf::delta::MapReceiver::Outcome::kMalformed) {
-      if (auto n = malformed_log_.allow()) spdlog::warn("malformed delta seq {} part {}/{} ignored ({} more)", m.seq, m.part_index, m.part_count, *n);
-    } else if (outcome == ogf::delta::MapReceiver::Outcome::kKeyframeApplied) {
-      spdlog::info("keyframe applied: map {} seq {} cells {}", m.map_id, receiver_.appliedSeq(), receiver_.map().size());
+    using Outcome = typename Receiver::Outcome;
+    if (outcome == Outcome::kGap) {
+      spdlog::warn("gap in the {} after seq {}: asking for a keyframe", stream_.name, receiver_.appliedSeq());
+    } else if (outcome == Outcome::kMalformed) {
+      if (auto n = malformed_log_.allow())
+        spdlog::warn("malformed {} message seq {} part {}/{} ignored ({} more)", stream_.name, m.seq, m.part_index,
+                     m.part_count, *n);
+    } else if (outcome == Outcome::kKeyframeApplied) {
+      spdlog::info("{} keyframe applied: map {} seq {} {}", stream_.name, m.map_id, receiver_.appliedSeq(),
+                   holding(receiver_));
     }
     if (receiver_.needsKeyframe() && !needed_before) requestKeyframe();
-    if (o_.until_seq >= 0 && !receiver_.needsKeyframe() && receiver_.appliedSeq() >= o_.until_seq && receiver_.consistent())
+    if (stream_.until_seq && o_.until_seq >= 0 && !receiver_.needsKeyframe() && receiver_.appliedSeq() >= o_.until_seq &&
+        receiver_.consistent())
       loop_.requestStop(0);
   }
 
   const Options& o_;
+  const Stream stream_;
   lcm::LCM& lcm_;
   ogf::transport::DaemonLoop& loop_;
-  ogf::delta::MapReceiver receiver_;
+  Receiver receiver_;
   std::uint64_t messages_ = 0;
   std::uint64_t decode_errors_ = 0;
-  std::chrono::steady_clock::time_point last_delta_ = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point last_message_ = std::chrono::steady_clock::now();
   std::chrono::steady_clock::time_point last_request_{};
   std::chrono::steady_clock::time_point last_progress_ = std::chrono::steady_clock::now();
   const std::string requester_ = ogf::delta::requesterName();
   ogf::transport::LogRateLimiter malformed_log_;
+  ogf::transport::Subscriber<Message> sub_;
+};
+
+using DeltaFollower = StreamFollower<ogf::delta::MapReceiver, ogf::map_delta_t>;
+using NavFollower = StreamFollower<ogf::navigation::NavReceiver, ogf::nav_grid_t>;
+
+// Every 100 ms: each follower's housekeeping, and the stop --idle-exit asks for once every stream followed is
+// consistent and quiet.
+class Housekeeping {
+ public:
+  Housekeeping(const Options& o, ogf::transport::DaemonLoop& loop, DeltaFollower* deltas, NavFollower* nav)
+      : o_(o), loop_(loop), deltas_(deltas), nav_(nav), tick_(loop.io()) {}
+
+  void run() {
+    const auto now = std::chrono::steady_clock::now();
+    if (deltas_ != nullptr) deltas_->housekeeping(now);
+    if (nav_ != nullptr) nav_->housekeeping(now);
+    const std::chrono::duration<double> idle(o_.idle_exit_s);
+    if (o_.idle_exit_s > 0 && (deltas_ == nullptr || deltas_->quiet(now, idle)) && (nav_ == nullptr || nav_->quiet(now, idle))) {
+      loop_.requestStop(0);
+      return;
+    }
+    tick_.expires_after(std::chrono::milliseconds(100));
+    tick_.async_wait([this](const boost::system::error_code& ec) { if (!ec) run(); });
+  }
+
+ private:
+  const Options& o_;
+  ogf::transport::DaemonLoop& loop_;
+  DeltaFollower* deltas_;
+  NavFollower* nav_;
   boost::asio::steady_timer tick_;
-  ogf::transport::Subscriber<ogf::map_delta_t> sub_;
 };
 
 // --duration: a stop after that many seconds.
@@ -182,13 +271,20 @@ int main(int argc, char** argv) {
   }
 
   ogf::transport::DaemonLoop loop;
-  DeltaFollower follower(o, lcm, loop);
+  std::optional<DeltaFollower> deltas;
+  std::optional<NavFollower> nav;
+  if (!o.nav_only)
+    deltas.emplace(o, DeltaFollower::Stream{o.delta_channel, o.request_channel, "delta stream", true}, lcm, loop);
+  if (o.nav || o.nav_only)
+    nav.emplace(o, NavFollower::Stream{o.nav_channel, o.nav_request_channel, "navigation grid", o.nav_only}, lcm, loop);
   ogf::transport::LcmAsioBridge bridge(loop.io(), lcm);
-  follower.housekeeping();
+  Housekeeping housekeeping(o, loop, deltas ? &*deltas : nullptr, nav ? &*nav : nullptr);
+  housekeeping.run();
   boost::asio::steady_timer stop_timer(loop.io());
   stopAfter(o.duration_s, stop_timer, loop);
-  loop.ready("following " + o.delta_channel);
+  loop.ready("following " + (o.nav_only ? o.nav_channel : o.delta_channel + (nav ? " and " + o.nav_channel : "")));
   const int rc = loop.run();
-  follower.printSummary();
+  if (deltas) deltas->printSummary();
+  if (nav) nav->printSummary();
   return rc;
 }

@@ -13,6 +13,7 @@
 #include <ogf/map_query_t.hpp>
 #include <ogf/map_request_t.hpp>
 #include <ogf/mapper_status_t.hpp>
+#include <ogf/nav_grid_t.hpp>
 #include <ogf/odometry_t.hpp>
 #include <ogf/velodyne_packets_t.hpp>
 
@@ -96,6 +97,22 @@ struct EncodedSizeCheck<ogf::map_delta_t> {
     if (!r.skip(8 + 8 + 8 + 8 + 8 + 1 + 4 + 4 + 8 + 8)) return "header truncated";
     // Per cell: key x, y, z (4 each), probability (2), class (1), variance (4).
     return checkCount(r, r.int32(), 12 + 2 + 1 + 4, kMaxDeltaCellsPerMessage, "num_cells");
+  }
+};
+
+template <>
+struct EncodedSizeCheck<ogf::nav_grid_t> {
+  static std::optional<std::string> check(const void* data, std::size_t size) {
+    CountReader r(data, size);
+    // fingerprint, utime, map_id, seq, base_seq, kind, part_index, part_count, resolution, floor_z,
+    // min_height, max_height, grid_checksum, tile_size.
+    if (!r.skip(8 + 8 + 8 + 8 + 8 + 1 + 4 + 4 + 8 + 8 + 8 + 8 + 8 + 4)) return "header truncated";
+    // tile_x and tile_y (4 bytes each per tile), then per column cost and class (1 byte each): each count
+    // is bounded by the bytes that follow it (the receiver checks the tile size and part limits).
+    const auto tiles = r.int32();
+    if (auto bad = checkCount(r, tiles, 2 * 4, std::int64_t{1} << 24, "num_tiles")) return bad;
+    r.skip(static_cast<std::size_t>(*tiles) * 2 * 4);
+    return checkCount(r, r.int32(), 2, std::int64_t{1} << 30, "num_columns");
   }
 };
 

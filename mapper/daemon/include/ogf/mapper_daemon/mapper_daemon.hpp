@@ -9,8 +9,8 @@
 // which, on which channel, and what to check, once per change, and the status carries the state.
 //
 // MapperDaemon coordinates the parts and runs the worker's loop: ScanIntake (what arrives), MapPersistence
-// (the map on disk), MapPublisher (deltas, corrected poses, keyframes), MapServices (queries and
-// commands) and StatusReport (the status message).
+// (the map on disk), MapPublisher (deltas, corrected poses, keyframes), NavPublisher (the 2-D navigation
+// grid), MapServices (queries and commands) and StatusReport (the status message).
 #pragma once
 
 #include <lcm/lcm-cpp.hpp>
@@ -31,6 +31,7 @@
 #include "ogf/mapper_daemon/map_publisher.hpp"
 #include "ogf/mapper_daemon/map_services.hpp"
 #include "ogf/mapper_daemon/mapper_options.hpp"
+#include "ogf/mapper_daemon/nav_publisher.hpp"
 #include "ogf/mapper_daemon/scan_intake.hpp"
 #include "ogf/mapper_daemon/shared_state.hpp"
 #include "ogf/mapper_daemon/status_report.hpp"
@@ -102,6 +103,7 @@ class MapperDaemon {
   std::thread worker_;
   // After everything its keyframe sender's callbacks use (persistence_, shared_), so it stops first.
   MapPublisher publisher_;
+  NavPublisher nav_;
   bool started_ = false;
   bool stopped_ = false;
 };

@@ -123,6 +123,8 @@ struct MapperOptions {
 
   // Fault injection for tests: drop this fraction of delta updates before publishing (0 = never).
   double test_drop_delta_fraction = 0.0;
+  // The same for the navigation grid's updates (keyframes always go out).
+  double test_drop_nav_fraction = 0.0;
   std::uint32_t test_seed = 1;
 
   Status validate() const;
