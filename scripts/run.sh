@@ -3,7 +3,7 @@
 #   scripts/run.sh [--out DIR] [--speed X] [--duration S] [--world PRESET|FILE] [--lcm-url URL]
 #                  [--view-port PORT] [--view-wait S]
 #     simulates a VLP-16 on a robot in a known world (ogf-sim), starts ogf-mapper and ogf-driver as real
-#     processes on LCM udpm over loopback, follows the map with ogf-map-client and ogf-view (the map in a
+#     processes on LCM udpm over loopback, follows the map and its 2-D grid with ogf-map-client and ogf-view (the map in a
 #     browser at http://127.0.0.1:PORT/, 8765; --view-wait S waits S seconds after printing the address
 #     so a browser can be opened before the drive starts), replays the capture onto UDP
 #     and the odometry onto LCM with ogf-replay, stops the daemons with SIGTERM (the mapper writes its final
@@ -94,7 +94,7 @@ mapper=$!; pids+=("$mapper")
 "$bin/ogf-driver" --lcm-url "$url" --bind-address 127.0.0.1 --data-port "$data_port" --position-port "$position_port" \
   >"$out/logs/driver.log" 2>&1 &
 driver=$!; pids+=("$driver")
-"$bin/ogf-map-client" --lcm-url "$url" --progress >"$out/logs/map-client.log" 2>&1 &
+"$bin/ogf-map-client" --lcm-url "$url" --nav --progress >"$out/logs/map-client.log" 2>&1 &
 client=$!; pids+=("$client")
 "$bin/ogf-view" --lcm-url "$url" --port "$view_port" >"$out/logs/view.log" 2>&1 &
 view=$!; pids+=("$view")
@@ -121,7 +121,7 @@ kill -TERM "$view" 2>/dev/null || true; wait "$view" 2>/dev/null || true
 kill -TERM "$mapper"; mapper_rc=0; wait "$mapper" || mapper_rc=$?
 pids=()
 echo "driver exit $driver_rc, mapper exit $mapper_rc, map client exit $client_rc"
-tail -n 1 "$out/logs/map-client.log" | tee "$out/map-client.txt"
+tail -n 2 "$out/logs/map-client.log" | tee "$out/map-client.txt"
 if [ ! -f "$out/state/snapshot.ogfs" ]; then echo "run.sh: the mapper left no snapshot in $out/state" >&2; exit 1; fi
 cp "$out/state/snapshot.ogfs" "$out/map.ogfs"
 

@@ -230,6 +230,9 @@ def test_quick_start(ctx):
     with open(os.path.join(outdir, "map-client.txt")) as f:
         client = f.read()
     check(re.search(r"\bconsistent yes\b", client), f"the map client did not end consistent with the mapper: {client}")
+    check(re.search(r"\bnav_consistent yes\b", client),
+          f"the map client did not end with the mapper's navigation grid: {client}")
+    check(os.path.getsize(os.path.join(outdir, "nav", "map.pgm")) > 0, "out/nav/map.pgm is missing or empty")
     check(os.path.getsize(os.path.join(outdir, "accuracy.txt")) > 0, "out/accuracy.txt is empty")
     walls = wall_pixels(os.path.join(outdir, "png", "occupancy.png"))
     check(walls >= MIN_WALL_PIXELS_LAB, f"out/png/occupancy.png has {walls} occupied pixels "
