@@ -7,8 +7,6 @@
 namespace ogf::navigation {
 namespace {
 
-constexpr std::size_t kTileColumns = static_cast<std::size_t>(kTileSize) * kTileSize;
-
 std::int32_t floorDiv(std::int32_t a, std::int32_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
 // The column's place in its tile: row-major from the tile's south-west column.
@@ -17,12 +15,12 @@ std::size_t slotOf(const ColumnKey& c) {
   return static_cast<std::size_t>(c.y - t.y * kTileSize) * kTileSize + static_cast<std::size_t>(c.x - t.x * kTileSize);
 }
 
+}  // namespace
+
 ColumnKey columnAt(const TileKey& t, std::size_t slot) {
   return {t.x * kTileSize + static_cast<std::int32_t>(slot % kTileSize),
           t.y * kTileSize + static_cast<std::int32_t>(slot / kTileSize)};
 }
-
-}  // namespace
 
 TileKey tileOf(const ColumnKey& column) { return {floorDiv(column.x, kTileSize), floorDiv(column.y, kTileSize)}; }
 
@@ -136,41 +134,6 @@ void NavProjection::tileValues(const TileKey& key, std::span<std::int8_t> cost,
   }
 }
 
-NavGrid NavProjection::grid() const {
-  NavGrid g;
-  g.resolution = resolution_;
-  g.band = band_;
-  constexpr auto kMax = std::numeric_limits<std::int32_t>::max();
-  constexpr auto kMin = std::numeric_limits<std::int32_t>::min();
-  ColumnKey lo{kMax, kMax}, hi{kMin, kMin};
-  for (const auto& [key, tile] : tiles_) {
-    if (tile->known == 0) continue;
-    for (std::size_t slot = 0; slot < kTileColumns; ++slot) {
-      if (!tile->columns[slot].known()) continue;
-      const auto c = columnAt(key, slot);
-      lo = {std::min(lo.x, c.x), std::min(lo.y, c.y)};
-      hi = {std::max(hi.x, c.x), std::max(hi.y, c.y)};
-    }
-  }
-  if (known_columns_ == 0) return g;
-  g.origin = lo;
-  g.width = hi.x - lo.x + 1;
-  g.height = hi.y - lo.y + 1;
-  const auto n = static_cast<std::size_t>(g.width) * static_cast<std::size_t>(g.height);
-  g.cost.assign(n, kUnknownCost);
-  g.column_class.assign(n, kClassUnknown);
-  for (const auto& [key, tile] : tiles_) {
-    if (tile->known == 0) continue;
-    for (std::size_t slot = 0; slot < kTileColumns; ++slot) {
-      const auto& v = tile->columns[slot];
-      if (!v.known()) continue;
-      const auto c = columnAt(key, slot);
-      const auto i = g.index(c.x - lo.x, c.y - lo.y);
-      g.cost[i] = v.cost;
-      g.column_class[i] = v.column_class;
-    }
-  }
-  return g;
-}
+NavGrid NavProjection::grid() const { return denseGrid(resolution_, band_, *this); }
 
 }  // namespace ogf::navigation

@@ -8,7 +8,6 @@
 namespace ogf::navigation {
 namespace {
 
-constexpr std::size_t kTileColumns = static_cast<std::size_t>(kTileSize) * kTileSize;
 // 2^14 parts of 24 tiles of 32² columns is 400 M columns, beyond any grid a mapper keeps; the bound caps what
 // a corrupt part_count can make a client allocate.
 constexpr std::int32_t kMaxParts = 1 << 14;
@@ -25,11 +24,6 @@ bool validColumn(std::int8_t cost, std::int8_t column_class) {
 std::size_t knownIn(const std::vector<std::int8_t>& column_class) {
   return static_cast<std::size_t>(
       std::count_if(column_class.begin(), column_class.end(), [](std::int8_t c) { return c != kClassUnknown; }));
-}
-
-ColumnKey columnAt(const TileKey& t, std::size_t slot) {
-  return {t.x * kTileSize + static_cast<std::int32_t>(slot % kTileSize),
-          t.y * kTileSize + static_cast<std::int32_t>(slot / kTileSize)};
 }
 
 }  // namespace
@@ -120,37 +114,7 @@ NavColumn NavReceiver::column(const ColumnKey& key) const {
   return {it->second.cost[slot], it->second.column_class[slot]};
 }
 
-NavGrid NavReceiver::grid() const {
-  NavGrid g;
-  g.resolution = meta_.resolution;
-  g.band = meta_.band;
-  if (known_columns_ == 0) return g;
-  constexpr auto kMax = std::numeric_limits<std::int32_t>::max();
-  constexpr auto kMin = std::numeric_limits<std::int32_t>::min();
-  ColumnKey lo{kMax, kMax}, hi{kMin, kMin};
-  for (const auto& [key, values] : tiles_)
-    for (std::size_t slot = 0; slot < kTileColumns; ++slot) {
-      if (values.column_class[slot] == kClassUnknown) continue;
-      const auto c = columnAt(key, slot);
-      lo = {std::min(lo.x, c.x), std::min(lo.y, c.y)};
-      hi = {std::max(hi.x, c.x), std::max(hi.y, c.y)};
-    }
-  g.origin = lo;
-  g.width = hi.x - lo.x + 1;
-  g.height = hi.y - lo.y + 1;
-  const auto n = static_cast<std::size_t>(g.width) * static_cast<std::size_t>(g.height);
-  g.cost.assign(n, kUnknownCost);
-  g.column_class.assign(n, kClassUnknown);
-  for (const auto& [key, values] : tiles_)
-    for (std::size_t slot = 0; slot < kTileColumns; ++slot) {
-      if (values.column_class[slot] == kClassUnknown) continue;
-      const auto c = columnAt(key, slot);
-      const auto i = g.index(c.x - lo.x, c.y - lo.y);
-      g.cost[i] = values.cost[slot];
-      g.column_class[i] = values.column_class[slot];
-    }
-  return g;
-}
+NavGrid NavReceiver::grid() const { return denseGrid(meta_.resolution, meta_.band, *this); }
 
 std::vector<TileKey> NavReceiver::knownTiles() const {
   std::vector<TileKey> out;

@@ -3,12 +3,6 @@
 #include <algorithm>
 
 namespace ogf::navigation {
-namespace {
-
-constexpr std::size_t kTileColumns = static_cast<std::size_t>(kTileSize) * kTileSize;
-
-}  // namespace
-
 std::vector<ogf::nav_grid_t> NavStream::update(std::int64_t utime, const NavProjection& grid,
                                                std::span<const TileKey> tiles) {
   ++seq_;

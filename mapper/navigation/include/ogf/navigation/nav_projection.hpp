@@ -11,6 +11,8 @@
 #include <ogf/common/result.hpp>
 #include <ogf/core/cell_key.hpp>
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -32,7 +34,17 @@ struct TileKey {
   friend constexpr auto operator<=>(const TileKey&, const TileKey&) = default;
 };
 
+inline constexpr std::size_t kTileColumns = static_cast<std::size_t>(kTileSize) * kTileSize;
+
 TileKey tileOf(const ColumnKey& column);
+// The column at `slot` of `tile`, its values' row-major place from the tile's south-west column.
+ColumnKey columnAt(const TileKey& tile, std::size_t slot);
+
+// The dense rectangle over the known columns of `tiles` (anything with knownTiles() and
+// tileValues(tile, cost, class): NavProjection, NavReceiver), row 0 the southernmost; width 0 when no column
+// is known.
+template <class Tiles>
+NavGrid denseGrid(double resolution, const NavBand& band, const Tiles& tiles);
 
 // A 3-D cell's state as the projection reads it.
 struct CellState {
@@ -95,5 +107,42 @@ class NavProjection {
   std::uint64_t checksum_ = 0;
   std::size_t known_columns_ = 0;
 };
+
+template <class Tiles>
+NavGrid denseGrid(double resolution, const NavBand& band, const Tiles& tiles) {
+  NavGrid g;
+  g.resolution = resolution;
+  g.band = band;
+  std::vector<std::int8_t> cost(kTileColumns), column_class(kTileColumns);
+  const auto known_tiles = tiles.knownTiles();
+  // Calls `use(column, cost, class)` for each known column.
+  const auto forKnown = [&](auto&& use) {
+    for (const auto& tile : known_tiles) {
+      tiles.tileValues(tile, cost, column_class);
+      for (std::size_t slot = 0; slot < kTileColumns; ++slot)
+        if (column_class[slot] != kClassUnknown) use(columnAt(tile, slot), cost[slot], column_class[slot]);
+    }
+  };
+  bool any = false;
+  ColumnKey lo, hi;
+  forKnown([&](const ColumnKey& c, std::int8_t, std::int8_t) {
+    lo = any ? ColumnKey{std::min(lo.x, c.x), std::min(lo.y, c.y)} : c;
+    hi = any ? ColumnKey{std::max(hi.x, c.x), std::max(hi.y, c.y)} : c;
+    any = true;
+  });
+  if (!any) return g;
+  g.origin = lo;
+  g.width = hi.x - lo.x + 1;
+  g.height = hi.y - lo.y + 1;
+  const auto n = static_cast<std::size_t>(g.width) * static_cast<std::size_t>(g.height);
+  g.cost.assign(n, kUnknownCost);
+  g.column_class.assign(n, kClassUnknown);
+  forKnown([&](const ColumnKey& c, std::int8_t v, std::int8_t cls) {
+    const auto i = g.index(c.x - lo.x, c.y - lo.y);
+    g.cost[i] = v;
+    g.column_class[i] = cls;
+  });
+  return g;
+}
 
 }  // namespace ogf::navigation
