@@ -15,7 +15,7 @@ sim::GroundTruth truth() {
   t.size = {3, 1, 8};
   t.cells.assign(24, static_cast<std::uint8_t>(sim::CellClass::Free));
   t.cells[1 + 3 * 4] = static_cast<std::uint8_t>(sim::CellClass::Occupied);  // column 1, layer 4
-  for (int z = 0; z < 8; ++z) t.cells[2 + 3 * z] = static_cast<std::uint8_t>(sim::CellClass::Unobservable);
+  for (std::size_t z = 0; z < 8; ++z) t.cells[2 + 3 * z] = static_cast<std::uint8_t>(sim::CellClass::Unobservable);
   return t;
 }
 
