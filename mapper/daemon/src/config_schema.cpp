@@ -443,8 +443,8 @@ void declareFilter(std::vector<ConfigKey>& k) {
       kAll, {{"compact", filter::CovarianceStorage::kCompact}, {"banded", filter::CovarianceStorage::kBanded}},
       [](auto& o) -> auto& { return o.map.filter.covariance; }));
   k.push_back(integerKey("filter.threads", "",
-                         "filter update threads (the map is identical for any count); at 0.1 m, 2 take a street scan "
-                         "from about 2.05× to 2.6× real time on a 2-CPU machine "
+                         "filter update threads (the map is identical for any count); only the updates run in "
+                         "parallel, and on a 2-CPU virtual machine 2 were slower than 1: measure before raising it "
                          "([performance.md](performance.md#where-the-time-goes-in-a-scan))",
                          kAll, 1, 256, [](auto& o) -> auto& { return o.map.filter.threads; }));
 }
