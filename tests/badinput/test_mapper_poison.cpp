@@ -19,7 +19,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <thread>
 
 #include "offline_checksum.hpp"
@@ -29,6 +28,7 @@
 #include "support/child_process.hpp"
 #include "support/daemon_process.hpp"
 #include "support/multicast.hpp"
+#include "support/output_field.hpp"
 #include "support/test_directory.hpp"
 
 namespace {
@@ -36,6 +36,7 @@ namespace {
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 using ogf::testing::ChildProcess;
+using ogf::testing::outputField;
 using Mapper = ogf::testing::DaemonProcess<ogf::mapper_status_t>;
 using ogf::testing::FeedStep;
 using ogf::testing::feedStep;
@@ -48,12 +49,6 @@ std::vector<FeedStep> drive(int from, int to) {
   std::vector<FeedStep> out;
   for (int i = from; i < to; ++i) out.push_back(feedStep(i, kPoints));
   return out;
-}
-
-std::string field(const std::string& line, const std::string& key) {
-  std::smatch m;
-  if (std::regex_search(line, m, std::regex(key + " (\\S+)"))) return m[1];
-  return {};
 }
 
 class MapperPoison : public ::testing::Test {
@@ -117,10 +112,10 @@ class MapperPoison : public ::testing::Test {
     const std::string log = client_->log();
     const std::string line = log.substr(log.rfind("consistent") == std::string::npos ? 0 : log.rfind('\n', log.rfind("consistent")) + 1);
     SCOPED_TRACE(line);
-    EXPECT_EQ(field(line, "consistent"), "yes");
-    EXPECT_EQ(std::stoll(field(line, "seq")), last.delta_seq);
-    EXPECT_FALSE(field(line, " published_checksum").empty());
-    EXPECT_EQ(field(line, " published_checksum"), field(line, "mapper_published_checksum"));
+    EXPECT_EQ(outputField(line, "consistent"), "yes");
+    EXPECT_EQ(std::stoll(outputField(line, "seq")), last.delta_seq);
+    EXPECT_FALSE(outputField(line, " published_checksum").empty());
+    EXPECT_EQ(outputField(line, " published_checksum"), outputField(line, "mapper_published_checksum"));
   }
   // Five scans of the drive, `poison`, five more: every scan is mapped, the map is that of the ten alone,
   // and the client ends consistent. Returns the last status, for the test's own counter.

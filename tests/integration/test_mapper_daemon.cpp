@@ -36,6 +36,7 @@
 #include "ogf/pipeline/scan_mapper.hpp"
 #include "scan_feeder.hpp"
 #include "support/multicast.hpp"
+#include "support/output_field.hpp"
 #include "support/test_directory.hpp"
 
 namespace {
@@ -43,6 +44,7 @@ namespace {
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 using ogf::testing::ChildProcess;
+using ogf::testing::outputField;
 using Mapper = ogf::testing::DaemonProcess<ogf::mapper_status_t>;
 using ogf::testing::kMapperStatusChannel;
 
@@ -71,12 +73,6 @@ std::string lastLine(const std::string& text) {
   if (end == std::string::npos) return {};
   const auto begin = text.rfind('\n', end);
   return text.substr(begin == std::string::npos ? 0 : begin + 1, end - (begin == std::string::npos ? 0 : begin + 1) + 1);
-}
-
-std::string field(const std::string& line, const std::string& key) {
-  std::smatch m;
-  if (std::regex_search(line, m, std::regex(key + " (\\S+)"))) return m[1];
-  return {};
 }
 
 // The client follows `scans` scans of a daemon started with `where` (--in-memory, or a state directory)
@@ -123,13 +119,13 @@ void clientRebuildsTheDaemonsMap(const fs::path& dir, int channel, int scans, co
   EXPECT_EQ(*rc, 0);
   const std::string line = lastLine(client.log());
   SCOPED_TRACE(line);
-  EXPECT_EQ(field(line, "consistent"), "yes");
-  EXPECT_EQ(std::stoll(field(line, "seq")), done->delta_seq);
-  EXPECT_FALSE(field(line, " published_checksum").empty());
-  EXPECT_EQ(field(line, " published_checksum"), field(line, "mapper_published_checksum"));
-  EXPECT_GT(std::stoll(field(line, "gaps")), 0) << "the injection should have made gaps";
-  EXPECT_GE(std::stoll(field(line, "keyframes")), 1);
-  EXPECT_EQ(field(line, "malformed"), "0");
+  EXPECT_EQ(outputField(line, "consistent"), "yes");
+  EXPECT_EQ(std::stoll(outputField(line, "seq")), done->delta_seq);
+  EXPECT_FALSE(outputField(line, " published_checksum").empty());
+  EXPECT_EQ(outputField(line, " published_checksum"), outputField(line, "mapper_published_checksum"));
+  EXPECT_GT(std::stoll(outputField(line, "gaps")), 0) << "the injection should have made gaps";
+  EXPECT_GE(std::stoll(outputField(line, "keyframes")), 1);
+  EXPECT_EQ(outputField(line, "malformed"), "0");
   EXPECT_TRUE(mapper.stop());
 }
 
@@ -185,11 +181,11 @@ TEST_F(MapperDaemonTest, CellsOverTheDeltaBudgetWaitAndTheClientEndsWithTheMappe
   EXPECT_EQ(*rc, 0);
   const std::string line = lastLine(client.log());
   SCOPED_TRACE(line);
-  EXPECT_EQ(field(line, "consistent"), "yes");
-  EXPECT_EQ(std::stoll(field(line, "seq")), done->delta_seq);
-  EXPECT_EQ(field(line, " published_checksum"), field(line, "mapper_published_checksum"));
-  EXPECT_EQ(field(line, "gaps"), "0");
-  EXPECT_EQ(field(line, "malformed"), "0");
+  EXPECT_EQ(outputField(line, "consistent"), "yes");
+  EXPECT_EQ(std::stoll(outputField(line, "seq")), done->delta_seq);
+  EXPECT_EQ(outputField(line, " published_checksum"), outputField(line, "mapper_published_checksum"));
+  EXPECT_EQ(outputField(line, "gaps"), "0");
+  EXPECT_EQ(outputField(line, "malformed"), "0");
   EXPECT_TRUE(mapper.stop());
 }
 

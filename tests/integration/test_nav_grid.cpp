@@ -21,7 +21,6 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -33,6 +32,7 @@
 #include "support/daemon_process.hpp"
 #include "support/lcm_thread.hpp"
 #include "support/multicast.hpp"
+#include "support/output_field.hpp"
 #include "support/test_directory.hpp"
 
 namespace {
@@ -40,17 +40,12 @@ namespace {
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 using ogf::testing::ChildProcess;
+using ogf::testing::outputField;
 using Mapper = ogf::testing::DaemonProcess<ogf::mapper_status_t>;
 using ogf::testing::kMapperStatusChannel;
 
 const std::string kBin = OGF_BIN_DIR;
 constexpr double kRes = 0.2;  // the mapper's default resolution
-
-std::string field(const std::string& line, const std::string& key) {
-  std::smatch m;
-  if (std::regex_search(line, m, std::regex(key + " (\\S+)"))) return m[1];
-  return {};
-}
 
 // The last line of `text` that starts with `prefix`.
 std::string lineStarting(const std::string& text, const std::string& prefix) {
@@ -172,17 +167,17 @@ TEST_F(NavGridTest, ClientFollowsTheLiveGridToTheMappersChecksumThroughDroppedUp
   SCOPED_TRACE(deltas);
   const auto last = mapper.latestStatus();
   ASSERT_TRUE(last);
-  EXPECT_EQ(field(nav, "nav_consistent"), "yes");
-  EXPECT_EQ(std::stoll(field(nav, "nav_seq")), last->nav_seq);
-  EXPECT_EQ(field(nav, " nav_checksum"), hex(last->nav_checksum)) << "the client's grid is not the mapper's";
-  EXPECT_EQ(field(nav, " nav_checksum"), field(nav, "mapper_nav_checksum"));
-  EXPECT_EQ(std::stoll(field(nav, "nav_known_columns")), last->nav_known_columns);
-  EXPECT_GT(std::stoll(field(nav, "nav_gaps")), 0) << "the injection should have made gaps";
-  EXPECT_GE(std::stoll(field(nav, "nav_keyframes")), 2) << "one at the start, one per gap";
-  EXPECT_EQ(field(nav, "nav_malformed"), "0");
+  EXPECT_EQ(outputField(nav, "nav_consistent"), "yes");
+  EXPECT_EQ(std::stoll(outputField(nav, "nav_seq")), last->nav_seq);
+  EXPECT_EQ(outputField(nav, " nav_checksum"), hex(last->nav_checksum)) << "the client's grid is not the mapper's";
+  EXPECT_EQ(outputField(nav, " nav_checksum"), outputField(nav, "mapper_nav_checksum"));
+  EXPECT_EQ(std::stoll(outputField(nav, "nav_known_columns")), last->nav_known_columns);
+  EXPECT_GT(std::stoll(outputField(nav, "nav_gaps")), 0) << "the injection should have made gaps";
+  EXPECT_GE(std::stoll(outputField(nav, "nav_keyframes")), 2) << "one at the start, one per gap";
+  EXPECT_EQ(outputField(nav, "nav_malformed"), "0");
   // The 3-D deltas, followed beside the grid.
-  EXPECT_EQ(field(deltas, "consistent"), "yes");
-  EXPECT_EQ(field(deltas, " published_checksum"), field(deltas, "mapper_published_checksum"));
+  EXPECT_EQ(outputField(deltas, "consistent"), "yes");
+  EXPECT_EQ(outputField(deltas, " published_checksum"), outputField(deltas, "mapper_published_checksum"));
 
   // The grid is the room's.
   ASSERT_TRUE(listener.consistentAt(last->nav_seq));
@@ -255,9 +250,9 @@ void gridSurvivesARestart(const fs::path& dir, int channel, bool paging) {
   EXPECT_EQ(lineStarting(log, "map_id "), "") << "--nav-only follows no 3-D deltas";
   const std::string nav = lineStarting(log, "nav_map_id ");
   SCOPED_TRACE(nav);
-  EXPECT_EQ(field(nav, "nav_consistent"), "yes");
-  EXPECT_EQ(std::stoll(field(nav, "nav_known_columns")), known);
-  EXPECT_EQ(field(nav, "nav_seq"), "0");
+  EXPECT_EQ(outputField(nav, "nav_consistent"), "yes");
+  EXPECT_EQ(std::stoll(outputField(nav, "nav_known_columns")), known);
+  EXPECT_EQ(outputField(nav, "nav_seq"), "0");
   EXPECT_TRUE(mapper.stop());
 }
 
