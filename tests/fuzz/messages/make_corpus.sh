@@ -47,25 +47,19 @@ for ch, payloads in sorted(by_channel.items()):
     seeds = [p for p in by_size[:1] if len(p) <= 32768] + [p for p in by_size if 400 < len(p) <= 32768][:1]
     for n, p in enumerate(seeds):
         open(os.path.join(single, f"{ch}-{n}"), "wb").write(p)
-stream = os.path.join(out, "map_delta_stream"); os.makedirs(stream, exist_ok=True)
-deltas = by_channel.get("OGF_MAP_DELTA", [])
-for n in range(3):
-    chunk, total = b"", 0
-    for p in deltas[n * 4:]:
-        if total + len(p) > 16384:
-            continue
-        chunk += struct.pack(">H", len(p)) + p
-        total += len(p) + 2
-    open(os.path.join(stream, f"stream-{n}"), "wb").write(chunk)
-grids = by_channel.get("OGF_NAV_GRID", [])
-nav = os.path.join(out, "nav_grid_stream"); os.makedirs(nav, exist_ok=True)
-for n in range(3):
-    chunk, total = b"", 0
-    for p in grids[n * 3:]:
-        if total + len(p) > 65536:
-            continue
-        chunk += struct.pack(">H", len(p)) + p
-        total += len(p) + 2
-    open(os.path.join(nav, f"stream-{n}"), "wb").write(chunk)
+def write_streams(name, payloads, stride, budget):
+    """Three seeds of consecutive payloads, each 2-byte BE length + payload, skipping what exceeds `budget`;
+    seed n starts at payload n * stride."""
+    folder = os.path.join(out, name); os.makedirs(folder, exist_ok=True)
+    for n in range(3):
+        chunk, total = b"", 0
+        for p in payloads[n * stride:]:
+            if total + len(p) > budget:
+                continue
+            chunk += struct.pack(">H", len(p)) + p
+            total += len(p) + 2
+        open(os.path.join(folder, f"stream-{n}"), "wb").write(chunk)
+write_streams("map_delta_stream", by_channel.get("OGF_MAP_DELTA", []), 4, 16384)
+write_streams("nav_grid_stream", by_channel.get("OGF_NAV_GRID", []), 3, 65536)
 print({ch: len(p) for ch, p in by_channel.items()})
 PY
