@@ -62,9 +62,9 @@ std::vector<Measurement> marked(CellMarks& marks, const Scan& scan, double resol
   for (const Ray& r : scan.rays) marks.markFree(RayCaster(r.origin, r.end, resolution));
   for (const CellKey& k : scan.free_cells) marks.markFree(k);
   for (const CellKey& k : scan.occupied_cells) marks.markOccupied(k);
-  std::vector<Measurement> out;
+  MeasurementBuffer out;
   marks.appendSorted(out);
-  return out;
+  return {out.begin(), out.end()};
 }
 
 // What the marks must be: every cell of each ray by the brute-force traversal, free, then the single cells,

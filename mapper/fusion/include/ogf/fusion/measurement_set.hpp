@@ -67,7 +67,7 @@ class MeasurementSet {
   MeasurementConfig config_;
   double coordinate_limit_m_;  // 2^30 cells
   CellMarks marks_;
-  std::vector<Measurement> measurements_;
+  MeasurementBuffer measurements_;
   RayCounts counts_;
 };
 
