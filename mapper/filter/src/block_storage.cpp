@@ -5,20 +5,20 @@
 
 namespace ogf::filter {
 
-Block::Block(std::size_t cells, std::size_t floats)
-    : cells_(cells), size_(floats),
-      data_(std::make_unique_for_overwrite<float[]>(size_ + (cells + sizeof(float) - 1) / sizeof(float))) {
+Block::Block(std::size_t cells, std::size_t floats, BlockArena& arena)
+    : cells_(cells), size_(floats), data_(static_cast<float*>(arena.allocate()), Release{&arena}) {
   std::fill(marks().begin(), marks().end(), std::uint8_t{0});
 }
 
 BlockStorage::BlockStorage(int dimensions, std::size_t floatsPerBlock)
     : dimensions_(dimensions),
       cellsPerBlock_(dimensions == 3 ? kBlockSide * kBlockSide * kBlockSide : kBlockSide * kBlockSide),
-      floatsPerBlock_(floatsPerBlock) {}
+      floatsPerBlock_(floatsPerBlock),
+      arena_(std::make_unique<BlockArena>(floatsPerBlock * sizeof(float) + cellsPerBlock_)) {}
 
 Block& BlockStorage::obtain(const CellKey& blockKey, bool& fresh) {
   Block& block = blocks_.findOrInsert(
-      blockKey, [&] { return std::make_unique<Block>(cellsPerBlock_, floatsPerBlock_); }, fresh);
+      blockKey, [&] { return std::make_unique<Block>(cellsPerBlock_, floatsPerBlock_, *arena_); }, fresh);
   block.changed();  // handed out for writing
   return block;
 }
@@ -32,9 +32,9 @@ std::vector<CellKey> BlockStorage::sortedKeys() const {
 }
 
 std::size_t BlockStorage::memoryBytes() const {
-  // Per block: the float arrays and marks and the Block object; plus the table's slots (key and pointer).
-  const std::size_t perBlock = floatsPerBlock_ * sizeof(float) + cellsPerBlock_ + sizeof(Block);
-  return blocks_.size() * perBlock + blocks_.capacity() * BlockTable<Block>::bytesPerSlot();
+  // Per block its slot (values and marks) and Block object; plus the table's slots (key and pointer).
+  return blocks_.size() * (arena_->slotBytes() + sizeof(Block)) +
+         blocks_.capacity() * BlockTable<Block>::bytesPerSlot();
 }
 
 }  // namespace ogf::filter

@@ -9,8 +9,10 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
+#include "ogf/filter/block_arena.hpp"
 #include "ogf/filter/block_table.hpp"
 #include "ogf/filter/filter_config.hpp"
 
@@ -28,9 +30,10 @@ inline std::size_t localIndexOf(const CellKey& cell) {
 
 class Block {
  public:
-  // `floats` values (the layout is the filter's), left uninitialised: the owner writes every one (the
-  // prior, or a restored block). The marks start at 0.
-  Block(std::size_t cells, std::size_t floats);
+  // `floats` values (the layout is the filter's) in a slot of `arena` (of at least floats + cells bytes,
+  // returned when the block goes), left uninitialised: the owner writes every one (the prior, or a
+  // restored block). The marks start at 0.
+  Block(std::size_t cells, std::size_t floats, BlockArena& arena);
   std::size_t cells() const { return cells_; }
   // Banded layout: cell-major; cell l at l·(2 + F): [mean, variance, slot 0, ..., slot F-1]. Compact
   // layout: the cells' means, then their variance codes (variance_code.hpp) two to a float.
@@ -57,7 +60,11 @@ class Block {
  private:
   std::size_t cells_;
   std::size_t size_;
-  std::unique_ptr<float[]> data_;
+  struct Release {
+    BlockArena* arena = nullptr;
+    void operator()(float* values) const noexcept { arena->release(values); }
+  };
+  std::unique_ptr<float[], Release> data_;
   mutable std::uint64_t hash_ = 0;
   mutable bool hashKnown_ = false;
 };
@@ -72,6 +79,19 @@ struct CellMark {
 class BlockStorage {
  public:
   BlockStorage(int dimensions, std::size_t floatsPerBlock);
+  BlockStorage(BlockStorage&&) noexcept = default;
+  // The blocks go before their arena: member by member, the arena would go first.
+  BlockStorage& operator=(BlockStorage&& other) noexcept {
+    blocks_ = std::move(other.blocks_);
+    arena_ = std::move(other.arena_);
+    dimensions_ = other.dimensions_;
+    cellsPerBlock_ = other.cellsPerBlock_;
+    floatsPerBlock_ = other.floatsPerBlock_;
+    return *this;
+  }
+  BlockStorage(const BlockStorage&) = delete;
+  BlockStorage& operator=(const BlockStorage&) = delete;
+  ~BlockStorage() = default;
 
   std::size_t cellsPerBlock() const { return cellsPerBlock_; }
   std::size_t floatsPerBlock() const { return floatsPerBlock_; }
@@ -91,7 +111,8 @@ class BlockStorage {
   }
   // Removes a block; false when there is none.
   bool erase(const CellKey& blockKey) { return blocks_.erase(blockKey); }
-  // Bytes in use: block arrays and marks, block headers and the hash table.
+  // Bytes in use: the blocks' slots, their headers and the hash table. Not counted: the slots the arena
+  // keeps for reuse (of erased blocks, and the rest of its last chunk, at most 2 MB).
   std::size_t memoryBytes() const;
   // Key of the cell at `local` in block `blockKey` (inline: the change detection calls it for every cell
   // it reports).
@@ -106,6 +127,7 @@ class BlockStorage {
   int dimensions_;
   std::size_t cellsPerBlock_;
   std::size_t floatsPerBlock_;
+  std::unique_ptr<BlockArena> arena_;  // before blocks_: it outlives them, and stays put when moved
   BlockTable<Block> blocks_;
 };
 
