@@ -617,7 +617,8 @@ void BandedOgf::applyColours(std::span<const Group> sorted, UpdateStats& stats) 
 }
 
 // Groups [g0, g1) of one colour on config_.threads threads (the calling one among them), each taking the
-// next group as it finishes one.
+// next kParallelGroups groups as it finishes the ones before: a run of groups keeps applyRun's prefetch
+// going from one block to the next, where a group at a time restarts it at every block.
 void BandedOgf::applyColourInParallel(std::span<const Group> sorted, std::size_t g0, std::size_t g1,
                                       UpdateStats& stats) {
   Batch& work = scratch_;
@@ -626,8 +627,9 @@ void BandedOgf::applyColourInParallel(std::span<const Group> sorted, std::size_t
   std::vector<UpdateStats> partial(std::min(static_cast<std::size_t>(config_.threads), g1 - g0));
   auto run = [&](std::size_t w) {
     std::vector<float*> ring(ringSize);
-    for (std::size_t g = next.fetch_add(1); g < g1; g = next.fetch_add(1)) {
-      applyRun(sorted.subspan(g, 1), work.sorted, &work.neighbourhoods[g * 27], ring, partial[w]);
+    for (std::size_t g = next.fetch_add(kParallelGroups); g < g1; g = next.fetch_add(kParallelGroups)) {
+      const std::size_t n = std::min(kParallelGroups, g1 - g);
+      applyRun(sorted.subspan(g, n), work.sorted, &work.neighbourhoods[g * 27], ring, partial[w]);
     }
   };
   {

@@ -250,6 +250,7 @@ class BandedOgf {
   static constexpr std::size_t kGroupSlotAhead = 16;
   static constexpr std::size_t kGroupLookAhead = 6;
   static constexpr std::size_t kRingSlots = 8;  // a power of two above kPrefetchAhead
+  static constexpr std::size_t kParallelGroups = 16;  // groups a filter thread takes at a time
   static_assert(std::has_single_bit(kRingSlots) && kRingSlots > kPrefetchAhead);
 
   // update()'s stages, in order (each says what it does where it is defined).
