@@ -617,20 +617,26 @@ void BandedOgf::applyColours(std::span<const Group> sorted, UpdateStats& stats) 
 }
 
 // Groups [g0, g1) of one colour on config_.threads threads (the calling one among them), each taking the
-// next kParallelGroups groups as it finishes the ones before: a run of groups keeps applyRun's prefetch
-// going from one block to the next, where a group at a time restarts it at every block.
+// next few groups (up to kParallelGroups) as it finishes the ones before: a run of groups keeps applyRun's
+// prefetch going from one block to the next, where a group at a time restarts it at every block.
 void BandedOgf::applyColourInParallel(std::span<const Group> sorted, std::size_t g0, std::size_t g1,
                                       UpdateStats& stats) {
   Batch& work = scratch_;
   const std::size_t ringSize = kRingSlots * band_.pointers;
   std::atomic<std::size_t> next{g0};
   std::vector<UpdateStats> partial(std::min(static_cast<std::size_t>(config_.threads), g1 - g0));
+  // Eight shares a thread at least, for the balance, where the colour has fewer than kParallelGroups each.
+  const std::size_t step = std::clamp<std::size_t>((g1 - g0) / (partial.size() * 8), 1, kParallelGroups);
   auto run = [&](std::size_t w) {
     std::vector<float*> ring(ringSize);
-    for (std::size_t g = next.fetch_add(kParallelGroups); g < g1; g = next.fetch_add(kParallelGroups)) {
-      const std::size_t n = std::min(kParallelGroups, g1 - g);
-      applyRun(sorted.subspan(g, n), work.sorted, &work.neighbourhoods[g * 27], ring, partial[w]);
+    // Counted on the thread's stack: the threads' entries of `partial` share a cache line, and counting
+    // there made every update of one thread invalidate the other's line.
+    UpdateStats counted;
+    for (std::size_t g = next.fetch_add(step); g < g1; g = next.fetch_add(step)) {
+      const std::size_t n = std::min(step, g1 - g);
+      applyRun(sorted.subspan(g, n), work.sorted, &work.neighbourhoods[g * 27], ring, counted);
     }
+    partial[w] = counted;
   };
   {
     std::vector<std::jthread> pool;
