@@ -444,7 +444,7 @@ void declareFilter(std::vector<ConfigKey>& k) {
       [](auto& o) -> auto& { return o.map.filter.covariance; }));
   k.push_back(integerKey("filter.threads", "",
                          "filter update threads (the map is identical for any count); only the updates run in "
-                         "parallel, and on a 2-CPU virtual machine 2 were slower than 1: measure before raising it "
+                         "parallel: 2 mapped 0.1 m street scans 1.3x as fast as 1 on a 2-CPU virtual machine "
                          "([performance.md](performance.md#where-the-time-goes-in-a-scan))",
                          kAll, 1, 256, [](auto& o) -> auto& { return o.map.filter.threads; }));
 }
