@@ -33,7 +33,8 @@ std::vector<CellKey> BlockStorage::sortedKeys() const {
 
 std::size_t BlockStorage::memoryBytes() const {
   // Per block its slot (values and marks) and Block object; plus the table's slots (key and pointer).
-  return blocks_.size() * (arena_->slotBytes() + sizeof(Block)) +
+  const std::size_t slot = arena_ ? arena_->slotBytes() : 0;  // no arena: moved from
+  return blocks_.size() * (slot + sizeof(Block)) +
          blocks_.capacity() * BlockTable<Block>::bytesPerSlot();
 }
 
