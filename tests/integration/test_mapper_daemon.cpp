@@ -137,15 +137,19 @@ TEST_F(MapperDaemonTest, ClientRebuildsTheDaemonsMapOver1000ScansWithGapsInjecte
 // client's map and checksum still equal the daemon's, keyframes (with the paged-out cells read from their
 // pages) included.
 // With deltas.max_bytes_per_s far below what the scans change, cells wait in the mapper (the status counts
-// them) and go out in later updates, and the client, applying every message, ends with the mapper's
-// published checksum at its last update.
+// them, never more than deltas.max_wait_s of the rate; the changes beyond mark their slabs stale) and go
+// out in later updates, and the client, applying every message, ends with the mapper's published checksum
+// at its last update.
 TEST_F(MapperDaemonTest, CellsOverTheDeltaBudgetWaitAndTheClientEndsWithTheMappersChecksum) {
   const fs::path dir = dir_;
   // 30 kB/s: about 150 cells per 100 ms scan, against thousands of changed cells in the first scans.
   std::ofstream(dir / "mapper.yaml") << "status_interval_s: 0.1\n"
                                         "deltas:\n"
                                         "  max_bytes_per_s: 30000\n"
-                                        "  burst_s: 0.1\n";
+                                        "  burst_s: 0.1\n"
+                                        "  max_wait_s: 0.5\n";
+  // 0.5 s of 30 kB/s, 19 bytes a cell beyond each message's header.
+  const std::int64_t max_waiting = 15000 / 19;
   const std::string url = ogf::testing::loopbackUdpmUrl(44);
   Mapper mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--config", (dir / "mapper.yaml").string(), "--in-memory",
                  "--keyframe-interval", "1000", "--log-level", "warn"},
@@ -173,6 +177,8 @@ TEST_F(MapperDaemonTest, CellsOverTheDeltaBudgetWaitAndTheClientEndsWithTheMappe
       60s);
   ASSERT_TRUE(done) << mapper.log();
   EXPECT_GT(most_waiting, 0) << "the budget should have held cells back";
+  EXPECT_LE(most_waiting, max_waiting);
+  EXPECT_GT(done->delta_cells_overflowed, 0) << "the scans' changes should have outrun the waiting cells";
   EXPECT_GT(done->delta_cells_sent, 0);
   EXPECT_GT(done->delta_bytes_sent, 0);
 

@@ -553,6 +553,11 @@ void declareDeltas(std::vector<ConfigKey>& k) {
                          [](auto& o) -> auto& { return o.deltas.max_bytes_per_s; }));
   k.push_back(numberKey("deltas.burst_s", "s", "the most the delta channel sends at once, in seconds of its rate",
                         kMapper, positive, [](auto& o) -> auto& { return o.deltas.burst_s; }));
+  k.push_back(numberKey("deltas.max_wait_s", "s",
+                        "the most cells that wait for the rate, in seconds of it; a change beyond them marks its "
+                        "8 x 8 slab of cells stale, sent from the map as it is then once the waiting cells drain "
+                        "(bounds the memory and time of a map that changes faster than the rate carries)",
+                        kMapper, positive, [](auto& o) -> auto& { return o.deltas.max_wait_s; }));
 }
 
 // A fraction in [0, 1].

@@ -4,6 +4,7 @@
 #include <ogf/odometry_t.hpp>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 
 #include "ogf/mapper_daemon/daemon_time.hpp"
@@ -43,6 +44,10 @@ void MapPublisher::stop() { keyframe_sender_.reset(); }
 
 void MapPublisher::grant() {
   deltas_.setRule({options_.deltas.probability_step, options_.deltas.variance_step});
+  if (options_.deltas.max_bytes_per_s > 0) {
+    const double waiting_bytes = static_cast<double>(options_.deltas.max_bytes_per_s) * options_.deltas.max_wait_s;
+    deltas_.limitWaiting(deltas_.cellsWithin(static_cast<std::int64_t>(std::min(waiting_bytes, 1e15))));
+  }
   std::lock_guard lk(budget_mu_);
   channel_budget_.refill(steadyUtime());
   deltas_.allow(channel_budget_.allowance());
@@ -83,6 +88,8 @@ void MapPublisher::publishDeltas(const std::vector<ogf::map_delta_t>& deltas) {
     stats.delta_cells_sent += static_cast<std::int64_t>(update.sent);
     stats.delta_cells_waiting = static_cast<std::int64_t>(update.deferred);
     stats.delta_class_changes_waiting = static_cast<std::int64_t>(deltas_.deferred().classChanges());
+    stats.delta_cells_overflowed = static_cast<std::int64_t>(deltas_.overflowed());
+    stats.delta_slabs_stale = static_cast<std::int64_t>(update.stale);
   }
   grant();
 }

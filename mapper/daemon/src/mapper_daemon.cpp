@@ -10,6 +10,7 @@
 #include "map_id.hpp"
 #include "ogf/adapters/message_adapters.hpp"
 #include "ogf/mapper_daemon/daemon_time.hpp"
+#include "ogf/pipeline/published_cells.hpp"
 
 namespace ogf::mapper_daemon {
 
@@ -229,6 +230,7 @@ void MapperDaemon::mapScan(const ScanPtr& scan, SourceIntake& source) {
   changes_.clear();
   persistence_.bringIn(measurements);
   mapper_.apply(measurements, &changes_);
+  pipeline::refreshStaleSlabs(mapper_.filter(), deltas_);
   const auto deltas = deltas_.update(scan->utime, changes_);
   persistence_.pageOut();  // after the delta: the published cells of a region leave with it
   publisher_.publishDeltas(deltas);

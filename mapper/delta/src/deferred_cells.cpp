@@ -11,20 +11,45 @@ void DeferredCells::enqueue(const CellKey& key, Slot& slot) {
   class_changes_ += slot.entry.worth == Worth::kClass ? 1 : 0;
 }
 
-void DeferredCells::add(const Entry& entry) {
+bool DeferredCells::waits(const CellKey& key) const {
+  const CellKey slab = PublishedBlock::blockKeyOf(key);
+  if (!asked_valid_ || !(slab == asked_slab_)) {
+    const std::uint64_t* bits = slabs_.find(slab);
+    asked_bits_ = bits == nullptr ? 0 : *bits;
+    asked_slab_ = slab;
+    asked_valid_ = true;
+  }
+  return (asked_bits_ >> PublishedBlock::localIndexOf(key) & 1U) != 0;
+}
+
+void DeferredCells::erase(const CellKey& key) {
+  cells_.erase(key);
+  const CellKey slab = PublishedBlock::blockKeyOf(key);
+  std::uint64_t& bits = slabs_.obtain(slab);
+  bits &= ~(std::uint64_t{1} << PublishedBlock::localIndexOf(key));
+  if (bits == 0) slabs_.erase(slab);
+  asked_valid_ = false;
+}
+
+bool DeferredCells::add(const Entry& entry) {
+  if (full()) return false;
+  slabs_.obtain(PublishedBlock::blockKeyOf(entry.cell.key)) |= std::uint64_t{1} << PublishedBlock::localIndexOf(entry.cell.key);
+  asked_valid_ = false;
   Slot& slot = cells_.obtain(entry.cell.key);
   slot.entry = entry;
   enqueue(entry.cell.key, slot);
+  return true;
 }
 
 bool DeferredCells::refresh(const PublishedCell& cell, Worth worth) {
+  if (!waits(cell.key)) return false;
   Slot* found = cells_.find(cell.key);
   if (found == nullptr) return false;
   Slot& slot = *found;
   if (worth == Worth::kNothing) {
     // Back within the step of what clients hold: nothing to send. Its queue element is skipped later.
     forget(slot.entry.worth);
-    cells_.erase(cell.key);
+    erase(cell.key);
     return true;
   }
   slot.entry.cell = cell;
@@ -50,6 +75,8 @@ void DeferredCells::compact() {
 
 void DeferredCells::clear() {
   cells_.clear();
+  slabs_.clear();
+  asked_valid_ = false;
   class_queue_.clear();
   other_queue_.clear();
   class_changes_ = 0;

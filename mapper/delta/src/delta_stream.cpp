@@ -39,8 +39,20 @@ std::vector<ogf::map_delta_t> DeltaStream::update(std::int64_t utime, std::span<
   auto out = split(utime, ogf::map_delta_t::KIND_DELTA, seq_ - 1, changed_);
   figures_.sent = changed_.size();
   figures_.deferred = deferred_.size();
+  figures_.stale = stale_.size();
   figures_.bytes = bytesOf(out);
   return out;
+}
+
+std::pair<Worth, bool> DeltaStream::judge(const PublishedCell& c, std::int32_t step, double variance_step) {
+  Worth worth = Worth::kNothing;
+  bool present = false;
+  map_.setIf(c, [&](const PublishedCell& published, bool was) {
+    worth = worthSending(c, published, step, variance_step);
+    present = was;
+    return false;  // only read
+  });
+  return {worth, present};
 }
 
 void DeltaStream::chooseWithin(std::span<const PublishedCell> candidates) {
@@ -53,14 +65,7 @@ void DeltaStream::chooseWithin(std::span<const PublishedCell> candidates) {
   for (std::size_t i = 0; i < n; ++i) {
     const PublishedCell& c = candidates[i];
     prefetchAhead(candidates, i);
-    if (waiting && i + kAhead < n) deferred_.prefetch(candidates[i + kAhead].key);
-    Worth worth = Worth::kNothing;
-    bool present = false;
-    map_.setIf(c, [&](const PublishedCell& published, bool was) {
-      worth = worthSending(c, published, step, variance_step);
-      present = was;
-      return false;
-    });
+    const auto [worth, present] = judge(c, step, variance_step);
     // A waiting cell takes its newest state and keeps its place (or leaves, back within the step).
     if (waiting && deferred_.refresh(c, worth)) continue;
     if (worth != Worth::kNothing) wanted_.push_back({c, worth, present});
@@ -74,7 +79,7 @@ void DeltaStream::chooseWithin(std::span<const PublishedCell> candidates) {
         chosen_.push_back(e);
         --room;
       } else {
-        deferred_.add(e);
+        wait(e);
       }
     }
   };
@@ -104,6 +109,38 @@ void DeltaStream::takeDeferred(Worth worth, std::size_t& room) {
       --room;
     }
     taken.clear();
+  }
+}
+
+void DeltaStream::wait(const DeferredCells::Entry& entry) {
+  if (deferred_.add(entry)) return;
+  ++figures_.overflowed;
+  ++overflowed_;
+  if (entry.worth == Worth::kClass) {
+    // A class change is worth more to a client than a probability move: the oldest waiting move leaves.
+    std::vector<DeferredCells::Entry> evicted;
+    if (deferred_.take(Worth::kProbability, 1, evicted) == 1) {
+      stale_.markCellsSlab(evicted.front().cell.key);
+      deferred_.add(entry);
+      return;
+    }
+  }
+  stale_.markCellsSlab(entry.cell.key);
+}
+
+std::vector<CellKey> DeltaStream::staleSlabsToRead(std::size_t max) {
+  std::vector<CellKey> slabs;
+  stale_.take(std::min(max, deferred_.room() / PublishedBlock::kCells), slabs);
+  return slabs;
+}
+
+void DeltaStream::refreshStale(std::span<const PublishedCell> cells) {
+  const std::int32_t step = rule_.quantisedStep();
+  const double variance_step = rule_.variance_step;
+  for (const PublishedCell& c : cells) {
+    const auto [worth, present] = judge(c, step, variance_step);
+    if (deferred_.refresh(c, worth)) continue;
+    if (worth != Worth::kNothing) wait({c, worth, present});
   }
 }
 
@@ -140,6 +177,7 @@ void DeltaStream::reset(std::span<const PublishedCell> cells, std::int64_t seq) 
   seq_ = seq;
   map_.clear();
   deferred_.clear();
+  stale_.clear();
   for (const PublishedCell& c : cells) map_.set(c);
 }
 

@@ -17,6 +17,7 @@
 #include <octomap/OcTree.h>
 
 #include <ogf/delta/delta_stream.hpp>
+#include <ogf/pipeline/published_cells.hpp>
 #include <ogf/fusion/pose_buffer.hpp>
 #include <ogf/pipeline/scan_mapper.hpp>
 #include <ogf/sim/scene.hpp>
@@ -163,16 +164,18 @@ struct OgfResult {
   std::size_t published_cells = 0, published_memory = 0;  // the published map, with --deltas
   Timing stream;                    // DeltaStream::update per scan (outside total), with --deltas
   double published_per_scan = 0.0;  // cells the delta messages carry per scan
+  std::size_t waiting = 0, stale = 0, overflowed = 0;  // after the last scan, with --delta-bytes-per-scan
   template <class F>
   void fields(F& f) {
     f(total), f(measure), f(apply), f(memory), f(cells), f(measurements_per_scan), f(applied_per_scan);
     f(published_cells), f(published_memory), f(stream), f(published_per_scan);
+    f(waiting), f(stale), f(overflowed);
   }
 };
 
 // `config`'s OGF at `resolution`.
 OgfResult runOgf(const std::vector<RayScan>& scans, ogf::pipeline::MapperConfig config, double resolution, bool deltas,
-                 double delta_step, std::int64_t delta_bytes_per_scan) {
+                 double delta_step, std::int64_t delta_bytes_per_scan, double delta_max_wait_s) {
   config.setResolution(resolution);
   const int threads = config.filter.threads;
   auto mapper = ogf::pipeline::ScanMapper::create(config);
@@ -188,6 +191,10 @@ OgfResult runOgf(const std::vector<RayScan>& scans, ogf::pipeline::MapperConfig 
   // With --deltas, the published map the daemon keeps beside the filter (outside the OGF's timing).
   ogf::delta::DeltaStream stream({resolution, 1, ogf::messages::kMaxDeltaCellsPerMessage},
                                  ogf::delta::PublishingRule{delta_step, 0.0});
+  // The waiting cells ogf-mapper allows: deltas.max_wait_s of its rate (the budget at 10 Hz).
+  if (delta_bytes_per_scan > 0) {
+    stream.limitWaiting(stream.cellsWithin(static_cast<std::int64_t>(static_cast<double>(delta_bytes_per_scan) * 10.0 * delta_max_wait_s)));
+  }
   for (const RayScan& s : scans) {
     // The rays relative to the origin, placed back with a pure translation (outside the timing, as
     // OctoMap's point cloud is built outside it).
@@ -215,6 +222,7 @@ OgfResult runOgf(const std::vector<RayScan>& scans, ogf::pipeline::MapperConfig 
     if (deltas) {
       // The delta stream ogf-mapper keeps beside the filter: timed apart, as it is not the filter's work.
       const double s0 = now();
+      ogf::pipeline::refreshStaleSlabs(mapper->filter(), stream);
       if (delta_bytes_per_scan > 0) stream.allow(delta_bytes_per_scan);
       for (const auto& m : stream.update(0, changes)) published += static_cast<std::size_t>(m.num_cells);
       r.stream.ms.push_back(now() - s0);
@@ -228,6 +236,9 @@ OgfResult runOgf(const std::vector<RayScan>& scans, ogf::pipeline::MapperConfig 
   r.cells = mapper->filter().allocatedCells();
   r.published_cells = stream.map().size();
   r.published_memory = stream.map().memoryBytes();
+  r.waiting = stream.deferred().size();
+  r.stale = stream.stale().size();
+  r.overflowed = stream.overflowed();
   const auto n_scans = static_cast<double>(std::max<std::size_t>(scans.size(), 1));
   r.measurements_per_scan = static_cast<double>(measurements) / n_scans;
   r.applied_per_scan = static_cast<double>(applied) / n_scans;
@@ -411,6 +422,7 @@ int main(int argc, char** argv) {
   bool deltas = false;
   double delta_step = ogf::delta::PublishingRule{}.probability_step;
   std::int64_t delta_bytes_per_scan = 0;
+  double delta_max_wait_s = 1.0;
   bool no_octomap = false;
   int threads = 1;
   std::string config_path;
@@ -444,6 +456,10 @@ int main(int argc, char** argv) {
   app.add_option("--delta-bytes-per-scan", delta_bytes_per_scan,
                  "With --deltas, the bytes each update may carry (a byte budget as ogf-mapper's deltas.max_bytes_per_s "
                  "grants it at 10 Hz; the rest wait); 0: unbounded")
+      ->capture_default_str();
+  app.add_option("--delta-max-wait-s", delta_max_wait_s,
+                 "With --delta-bytes-per-scan, the most cells that wait, in seconds of the budget at 10 Hz "
+                 "(ogf-mapper's deltas.max_wait_s); changes beyond them mark their slab stale, read again later")
       ->capture_default_str();
   auto* threads_opt = app.add_option("--threads", threads,
                  "The OGF's filter threads (filter.threads); above 1 the OGF's times are wall time, not CPU time")
@@ -489,7 +505,7 @@ int main(int argc, char** argv) {
   std::printf("%-6s %-8s %9s %9s %9s %8s %10s %11s %s\n", "res m", "mapper", "mean ms", "p50 ms", "p99 ms",
               "x 10 Hz", "memory MB", "cells", "notes");
   for (const double res : parseList(resolutions)) {
-    const auto ogf = isolated<OgfResult>("OGF", [&] { return runOgf(scans, config, res, deltas, delta_step, delta_bytes_per_scan); });
+    const auto ogf = isolated<OgfResult>("OGF", [&] { return runOgf(scans, config, res, deltas, delta_step, delta_bytes_per_scan, delta_max_wait_s); });
     const auto row = [&](const char* name, const Timing& t, std::size_t memory, std::size_t cells, const std::string& notes) {
       std::printf("%-6.2f %-8s %9.1f %9.1f %9.1f %8.2f %10.1f %11zu %s\n", res, name, t.mean(), t.percentile(0.5),
                   t.percentile(0.99), kScanPeriodMs / t.mean(), static_cast<double>(memory) / 1e6, cells,
@@ -505,6 +521,11 @@ int main(int argc, char** argv) {
                   res, ogf.published_cells, static_cast<double>(ogf.published_memory) / 1e6,
                   static_cast<double>(ogf.published_memory) / static_cast<double>(std::max<std::size_t>(ogf.published_cells, 1)),
                   ogf.published_per_scan, ogf.stream.mean());
+      if (delta_bytes_per_scan > 0) {
+        std::printf("%-6.2f after the last scan: %zu cells waiting, %zu slabs stale; %zu changes found the waiting "
+                    "cells full\n",
+                    res, ogf.waiting, ogf.stale, ogf.overflowed);
+      }
     }
     if (no_octomap) {
       std::fflush(stdout);

@@ -132,6 +132,110 @@ TEST(DeltaBudget, ClientOverATightBudgetStaysConsistentAndEndsWithTheMappersMap)
   }
 }
 
+// The waiting set holds at most its capacity: the changes beyond it leave only their slab, once each.
+TEST(DeltaBudget, WaitingCellsStopAtTheCapacityAndTheRestMarkTheirSlabsStale) {
+  DeltaStream s({0.2, 1, 50}, PublishingRule{0.02, 0.0});
+  s.limitWaiting(100);
+  s.allow(0);
+  std::vector<PublishedCell> cells;
+  for (int x = 0; x < 300; ++x) cells.push_back(cellAt(x, 0, 0.9));
+  s.update(1, cells);
+  EXPECT_EQ(s.deferred().size(), 100u);
+  EXPECT_EQ(s.lastUpdate().overflowed, 200u);
+  EXPECT_EQ(s.overflowed(), 200u);
+  // Cells 100 to 299 lie in slabs 12 (x 96 to 103) to 37.
+  EXPECT_EQ(s.stale().size(), 26u);
+  EXPECT_EQ(s.lastUpdate().stale, 26u);
+  // Full: no slab is read.
+  EXPECT_TRUE(s.staleSlabsToRead().empty());
+  // Room for two slabs' worth of cells once 128 of the waiting cells went out.
+  s.allow(DeltaStream::partBytes(50) * 2 + DeltaStream::partBytes(28));
+  s.update(2, std::vector<PublishedCell>{});
+  EXPECT_EQ(s.deferred().size(), 0u);
+  const auto slabs = s.staleSlabsToRead(10);
+  ASSERT_EQ(slabs.size(), 1u) << "100 cells of room hold one slab of 64";
+  EXPECT_EQ(slabs[0], (ogf::CellKey{12, 0, 0}));
+  EXPECT_EQ(s.stale().size(), 25u);
+}
+
+TEST(DeltaBudget, ClassChangeTakesTheOldestWaitingProbabilityMovesPlaceWhenFull) {
+  DeltaStream s({0.2, 1, 50}, PublishingRule{0.02, 0.0});
+  std::vector<PublishedCell> first;
+  for (int x = 0; x < 10; ++x) first.push_back(cellAt(x, 0, 0.2));
+  s.update(1, first);
+  s.limitWaiting(10);
+  s.allow(0);
+  std::vector<PublishedCell> moves;
+  for (int x = 0; x < 10; ++x) moves.push_back(cellAt(x, 0, 0.1));  // within free: probability moves
+  s.update(2, moves);
+  ASSERT_EQ(s.deferred().size(), 10u);
+  s.update(3, std::vector{cellAt(40, 0, 0.9), cellAt(41, 0, 0.6)});  // a class change, and a move up
+  EXPECT_EQ(s.deferred().size(), 10u);
+  EXPECT_EQ(s.deferred().classChanges(), 1u);
+  EXPECT_EQ(s.lastUpdate().overflowed, 2u);
+  // The oldest move (x 0, slab 0) made way; the second move found the set full (slab 5).
+  ASSERT_EQ(s.stale().size(), 2u);
+  s.allow(DeltaStream::partBytes(1));
+  const auto sent = cellsIn(s.update(4, std::vector<PublishedCell>{}));
+  ASSERT_EQ(sent.size(), 1u);
+  EXPECT_EQ(sent[0].key.x, 40);
+}
+
+// A map changing far faster than its budget for a long spell, with few cells allowed to wait: the client
+// stays consistent, and once the changes stop and the stale slabs are read again from the map, it holds
+// exactly the map's latest state of every cell.
+TEST(DeltaBudget, ClientEndsWithTheMapAfterChangesOverflowedTheWaitingCells) {
+  DeltaStream s({0.2, 9, 40}, PublishingRule{0.0, 0.0});
+  s.limitWaiting(150);
+  MapReceiver r;
+  for (const auto& m : s.keyframe(0)) r.accept(m);
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> coord(-30, 30);
+  std::uniform_real_distribution<double> prob(0.0, 1.0);
+  std::map<ogf::CellKey, PublishedCell> truth;  // the map: every cell's latest state
+  const auto readSlabs = [&](const std::vector<ogf::CellKey>& slabs) {
+    std::vector<PublishedCell> cells;
+    for (const ogf::CellKey& slab : slabs)
+      for (unsigned local = 0; local < PublishedBlock::kCells; ++local)
+        if (auto it = truth.find(PublishedBlock::cellKey(slab, local)); it != truth.end()) cells.push_back(it->second);
+    return cells;
+  };
+  const std::int64_t allowance = DeltaStream::partBytes(40);  // 40 cells an update
+  std::size_t most_waiting = 0;
+  int scan = 0;
+  for (; scan < 100; ++scan) {
+    s.refreshStale(readSlabs(s.staleSlabsToRead()));
+    std::map<ogf::CellKey, PublishedCell> scan_changes;
+    for (int k = 0; k < 300; ++k) {
+      const PublishedCell c = cellAt(coord(rng), coord(rng), prob(rng));
+      scan_changes[c.key] = c;
+    }
+    std::vector<PublishedCell> changed;
+    for (const auto& [key, c] : scan_changes) {
+      truth[key] = c;
+      changed.push_back(c);
+    }
+    s.allow(allowance);
+    for (const auto& m : s.update(scan, changed)) r.accept(m);
+    ASSERT_TRUE(r.consistent()) << "scan " << scan;
+    most_waiting = std::max(most_waiting, s.deferred().size());
+  }
+  EXPECT_EQ(most_waiting, 150u);
+  EXPECT_GT(s.overflowed(), 10000u);
+  for (; (!s.deferred().empty() || !s.stale().empty()) && scan < 5000; ++scan) {
+    s.refreshStale(readSlabs(s.staleSlabsToRead()));
+    s.allow(allowance);
+    for (const auto& m : s.update(scan, std::vector<PublishedCell>{})) r.accept(m);
+    ASSERT_TRUE(r.consistent());
+  }
+  EXPECT_TRUE(s.deferred().empty());
+  EXPECT_TRUE(s.stale().empty());
+  for (const auto& [key, c] : truth) {
+    const PublishedCell client = r.map().find(key).value_or(PublishedCell{key});
+    EXPECT_FALSE(client.visiblyDiffers(c)) << key.x << "," << key.y;
+  }
+}
+
 TEST(DeltaBudget, WaitingCellWhoseRegionWentToPagesIsNotSent) {
   DeltaStream s({0.2, 1, 100}, PublishingRule{0.02, 0.0});
   s.update(1, std::vector{cellAt(3, 3, 0.2)});

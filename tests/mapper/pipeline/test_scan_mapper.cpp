@@ -3,12 +3,14 @@
 // bit for bit; and the delta candidates it reports are exactly the cells whose published state changed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "ogf/delta/delta_stream.hpp"
 #include "ogf/filter/map_file.hpp"
 #include "ogf/filter/occupancy.hpp"
+#include "ogf/pipeline/published_cells.hpp"
 #include "ogf/pipeline/scan_mapper.hpp"
 
 namespace {
@@ -111,6 +113,18 @@ TEST(ScanMapper, RestoredMapTakesTheConfiguredClampsAndThresholds) {
   EXPECT_NE(st.error().message.find("resolution"), std::string::npos) << st.error().message;
 }
 
+// Every cell of the filter has in the stream's published map the probability and class the filter gives it.
+void expectEveryCellPublishedAsTheFilterHoldsIt(const pipeline::ScanMapper& mapper, const delta::DeltaStream& stream) {
+  std::size_t compared = 0;
+  for (const auto& now : mapper.publishedCells()) {
+    const delta::PublishedCell published = stream.map().find(now.key).value_or(delta::PublishedCell{now.key});
+    ASSERT_EQ(published.probability, now.probability) << now.key.x << "," << now.key.y << "," << now.key.z;
+    ASSERT_EQ(published.cell_class, now.cell_class);
+    ++compared;
+  }
+  EXPECT_GT(compared, 1000u);
+}
+
 TEST(ScanMapper, DeltaCandidatesKeepEveryCellsVisibleStateUpToDate) {
   // Publishing each scan's candidates must leave every cell with the probability and class the filter
   // gives it now. (Variance alone is never news, and a cell that drifts back to the prior stays in the
@@ -127,14 +141,40 @@ TEST(ScanMapper, DeltaCandidatesKeepEveryCellsVisibleStateUpToDate) {
     EXPECT_FALSE(changes.empty());
     stream.update(i, changes);
   }
-  std::size_t compared = 0;
-  for (const auto& now : mapper->publishedCells()) {
-    const delta::PublishedCell published = stream.map().find(now.key).value_or(delta::PublishedCell{now.key});
-    ASSERT_EQ(published.probability, now.probability) << now.key.x << "," << now.key.y << "," << now.key.z;
-    ASSERT_EQ(published.cell_class, now.cell_class);
-    ++compared;
+  expectEveryCellPublishedAsTheFilterHoldsIt(*mapper, stream);
+}
+
+TEST(ScanMapper, StaleSlabsReadAgainFromTheFilterBringThePublishedMapUpToDate) {
+  // The same scans through a stream whose budget carries a fraction of their changes and whose waiting set
+  // holds few of them: most changes leave only their slab marked, and reading those slabs from the filter
+  // (refreshStaleSlabs, as ogf-mapper does after each scan) must still end with every cell's visible state.
+  auto mapper = pipeline::ScanMapper::create(config());
+  ASSERT_TRUE(mapper.ok());
+  delta::DeltaStream stream({0.2, 1, 100}, delta::PublishingRule{0.0, 0.0});
+  stream.limitWaiting(500);
+  std::vector<delta::PublishedCell> changes;
+  std::size_t most_stale = 0;
+  int update = 0;
+  for (; update < 4; ++update) {
+    const WallScan scan(2.5 + 0.5 * update);
+    mapper->measureStatic(scan.points(update), Eigen::Isometry3d::Identity());
+    changes.clear();
+    mapper->apply(mapper->measurements(), &changes);
+    pipeline::refreshStaleSlabs(mapper->filter(), stream);
+    stream.allow(delta::DeltaStream::partBytes(100) * 3);
+    stream.update(update, changes);
+    EXPECT_LE(stream.deferred().size(), 500u);
+    most_stale = std::max(most_stale, stream.stale().size());
   }
-  EXPECT_GT(compared, 1000u);
+  EXPECT_GT(most_stale, 10u) << "the scans' changes should have overflowed the waiting cells";
+  for (; (!stream.deferred().empty() || !stream.stale().empty()) && update < 10000; ++update) {
+    pipeline::refreshStaleSlabs(mapper->filter(), stream);
+    stream.allow(delta::DeltaStream::partBytes(100) * 3);
+    stream.update(update, std::vector<delta::PublishedCell>{});
+  }
+  ASSERT_TRUE(stream.deferred().empty());
+  ASSERT_TRUE(stream.stale().empty());
+  expectEveryCellPublishedAsTheFilterHoldsIt(*mapper, stream);
 }
 
 TEST(MapperConfig, RefusesDisagreeingCellSizesNamingTheField) {

@@ -64,6 +64,9 @@ struct DeltaOptions {
   std::int64_t max_bytes_per_s = 2'000'000;
   // The most the channel sends at once after a quiet spell, in seconds of the rate.
   double burst_s = 0.25;
+  // The most cells that wait for the rate, in seconds of it (1 s at 2 MB/s: about 105 k cells, some
+  // 20 MB); a change beyond them marks its 8 × 8 slab stale, read again from the map once they drain.
+  double max_wait_s = 1.0;
 };
 
 // The 2-D navigation grid (mapper/navigation): the `nav:` section. The band is also what ogf-map --export-nav

@@ -1,14 +1,19 @@
 // The cells worth sending (publishing_rule.hpp) that a delta update's byte allowance left out: they wait
 // here, one entry per cell holding its latest state (a newer change of a waiting cell replaces its state
-// and keeps its place), and go out in later updates, class changes first, each kind oldest first.
+// and keeps its place), and go out in later updates, class changes first, each kind oldest first. The set
+// holds at most its capacity: past it a change is not kept (DeltaStream marks its slab stale instead,
+// stale_slabs.hpp), so the memory and the time of a scan's look-ups stay bounded however far the map's
+// changes outrun the budget.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <limits>
 
 #include "ogf/core/cell_key.hpp"
 #include "ogf/core/cell_key_table.hpp"
+#include "ogf/delta/published_block.hpp"
 #include "ogf/delta/publishing_rule.hpp"
 
 namespace ogf::delta {
@@ -25,13 +30,20 @@ class DeferredCells {
 
   bool empty() const { return cells_.size() == 0; }
   std::size_t size() const { return cells_.size(); }
+  // The most cells waiting at once (unbounded unless set); lowering it keeps the cells already waiting.
+  void setCapacity(std::size_t cells) { capacity_ = cells; }
+  std::size_t capacity() const { return capacity_; }
+  bool full() const { return cells_.size() >= capacity_; }
+  // How many more cells may wait.
+  std::size_t room() const { return full() ? 0 : capacity_ - cells_.size(); }
   // Waiting cells whose class differs from the published one.
   std::size_t classChanges() const { return class_changes_; }
 
-  // A hint that the cell is looked up soon (DeltaStream::update asks a few candidates ahead).
-  void prefetch(const CellKey& key) const { cells_.prefetch(key); }
-  // Queues a cell not waiting yet (entry.worth is kClass or kProbability).
-  void add(const Entry& entry);
+  // Whether the cell waits (refresh() asks this before it looks the cell up).
+  bool waits(const CellKey& key) const;
+  // Queues a cell not waiting yet (entry.worth is kClass or kProbability); false, and nothing kept, when
+  // the set is full.
+  bool add(const Entry& entry);
   // A newer state of `cell`, judged `worth` against the published cell: when the cell waits, its state
   // and worth are replaced (kNothing: it leaves) and true is returned; false when it does not wait.
   bool refresh(const PublishedCell& cell, Worth worth);
@@ -53,6 +65,17 @@ class DeferredCells {
   void enqueue(const CellKey& key, Slot& slot);
   void compact();
   void forget(Worth worth) { class_changes_ -= worth == Worth::kClass ? 1 : 0; }
+  void erase(const CellKey& key);
+
+  // Which cells of each slab (PublishedBlock's 8 × 8 × 1) wait, a bit each: most of a scan's candidates do
+  // not wait, and a scan's candidates come slab by slab, so one look-up in this small table (a few slabs'
+  // entries per thousand waiting cells) answers for a run of them where the cells' table would take a
+  // cache miss per candidate.
+  CellKeyTable<std::uint64_t, 1, 2> slabs_;
+  // The slab asked last and its bits (valid until a bit changes).
+  mutable CellKey asked_slab_{};
+  mutable std::uint64_t asked_bits_ = 0;
+  mutable bool asked_valid_ = false;
 
   // Open addressing (one slot a look-up, no node per cell): a street drive at 0.1 m over a small budget
   // keeps millions of cells waiting, and every candidate of a scan is looked up.
@@ -61,6 +84,7 @@ class DeferredCells {
   std::deque<Queued> other_queue_;
   std::uint64_t next_stamp_ = 1;  // 0: a slot not queued yet
   std::size_t class_changes_ = 0;
+  std::size_t capacity_ = std::numeric_limits<std::size_t>::max();
 };
 
 template <class Out>
@@ -74,7 +98,7 @@ std::size_t DeferredCells::take(Worth worth, std::size_t max, Out& out) {
     if (slot == nullptr || slot->stamp != q.stamp) continue;  // left, or queued again since
     out.push_back(slot->entry);
     forget(slot->entry.worth);
-    cells_.erase(q.key);
+    erase(q.key);
     ++taken;
   }
   return taken;

@@ -2,19 +2,22 @@
 // each fit one UDP datagram, numbered so a client can tell a gap from a quiet map, and cuts keyframes
 // (the whole published map in parts) on request. Which changes go out is the publishing rule
 // (publishing_rule.hpp); how many bytes an update may carry is its allowance (set from the channel's
-// LinkBudget by ogf-mapper); cells worth sending beyond it wait in DeferredCells for later updates.
+// LinkBudget by ogf-mapper); cells worth sending beyond it wait in DeferredCells for later updates, and
+// those beyond the waiting set's capacity leave their slab in StaleSlabs, read again from the map later.
 #pragma once
 
 #include <ogf/map_delta_t.hpp>
 
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "ogf/delta/deferred_cells.hpp"
 #include "ogf/delta/link_budget.hpp"
 #include "ogf/delta/published_map.hpp"
 #include "ogf/delta/publishing_rule.hpp"
+#include "ogf/delta/stale_slabs.hpp"
 #include "ogf/messages/limits.hpp"
 
 namespace ogf::delta {
@@ -30,6 +33,8 @@ struct UpdateFigures {
   std::size_t worth = 0;     // candidates worth sending under the rule (those of waiting cells not counted)
   std::size_t sent = 0;      // cells the update carried
   std::size_t deferred = 0;  // cells waiting after it
+  std::size_t overflowed = 0;  // cells worth sending that found the waiting set full (their slabs marked stale)
+  std::size_t stale = 0;     // stale slabs after it
   std::int64_t bytes = 0;    // encoded bytes of its messages
 };
 
@@ -70,6 +75,23 @@ class DeltaStream {
   const UpdateFigures& lastUpdate() const { return figures_; }
   // Cells worth sending that wait for an allowance.
   const DeferredCells& deferred() const { return deferred_; }
+  // The most cells that may wait; a change worth sending beyond it marks its slab stale instead (a waiting
+  // probability move makes way for a class change, its own slab marked). Unbounded unless set.
+  void limitWaiting(std::size_t cells) { deferred_.setCapacity(cells); }
+  // Slabs whose changes found the waiting set full.
+  const StaleSlabs& stale() const { return stale_; }
+  // Cells that found the waiting set full, since the stream began.
+  std::size_t overflowed() const { return overflowed_; }
+
+  // The stale slabs to read from the map now, oldest first, taken off the stale set: as many as the
+  // waiting set has room for at a whole slab's cells each, at most `max`; none while it is full. The
+  // caller reads the cells of each as the map holds them now (allocated cells only) and hands them to
+  // refreshStale before the next update.
+  static constexpr std::size_t kStaleSlabsPerUpdate = 256;
+  std::vector<CellKey> staleSlabsToRead(std::size_t max = kStaleSlabsPerUpdate);
+  // Judges `cells` (each named once) against the published map like an update's candidates: a waiting
+  // cell takes the state, one worth sending waits for the next updates (or marks its slab stale again).
+  void refreshStale(std::span<const PublishedCell> cells);
 
   // The encoded size of a message of `cells` cells, and of messages.
   static std::int64_t partBytes(std::size_t cells);
@@ -102,11 +124,15 @@ class DeltaStream {
   // look-up finds it in cache.
   static constexpr std::size_t kAhead = 128;
   void prefetchAhead(std::span<const PublishedCell> candidates, std::size_t i) const;
+  // The worth of sending `c` against the published map, and whether the map holds the cell.
+  std::pair<Worth, bool> judge(const PublishedCell& c, std::int32_t step, double variance_step);
   // An update under an allowance or with cells waiting (update() takes a one-pass path otherwise).
   void chooseWithin(std::span<const PublishedCell> candidates);
   // Moves waiting cells of that worth into chosen_ while room is left; cells whose published copy left
   // with its region (PublishedMap::evict), or no longer worth sending, are dropped.
   void takeDeferred(Worth worth, std::size_t& room);
+  // Puts a cell worth sending into the waiting set, or marks its slab stale when the set is full.
+  void wait(const DeferredCells::Entry& entry);
 
   DeltaStreamConfig config_;
   PublishingRule rule_;
@@ -114,6 +140,8 @@ class DeltaStream {
   std::int64_t seq_ = 0;
   std::int64_t allowance_ = LinkBudget::kUnbounded;
   DeferredCells deferred_;
+  StaleSlabs stale_;
+  std::size_t overflowed_ = 0;
   UpdateFigures figures_;
   // Reused between updates.
   std::vector<PublishedCell> changed_;
