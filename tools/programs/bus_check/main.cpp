@@ -8,9 +8,14 @@
 #include <bot_core/pose_t.hpp>
 #include <ogf/driver_status_t.hpp>
 #include <ogf/lidar_scan_t.hpp>
+#include <ogf/map_command_reply_t.hpp>
+#include <ogf/map_command_t.hpp>
 #include <ogf/map_delta_t.hpp>
+#include <ogf/map_query_reply_t.hpp>
+#include <ogf/map_query_t.hpp>
 #include <ogf/map_request_t.hpp>
 #include <ogf/mapper_status_t.hpp>
+#include <ogf/nav_grid_t.hpp>
 #include <ogf/odometry_t.hpp>
 #include <ogf/velodyne_packets_t.hpp>
 
@@ -110,6 +115,14 @@ int main(int argc, char** argv) {
   request.last_seq = -1;
   ogf::driver_status_t driver_status{};
   ogf::mapper_status_t mapper_status{};
+  ogf::map_query_t query{};
+  query.requester = "ogf-bus-check";
+  ogf::map_query_reply_t query_reply{};
+  ogf::map_command_t command{};
+  command.requester = "ogf-bus-check";
+  ogf::map_command_reply_t command_reply{};
+  ogf::nav_grid_t nav{};
+  ogf::map_request_t nav_request = request;
 
   addProbe(lcm, rows, keep, prefix + "VELODYNE_PACKETS", packets);
   addProbe(lcm, rows, keep, prefix + "VELODYNE_SCAN", scan);
@@ -119,6 +132,12 @@ int main(int argc, char** argv) {
   addProbe(lcm, rows, keep, prefix + "OGF_MAP_REQUEST", request);
   addProbe(lcm, rows, keep, prefix + "VELODYNE_STATUS", driver_status);
   addProbe(lcm, rows, keep, prefix + "OGF_MAPPER_STATUS", mapper_status);
+  addProbe(lcm, rows, keep, prefix + "OGF_MAP_QUERY", query);
+  addProbe(lcm, rows, keep, prefix + "OGF_MAP_QUERY_REPLY", query_reply);
+  addProbe(lcm, rows, keep, prefix + "OGF_MAP_COMMAND", command);
+  addProbe(lcm, rows, keep, prefix + "OGF_MAP_COMMAND_REPLY", command_reply);
+  addProbe(lcm, rows, keep, prefix + "OGF_NAV_GRID", nav);
+  addProbe(lcm, rows, keep, prefix + "OGF_NAV_REQUEST", nav_request);
 
   // udpm joins the multicast group lazily, so a first publish can race the receive socket: messages not
   // yet back are sent again every 200 ms until the timeout.
@@ -144,15 +163,15 @@ int main(int argc, char** argv) {
   check();
   loop.run();
 
-  std::printf("LCM bus: %s\n\n%-34s %-22s %-18s %7s  %s\n", resolved.c_str(), "channel", "type",
+  std::printf("LCM bus: %s\n\n%-40s %-22s %-18s %7s  %s\n", resolved.c_str(), "channel", "type",
               "fingerprint", "bytes", "round trip");
   int missing = 0;
   for (const Row* r : rows) {
-    std::printf("%-34s %-22s 0x%016llx %7d  %s\n", r->channel.c_str(), r->type.c_str(),
+    std::printf("%-40s %-22s 0x%016llx %7d  %s\n", r->channel.c_str(), r->type.c_str(),
                 static_cast<unsigned long long>(r->fingerprint), r->bytes, r->received ? "ok" : "MISSING");
     if (!r->received) ++missing;
   }
-  std::printf("\n%zu types, %d received, %d missing\n", rows.size(), static_cast<int>(rows.size()) - missing,
+  std::printf("\n%zu channels, %d received, %d missing\n", rows.size(), static_cast<int>(rows.size()) - missing,
               missing);
   return missing == 0 ? 0 : 1;
 }
