@@ -8,9 +8,29 @@
 #include <algorithm>
 #include <new>
 
+#if defined(__SANITIZE_ADDRESS__)
+#define OGF_ARENA_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define OGF_ARENA_ASAN 1
+#endif
+#endif
+#ifdef OGF_ARENA_ASAN
+#include <sanitizer/asan_interface.h>
+#endif
+
 namespace ogf::filter {
 
 namespace {
+// Marks memory unusable (poison) or usable again for AddressSanitizer; nothing in other builds.
+#ifdef OGF_ARENA_ASAN
+void poison(void* p, std::size_t bytes) { __asan_poison_memory_region(p, bytes); }
+void unpoison(void* p, std::size_t bytes) { __asan_unpoison_memory_region(p, bytes); }
+#else
+void poison(void*, std::size_t) {}
+void unpoison(void*, std::size_t) {}
+#endif
+
 constexpr std::size_t kCacheLine = 64;
 // Chunks of at most 256 KB up to 8 MB; after that a huge page's unused slots are under a fifth of the map.
 constexpr std::size_t kSmallChunk = std::size_t{256} << 10;
@@ -21,19 +41,30 @@ BlockArena::BlockArena(std::size_t slotBytes)
     : slot_bytes_((std::max<std::size_t>(slotBytes, 1) + kCacheLine - 1) / kCacheLine * kCacheLine) {}
 
 BlockArena::~BlockArena() {
-  for (const Chunk& c : chunks_) munmap(c.base, c.bytes);
+  for (const Chunk& c : chunks_) {
+    unpoison(c.base, c.bytes);  // the addresses may be mapped again by anyone
+    munmap(c.base, c.bytes);
+  }
 }
 
 void* BlockArena::allocate() {
   if (free_ != nullptr) {
     void* slot = free_;
+    unpoison(slot, slot_bytes_);
     free_ = *static_cast<void**>(slot);
     return slot;
   }
   if (static_cast<std::size_t>(end_ - next_) < slot_bytes_) addChunk();
   void* slot = next_;
   next_ += slot_bytes_;
+  unpoison(slot, slot_bytes_);
   return slot;
+}
+
+void BlockArena::release(void* slot) noexcept {
+  *static_cast<void**>(slot) = free_;
+  free_ = slot;
+  poison(slot, slot_bytes_);
 }
 
 void BlockArena::addChunk() {
@@ -63,6 +94,7 @@ void BlockArena::addChunk() {
     throw;
   }
   mapped_bytes_ += bytes;
+  poison(base, bytes);
   next_ = static_cast<char*>(base);
   end_ = next_ + bytes;
 }

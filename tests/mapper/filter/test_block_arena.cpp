@@ -15,6 +15,17 @@
 
 #include "ogf/filter/block_storage.hpp"
 
+#if defined(__SANITIZE_ADDRESS__)
+#define OGF_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define OGF_TEST_ASAN 1
+#endif
+#endif
+#ifdef OGF_TEST_ASAN
+#include <sanitizer/asan_interface.h>
+#endif
+
 namespace ogf::filter {
 namespace {
 
@@ -61,6 +72,27 @@ TEST(BlockArena, ReleasedSlotsAreReusedLastReleasedFirstBeforeNewOnes) {
   EXPECT_NE(d, b);
   EXPECT_NE(d, c);
   EXPECT_GE(arena.mappedBytes(), mapped);
+}
+
+// Under AddressSanitizer (OGF_SANITIZE=ON) a slot is usable only between allocate() and release(), so a
+// block overrun or a write after release is reported as it would be with malloc.
+TEST(BlockArena, OnlySlotsHandedOutAreAddressableUnderAddressSanitizer) {
+#ifndef OGF_TEST_ASAN
+  GTEST_SKIP() << "not an AddressSanitizer build (configure with -DOGF_SANITIZE=ON)";
+#else
+  constexpr std::size_t kSlot = 3584;
+  BlockArena arena(kSlot);
+  auto* a = static_cast<char*>(arena.allocate());
+  auto* b = static_cast<char*>(arena.allocate());
+  EXPECT_EQ(__asan_region_is_poisoned(a, kSlot), nullptr);
+  EXPECT_EQ(__asan_region_is_poisoned(b, kSlot), nullptr);
+  EXPECT_TRUE(__asan_address_is_poisoned(b + kSlot)) << "the chunk's rest, not handed out yet";
+  arena.release(a);
+  EXPECT_TRUE(__asan_address_is_poisoned(a));
+  EXPECT_TRUE(__asan_address_is_poisoned(a + kSlot - 1));
+  EXPECT_EQ(arena.allocate(), a);
+  EXPECT_EQ(__asan_region_is_poisoned(a, kSlot), nullptr);
+#endif
 }
 
 TEST(BlockStorage, MoveAssignmentGivesTheOldBlocksBackBeforeTheirArenaGoes) {
