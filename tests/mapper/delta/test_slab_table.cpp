@@ -68,5 +68,23 @@ TEST(SlabTable, AgreesWithAHashMapThroughAdditionsAndErases) {
   EXPECT_EQ(table.find(CellKey{0, 0, 0}), nullptr);
 }
 
+// A table moved from holds nothing (its count included) and takes new slabs like a new one.
+TEST(SlabTable, MovedFromTableIsEmptyAndUsable) {
+  SlabTable table;
+  for (int x = 0; x < 100; ++x) table.obtain({x, 0, 0}).put(0, {static_cast<std::int16_t>(x), 0, 0.0f});
+  SlabTable moved(std::move(table));
+  EXPECT_EQ(moved.size(), 100u);
+  EXPECT_EQ(table.size(), 0u);  // NOLINT(bugprone-use-after-move): what a moved-from table says is the point
+  EXPECT_EQ(table.find({5, 0, 0}), nullptr);
+  table.obtain({7, 0, 0}).put(0, {7, 0, 0.0f});
+  EXPECT_EQ(table.size(), 1u);
+  SlabTable assigned;
+  assigned = std::move(moved);
+  EXPECT_EQ(assigned.size(), 100u);
+  EXPECT_EQ(moved.size(), 0u);  // NOLINT(bugprone-use-after-move)
+  ASSERT_NE(assigned.find({42, 0, 0}), nullptr);
+  EXPECT_EQ(nameOf(*assigned.find({42, 0, 0})), 42);
+}
+
 }  // namespace
 }  // namespace ogf::delta

@@ -22,6 +22,22 @@ class CellKeyTable {
   static_assert(0 < LoadNumerator && LoadNumerator < LoadDenominator, "the table must keep empty slots");
 
  public:
+  CellKeyTable() = default;
+  CellKeyTable(const CellKeyTable&) = default;
+  CellKeyTable& operator=(const CellKeyTable&) = default;
+  // A table moved from is empty (a defaulted move would leave its count beside no slots).
+  CellKeyTable(CellKeyTable&& other) noexcept : slots_(std::move(other.slots_)), size_(std::exchange(other.size_, 0)) {
+    other.slots_.clear();
+  }
+  CellKeyTable& operator=(CellKeyTable&& other) noexcept {
+    if (this != &other) {
+      slots_ = std::move(other.slots_);
+      other.slots_.clear();
+      size_ = std::exchange(other.size_, 0);
+    }
+    return *this;
+  }
+
   std::size_t size() const { return size_; }
   // Slots allocated, for the memory accounting.
   std::size_t capacity() const { return slots_.size(); }
