@@ -235,12 +235,13 @@ void MapperDaemon::mapScan(const ScanPtr& scan, SourceIntake& source) {
   persistence_.pageOut();  // after the delta: the published cells of a region leave with it
   publisher_.publishDeltas(deltas);
   nav_.scanMapped(scan->utime, changes_, steadyUtime());
+  const MapFigures figures = mapFiguresOf(mapper_, deltas_, persistence_.heldBlocks());
   std::lock_guard lk(shared_.mu);
   ++shared_.stats.scans_mapped;
   shared_.stats.measurements += static_cast<std::int64_t>(measurements.size());
   source.scanMapped(static_cast<std::int64_t>(measurements.size()), mapper_.sensorOrigin());
   shared_.stats.delta_seq = deltas_.seq();
-  fillMapFigures();
+  mapper_daemon::fillMapFigures(shared_.stats, figures);
 }
 
 void MapperDaemon::resetMap() {
@@ -265,7 +266,7 @@ void MapperDaemon::resetMap() {
 }
 
 void MapperDaemon::fillMapFigures() {
-  mapper_daemon::fillMapFigures(shared_.stats, mapper_, deltas_, persistence_.heldBlocks());
+  mapper_daemon::fillMapFigures(shared_.stats, mapFiguresOf(mapper_, deltas_, persistence_.heldBlocks()));
 }
 
 void MapperDaemon::refreshMapFigures() {

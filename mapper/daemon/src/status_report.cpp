@@ -7,12 +7,18 @@
 
 namespace ogf::mapper_daemon {
 
-void fillMapFigures(ogf::mapper_status_t& s, const pipeline::ScanMapper& mapper, const delta::DeltaStream& deltas,
-                    const filter::BlockHashSum& held) {
+MapFigures mapFiguresOf(const pipeline::ScanMapper& mapper, const delta::DeltaStream& deltas,
+                        const filter::BlockHashSum& held) {
   const auto& map = mapper.filter();
-  s.cells = static_cast<std::int64_t>(map.allocatedCells() + held.blocks * map.cellsPerBlock());
-  s.memory_bytes = static_cast<std::int64_t>(map.memoryBytes() + deltas.map().memoryBytes());
-  s.filter_checksum = static_cast<std::int64_t>(map.checksum(held));
+  return {static_cast<std::int64_t>(map.allocatedCells() + held.blocks * map.cellsPerBlock()),
+          static_cast<std::int64_t>(map.memoryBytes() + deltas.map().memoryBytes()),
+          static_cast<std::int64_t>(map.checksum(held))};
+}
+
+void fillMapFigures(ogf::mapper_status_t& s, const MapFigures& figures) {
+  s.cells = figures.cells;
+  s.memory_bytes = figures.memory_bytes;
+  s.filter_checksum = figures.filter_checksum;
 }
 
 StatusReport::StatusReport(const MapperOptions& options, lcm::LCM& lcm, transport::DaemonLoop& loop,
