@@ -40,6 +40,8 @@ std::vector<ogf::map_delta_t> DeltaStream::update(std::int64_t utime, std::span<
   figures_.sent = changed_.size();
   figures_.deferred = deferred_.size();
   figures_.stale = stale_.size();
+  figures_.overflowed = overflowed_ - overflowed_reported_;  // refreshStale's before the update included
+  overflowed_reported_ = overflowed_;
   figures_.bytes = bytesOf(out);
   return out;
 }
@@ -114,7 +116,6 @@ void DeltaStream::takeDeferred(Worth worth, std::size_t& room) {
 
 void DeltaStream::wait(const DeferredCells::Entry& entry) {
   if (deferred_.add(entry)) return;
-  ++figures_.overflowed;
   ++overflowed_;
   if (entry.worth == Worth::kClass) {
     // A class change is worth more to a client than a probability move: the oldest waiting move leaves.

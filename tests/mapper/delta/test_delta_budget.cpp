@@ -156,6 +156,14 @@ TEST(DeltaBudget, WaitingCellsStopAtTheCapacityAndTheRestMarkTheirSlabsStale) {
   ASSERT_EQ(slabs.size(), 1u) << "100 cells of room hold one slab of 64";
   EXPECT_EQ(slabs[0], (ogf::CellKey{12, 0, 0}));
   EXPECT_EQ(s.stale().size(), 25u);
+  // Cells read again that find the set full count in the next update's figures.
+  s.limitWaiting(0);
+  s.refreshStale(std::vector{cellAt(500, 0, 0.9), cellAt(501, 0, 0.9)});
+  s.allow(0);
+  s.update(3, std::vector<PublishedCell>{});
+  EXPECT_EQ(s.lastUpdate().overflowed, 2u);
+  EXPECT_EQ(s.overflowed(), 202u);
+  EXPECT_EQ(s.stale().size(), 26u);
 }
 
 TEST(DeltaBudget, ClassChangeTakesTheOldestWaitingProbabilityMovesPlaceWhenFull) {

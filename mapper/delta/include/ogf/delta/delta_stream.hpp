@@ -33,7 +33,8 @@ struct UpdateFigures {
   std::size_t worth = 0;     // candidates worth sending under the rule (those of waiting cells not counted)
   std::size_t sent = 0;      // cells the update carried
   std::size_t deferred = 0;  // cells waiting after it
-  std::size_t overflowed = 0;  // cells worth sending that found the waiting set full (their slabs marked stale)
+  std::size_t overflowed = 0;  // cells worth sending that found the waiting set full since the update before
+                               // (refreshStale's included; their slabs marked stale)
   std::size_t stale = 0;     // stale slabs after it
   std::int64_t bytes = 0;    // encoded bytes of its messages
 };
@@ -142,6 +143,7 @@ class DeltaStream {
   DeferredCells deferred_;
   StaleSlabs stale_;
   std::size_t overflowed_ = 0;
+  std::size_t overflowed_reported_ = 0;  // overflowed_ at the last update's figures
   UpdateFigures figures_;
   // Reused between updates.
   std::vector<PublishedCell> changed_;
