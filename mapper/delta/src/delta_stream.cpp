@@ -119,9 +119,9 @@ void DeltaStream::wait(const DeferredCells::Entry& entry) {
   ++overflowed_;
   if (entry.worth == Worth::kClass) {
     // A class change is worth more to a client than a probability move: the oldest waiting move leaves.
-    std::vector<DeferredCells::Entry> evicted;
-    if (deferred_.take(Worth::kProbability, 1, evicted) == 1) {
-      stale_.markCellsSlab(evicted.front().cell.key);
+    evicted_.clear();
+    if (deferred_.take(Worth::kProbability, 1, evicted_) == 1) {
+      stale_.markCellsSlab(evicted_.front().cell.key);
       deferred_.add(entry);
       return;
     }

@@ -149,6 +149,7 @@ class DeltaStream {
   std::vector<PublishedCell> changed_;
   std::vector<DeferredCells::Entry> wanted_;
   std::vector<DeferredCells::Entry> chosen_;
+  std::vector<DeferredCells::Entry> evicted_;
 };
 
 }  // namespace ogf::delta
