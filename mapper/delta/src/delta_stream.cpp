@@ -1,6 +1,8 @@
 #include "ogf/delta/delta_stream.hpp"
 
 #include <algorithm>
+#include <cassert>
+#include <limits>
 
 namespace ogf::delta {
 
@@ -62,21 +64,28 @@ void DeltaStream::chooseWithin(std::span<const PublishedCell> candidates) {
   const double variance_step = rule_.variance_step;
   wanted_.clear();
   chosen_.clear();
-  const bool waiting = !deferred_.empty();
-  const std::size_t n = candidates.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const PublishedCell& c = candidates[i];
-    prefetchAhead(candidates, i);
-    const auto [worth, present] = judge(c, step, variance_step);
-    // A waiting cell takes its newest state and keeps its place (or leaves, back within the step).
-    if (waiting && deferred_.refresh(c, worth)) continue;
-    if (worth != Worth::kNothing) wanted_.push_back({c, worth, present});
+  if (stale_.empty()) {
+    const bool waiting = !deferred_.empty();
+    const std::size_t n = candidates.size();
+    // A scan's candidates number in the millions at most (each a changed cell of the filter), below 2^32.
+    assert(n <= std::numeric_limits<std::uint32_t>::max());
+    for (std::size_t i = 0; i < n; ++i) {
+      const PublishedCell& c = candidates[i];
+      prefetchAhead(candidates, i);
+      const auto [worth, present] = judge(c, step, variance_step);
+      // A waiting cell takes its newest state and keeps its place (or leaves, back within the step).
+      if (waiting && deferred_.refresh(c, worth)) continue;
+      if (worth != Worth::kNothing) wanted_.push_back({static_cast<std::uint32_t>(i), worth, present});
+    }
+  } else {
+    joinStale(candidates);
   }
   figures_.worth = wanted_.size();
   std::size_t room = allowance_ == LinkBudget::kUnbounded ? wanted_.size() + deferred_.size() : cellsWithin(allowance_);
   const auto takeWanted = [&](Worth worth) {
-    for (DeferredCells::Entry& e : wanted_) {
-      if (e.worth != worth) continue;
+    for (const Wanted& w : wanted_) {
+      if (w.worth != worth) continue;
+      const DeferredCells::Entry e{candidates[w.index], w.worth, w.present};
       if (room > 0) {
         chosen_.push_back(e);
         --room;
@@ -92,6 +101,33 @@ void DeltaStream::chooseWithin(std::span<const PublishedCell> candidates) {
   for (const DeferredCells::Entry& e : chosen_) {
     map_.set(e.cell);
     changed_.push_back(e.cell);
+  }
+}
+
+void DeltaStream::joinStale(std::span<const PublishedCell> candidates) {
+  const std::int32_t step = rule_.quantisedStep();
+  const double variance_step = rule_.variance_step;
+  const bool waiting = !deferred_.empty();
+  // The slab of the last change that joined the stale ones: the candidates come slab by slab, so the rest
+  // of a run need neither a judgement nor a look-up.
+  bool joined = false;
+  CellKey joined_slab{};
+  const std::size_t n = candidates.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const PublishedCell& c = candidates[i];
+    prefetchAhead(candidates, i);
+    if (waiting && deferred_.waits(c.key)) {
+      deferred_.refresh(c, judge(c, step, variance_step).first);
+      continue;
+    }
+    const CellKey slab = PublishedBlock::blockKeyOf(c.key);
+    if (!joined || !(slab == joined_slab)) {
+      if (judge(c, step, variance_step).first == Worth::kNothing) continue;
+      stale_.markCellsSlab(c.key);
+      joined = true;
+      joined_slab = slab;
+    }
+    ++overflowed_;
   }
 }
 

@@ -4,6 +4,7 @@
 
 #include <ogf/filter/map_file.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace ogf::pipeline {
@@ -14,12 +15,12 @@ class ChangeCollector final : public filter::ChangeSink {
  public:
   explicit ChangeCollector(std::vector<delta::PublishedCell>& out) : out_(out) {}
   void cellChanged(const filter::CellChange& c) override { out_.push_back(publishedOf(c)); }
+  // Each cell written once: a resize would first write every new element's defaults, and a 0.1 m street
+  // scan reports a million changed cells.
   void cellsChanged(std::span<const filter::CellChange> changes) override {
-    const std::size_t first = out_.size();
-    out_.resize(first + changes.size());
-    for (std::size_t i = 0; i < changes.size(); ++i) {
-      out_[first + i] = publishedOf(changes[i]);
-    }
+    const std::size_t need = out_.size() + changes.size();
+    if (need > out_.capacity()) out_.reserve(std::max(need, 2 * out_.capacity()));
+    for (const filter::CellChange& c : changes) out_.push_back(publishedOf(c));
   }
 
  private:

@@ -189,6 +189,43 @@ TEST(DeltaBudget, ClassChangeTakesTheOldestWaitingProbabilityMovesPlaceWhenFull)
   EXPECT_EQ(sent[0].key.x, 40);
 }
 
+// Once slabs are stale the client is behind by more than the waiting cells hold: a new change worth sending
+// joins the stale slabs even where the waiting set has room, so the slabs go out in the order they went
+// stale; a waiting cell still takes its newest state, and a change not worth sending marks nothing.
+TEST(DeltaBudget, WhileSlabsAreStaleANewChangeJoinsThemAsItsSlabAndAWaitingCellTakesItsNewestState) {
+  DeltaStream s({0.2, 1, 50}, PublishingRule{0.02, 0.0});
+  s.limitWaiting(10);
+  s.allow(0);
+  std::vector<PublishedCell> first;
+  for (int x = 0; x < 20; ++x) first.push_back(cellAt(x, 0, 0.9));
+  s.update(1, first);
+  ASSERT_EQ(s.deferred().size(), 10u);
+  ASSERT_EQ(s.stale().size(), 2u);  // x 10 to 19: slabs 1 and 2
+  s.allow(DeltaStream::partBytes(5));
+  s.update(2, std::vector<PublishedCell>{});  // x 0 to 4 go out
+  ASSERT_EQ(s.deferred().size(), 5u);
+  s.allow(0);
+  std::vector<PublishedCell> third{cellAt(7, 0, 0.95)};  // waiting: takes the state
+  for (int x = 80; x < 85; ++x) third.push_back(cellAt(x, 0, 0.9));  // slab 10, worth sending
+  third.push_back(cellAt(90, 0, 0.5));  // slab 11, the prior: nothing to send
+  s.update(3, third);
+  EXPECT_EQ(s.deferred().size(), 5u) << "room for five, yet the new changes do not wait";
+  EXPECT_EQ(s.stale().size(), 3u);
+  EXPECT_EQ(s.lastUpdate().overflowed, 5u);
+  // The oldest stale slab is read first; the waiting cell goes out with its newest state.
+  s.allow(DeltaStream::partBytes(50));
+  const auto sent = cellsIn(s.update(4, std::vector<PublishedCell>{}));
+  ASSERT_EQ(sent.size(), 5u);
+  EXPECT_EQ(sent[2].key.x, 7);
+  EXPECT_EQ(sent[2].probability, quantiseProbability(0.95));
+  s.limitWaiting(1000);  // room for the three slabs' cells
+  const auto slabs = s.staleSlabsToRead(10);
+  ASSERT_EQ(slabs.size(), 3u);
+  EXPECT_EQ(slabs[0], (ogf::CellKey{1, 0, 0}));
+  EXPECT_EQ(slabs[1], (ogf::CellKey{2, 0, 0}));
+  EXPECT_EQ(slabs[2], (ogf::CellKey{10, 0, 0}));
+}
+
 // A map changing far faster than its budget for a long spell, with few cells allowed to wait: the client
 // stays consistent, and once the changes stop and the stale slabs are read again from the map, it holds
 // exactly the map's latest state of every cell.

@@ -33,8 +33,9 @@ struct UpdateFigures {
   std::size_t worth = 0;     // candidates worth sending under the rule (those of waiting cells not counted)
   std::size_t sent = 0;      // cells the update carried
   std::size_t deferred = 0;  // cells waiting after it
-  std::size_t overflowed = 0;  // cells worth sending that found the waiting set full since the update before
-                               // (refreshStale's included; their slabs marked stale)
+  std::size_t overflowed = 0;  // changes worth sending that went to a stale slab since the update before:
+                               // they found the waiting set full (refreshStale's included), or slabs were
+                               // stale already
   std::size_t stale = 0;     // stale slabs after it
   std::int64_t bytes = 0;    // encoded bytes of its messages
 };
@@ -63,6 +64,7 @@ class DeltaStream {
   // allowance: waiting class changes, new class changes, waiting other changes, new other changes, each
   // oldest first. Those sent go into the published map and the returned messages (at least one, possibly
   // with no cells, so every update number is seen by clients); the rest wait, each with its latest state.
+  // While slabs are stale (stale()), a new change worth sending does not wait but joins them as its slab.
   // Each message carries the checksum of the published map after the whole update. Candidates name each
   // cell once (ScanMapper::apply reports each changed cell once).
   std::vector<ogf::map_delta_t> update(std::int64_t utime, std::span<const PublishedCell> candidates);
@@ -81,7 +83,7 @@ class DeltaStream {
   void limitWaiting(std::size_t cells) { deferred_.setCapacity(cells); }
   // Slabs whose changes found the waiting set full.
   const StaleSlabs& stale() const { return stale_; }
-  // Cells that found the waiting set full, since the stream began.
+  // Changes that went to a stale slab (UpdateFigures::overflowed), since the stream began.
   std::size_t overflowed() const { return overflowed_; }
 
   // The stale slabs to read from the map now, oldest first, taken off the stale set: as many as the
@@ -129,6 +131,11 @@ class DeltaStream {
   std::pair<Worth, bool> judge(const PublishedCell& c, std::int32_t step, double variance_step);
   // An update under an allowance or with cells waiting (update() takes a one-pass path otherwise).
   void chooseWithin(std::span<const PublishedCell> candidates);
+  // While slabs are stale the client is further behind than the waiting cells can hold: a change joins
+  // the stale slabs as its slab, which is read again from the map in its turn, oldest first, and costs
+  // one judgement a run of candidates in the slab instead of one each; a waiting cell still takes its
+  // newest state.
+  void joinStale(std::span<const PublishedCell> candidates);
   // Moves waiting cells of that worth into chosen_ while room is left; cells whose published copy left
   // with its region (PublishedMap::evict), or no longer worth sending, are dropped.
   void takeDeferred(Worth worth, std::size_t& room);
@@ -147,7 +154,14 @@ class DeltaStream {
   UpdateFigures figures_;
   // Reused between updates.
   std::vector<PublishedCell> changed_;
-  std::vector<DeferredCells::Entry> wanted_;
+  // A candidate worth sending, by its index in the update's candidates: a scan far over its budget has a
+  // million of them, and a copy of each would be a third of the update's memory traffic.
+  struct Wanted {
+    std::uint32_t index = 0;
+    Worth worth = Worth::kNothing;
+    bool present = false;  // whether the published map held the cell
+  };
+  std::vector<Wanted> wanted_;
   std::vector<DeferredCells::Entry> chosen_;
   std::vector<DeferredCells::Entry> evicted_;
 };
