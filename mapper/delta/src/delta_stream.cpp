@@ -108,24 +108,32 @@ void DeltaStream::joinStale(std::span<const PublishedCell> candidates) {
   const std::int32_t step = rule_.quantisedStep();
   const double variance_step = rule_.variance_step;
   const bool waiting = !deferred_.empty();
-  // The slab of the last change that joined the stale ones: the candidates come slab by slab, so the rest
-  // of a run need neither a judgement nor a look-up.
-  bool joined = false;
-  CellKey joined_slab{};
+  // The candidates come slab by slab: per run of one slab, which of its cells wait (looked up once) and
+  // whether the slab joined the stale ones (after which the rest of the run needs no judgement).
+  bool in_run = false;
+  CellKey run_slab{};
+  std::uint64_t run_waiting = 0;
+  bool run_joined = false;
   const std::size_t n = candidates.size();
   for (std::size_t i = 0; i < n; ++i) {
     const PublishedCell& c = candidates[i];
     prefetchAhead(candidates, i);
-    if (waiting && deferred_.waits(c.key)) {
+    const CellKey slab = PublishedBlock::blockKeyOf(c.key);
+    if (!in_run || !(slab == run_slab)) {
+      in_run = true;
+      run_slab = slab;
+      run_waiting = waiting ? deferred_.waitingIn(slab) : 0;
+      run_joined = false;
+    }
+    if ((run_waiting >> PublishedBlock::localIndexOf(c.key) & 1U) != 0) {
       deferred_.refresh(c, judge(c, step, variance_step).first);
+      run_waiting = deferred_.waitingIn(slab);  // the cell may have left
       continue;
     }
-    const CellKey slab = PublishedBlock::blockKeyOf(c.key);
-    if (!joined || !(slab == joined_slab)) {
+    if (!run_joined) {
       if (judge(c, step, variance_step).first == Worth::kNothing) continue;
       stale_.markCellsSlab(c.key);
-      joined = true;
-      joined_slab = slab;
+      run_joined = true;
     }
     ++overflowed_;
   }

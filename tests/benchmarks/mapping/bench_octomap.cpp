@@ -522,8 +522,8 @@ int main(int argc, char** argv) {
                   static_cast<double>(ogf.published_memory) / static_cast<double>(std::max<std::size_t>(ogf.published_cells, 1)),
                   ogf.published_per_scan, ogf.stream.mean());
       if (delta_bytes_per_scan > 0) {
-        std::printf("%-6.2f after the last scan: %zu cells waiting, %zu slabs stale; %zu changes found the waiting "
-                    "cells full\n",
+        std::printf("%-6.2f after the last scan: %zu cells waiting, %zu slabs stale; %zu changes went to a stale "
+                    "slab\n",
                     res, ogf.waiting, ogf.stale, ogf.overflowed);
       }
     }

@@ -40,6 +40,11 @@ class DeferredCells {
 
   // Whether the cell waits (refresh() asks this before it looks the cell up).
   bool waits(const CellKey& key) const;
+  // Which cells of a slab (PublishedBlock::blockKeyOf) wait, a bit per PublishedBlock::localIndexOf.
+  std::uint64_t waitingIn(const CellKey& slab) const {
+    const std::uint64_t* bits = slabs_.find(slab);
+    return bits == nullptr ? 0 : *bits;
+  }
   // Queues a cell not waiting yet (entry.worth is kClass or kProbability); false, and nothing kept, when
   // the set is full.
   bool add(const Entry& entry);
