@@ -64,7 +64,16 @@ void DeltaStream::chooseWithin(std::span<const PublishedCell> candidates) {
   const double variance_step = rule_.variance_step;
   wanted_.clear();
   chosen_.clear();
+  const bool bounded = allowance_ != LinkBudget::kUnbounded;
+  std::size_t room = bounded ? cellsWithin(allowance_) : 0;
   if (stale_.empty()) {
+    // The class changes this update can place: those it sends and those the waiting set holds (a class
+    // change takes a waiting probability move's place). Each class change wanted beyond them, and every
+    // change after it, goes to a stale slab whatever comes later, so the rest of the candidates join the
+    // stale slabs at once (a fresh map's first scan at 0.1 m has millions of them).
+    const std::size_t capacity = deferred_.capacity();
+    const std::size_t placeable = capacity > std::numeric_limits<std::size_t>::max() - room ? capacity : room + capacity;
+    std::size_t wanted_classes = 0;
     const bool waiting = !deferred_.empty();
     const std::size_t n = candidates.size();
     // A scan's candidates number in the millions at most (each a changed cell of the filter), below 2^32.
@@ -75,13 +84,18 @@ void DeltaStream::chooseWithin(std::span<const PublishedCell> candidates) {
       const auto [worth, present] = judge(c, step, variance_step);
       // A waiting cell takes its newest state and keeps its place (or leaves, back within the step).
       if (waiting && deferred_.refresh(c, worth)) continue;
-      if (worth != Worth::kNothing) wanted_.push_back({static_cast<std::uint32_t>(i), worth, present});
+      if (worth == Worth::kNothing) continue;
+      wanted_.push_back({static_cast<std::uint32_t>(i), worth, present});
+      if (worth == Worth::kClass && bounded && ++wanted_classes > placeable) {
+        joinStale(candidates.subspan(i + 1));
+        break;
+      }
     }
   } else {
     joinStale(candidates);
   }
   figures_.worth = wanted_.size();
-  std::size_t room = allowance_ == LinkBudget::kUnbounded ? wanted_.size() + deferred_.size() : cellsWithin(allowance_);
+  if (!bounded) room = wanted_.size() + deferred_.size();
   const auto takeWanted = [&](Worth worth) {
     for (const Wanted& w : wanted_) {
       if (w.worth != worth) continue;

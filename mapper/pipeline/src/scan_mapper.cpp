@@ -13,7 +13,7 @@ namespace {
 // Collects the filter's changed cells as delta candidates.
 class ChangeCollector final : public filter::ChangeSink {
  public:
-  explicit ChangeCollector(std::vector<delta::PublishedCell>& out) : out_(out) {}
+  explicit ChangeCollector(ChangedCells& out) : out_(out) {}
   void cellChanged(const filter::CellChange& c) override { out_.push_back(publishedOf(c)); }
   // Each cell written once: a resize would first write every new element's defaults, and a 0.1 m street
   // scan reports a million changed cells.
@@ -27,7 +27,7 @@ class ChangeCollector final : public filter::ChangeSink {
   static delta::PublishedCell publishedOf(const filter::CellChange& c) {
     return {c.key, static_cast<std::int16_t>(c.quantisedProbability), c.occupancyClass, c.variance};
   }
-  std::vector<delta::PublishedCell>& out_;
+  ChangedCells& out_;
 };
 
 }  // namespace
@@ -92,7 +92,7 @@ void ScanMapper::measureStatic(const fusion::ScanPoints& scan, const Eigen::Isom
 }
 
 filter::UpdateStats ScanMapper::apply(std::span<const Measurement> measurements,
-                                      std::vector<delta::PublishedCell>* changes) {
+                                      ChangedCells* changes) {
   if (changes == nullptr) return filter_.update(measurements);
   ChangeCollector collector(*changes);
   return filter_.update(measurements, &collector);

@@ -187,7 +187,7 @@ OgfResult runOgf(const std::vector<RayScan>& scans, ogf::pipeline::MapperConfig 
   std::size_t measurements = 0, applied = 0, published = 0;
   std::vector<float> x, y, z;
   std::vector<std::int32_t> t;
-  std::vector<ogf::delta::PublishedCell> changes;
+  ogf::pipeline::ChangedCells changes;
   // With --deltas, the published map the daemon keeps beside the filter (outside the OGF's timing).
   ogf::delta::DeltaStream stream({resolution, 1, ogf::messages::kMaxDeltaCellsPerMessage},
                                  ogf::delta::PublishingRule{delta_step, 0.0});

@@ -189,6 +189,33 @@ TEST(DeltaBudget, ClassChangeTakesTheOldestWaitingProbabilityMovesPlaceWhenFull)
   EXPECT_EQ(sent[0].key.x, 40);
 }
 
+// A scan with more class changes than an update can send and the waiting set hold: the first ones go out, the
+// next ones fill the waiting set, and every change beyond them, class change or probability move, leaves
+// its slab stale.
+TEST(DeltaBudget, ChangesBeyondWhatAnUpdateSendsAndTheWaitingCellsHoldMarkTheirSlabsStale) {
+  DeltaStream s({0.2, 1, 50}, PublishingRule{0.02, 0.0});
+  std::vector<PublishedCell> free_cells;
+  for (int x = 100; x < 120; ++x) free_cells.push_back(cellAt(x, 0, 0.2));
+  s.update(1, free_cells);
+  s.limitWaiting(10);
+  s.allow(DeltaStream::partBytes(5));
+  std::vector<PublishedCell> scan;
+  for (int x = 100; x < 120; ++x) scan.push_back(cellAt(x, 0, 0.1));  // probability moves within free
+  for (int x = 0; x < 40; ++x) scan.push_back(cellAt(x, 0, 0.9));     // class changes
+  const auto sent = cellsIn(s.update(2, scan));
+  ASSERT_EQ(sent.size(), 5u);
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(sent[static_cast<std::size_t>(i)].key.x, i);
+  EXPECT_EQ(s.deferred().size(), 10u);
+  EXPECT_EQ(s.deferred().classChanges(), 10u);
+  EXPECT_EQ(s.lastUpdate().overflowed, 45u);
+  EXPECT_EQ(s.stale().size(), 7u) << "x 15 to 39: slabs 1 to 4; x 100 to 119: slabs 12 to 14";
+  // The waiting class changes are x 5 to 14: they go out next.
+  s.allow(DeltaStream::partBytes(50));
+  const auto next = cellsIn(s.update(3, std::vector<PublishedCell>{}));
+  ASSERT_EQ(next.size(), 10u);
+  for (int i = 0; i < 10; ++i) EXPECT_EQ(next[static_cast<std::size_t>(i)].key.x, 5 + i);
+}
+
 // Once slabs are stale the client is behind by more than the waiting cells hold: a new change worth sending
 // joins the stale slabs even where the waiting set has room, so the slabs go out in the order they went
 // stale; a waiting cell still takes its newest state, and a change not worth sending marks nothing.

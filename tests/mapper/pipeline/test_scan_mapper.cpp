@@ -132,7 +132,7 @@ TEST(ScanMapper, DeltaCandidatesKeepEveryCellsVisibleStateUpToDate) {
   auto mapper = pipeline::ScanMapper::create(config());
   ASSERT_TRUE(mapper.ok());
   delta::DeltaStream stream({0.2, 1, 3300});
-  std::vector<delta::PublishedCell> changes;
+  pipeline::ChangedCells changes;
   for (int i = 0; i < 4; ++i) {
     const WallScan scan(2.5 + 0.5 * i);
     mapper->measureStatic(scan.points(i), Eigen::Isometry3d::Identity());
@@ -152,7 +152,7 @@ TEST(ScanMapper, StaleSlabsReadAgainFromTheFilterBringThePublishedMapUpToDate) {
   ASSERT_TRUE(mapper.ok());
   delta::DeltaStream stream({0.2, 1, 100}, delta::PublishingRule{0.0, 0.0});
   stream.limitWaiting(500);
-  std::vector<delta::PublishedCell> changes;
+  pipeline::ChangedCells changes;
   std::size_t most_stale = 0;
   int update = 0;
   for (; update < 4; ++update) {

@@ -97,7 +97,7 @@ class MapperDaemon {
   pipeline::ScanMapper mapper_;
   std::optional<correction::ScanPoseCorrection> correction_;  // absent in pose_correction mode none
   delta::DeltaStream deltas_;
-  std::vector<delta::PublishedCell> changes_;
+  pipeline::ChangedCells changes_;
 
   ScanIntake intake_;
   MapPersistence persistence_;

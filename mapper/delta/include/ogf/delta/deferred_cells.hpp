@@ -32,6 +32,7 @@ class DeferredCells {
   std::size_t size() const { return cells_.size(); }
   // The most cells waiting at once (unbounded unless set); lowering it keeps the cells already waiting.
   void setCapacity(std::size_t cells) { capacity_ = cells; }
+  std::size_t capacity() const { return capacity_; }
   bool full() const { return cells_.size() >= capacity_; }
   // How many more cells may wait.
   std::size_t room() const { return full() ? 0 : capacity_ - cells_.size(); }

@@ -30,7 +30,8 @@ struct DeltaStreamConfig {
 
 // What one update did.
 struct UpdateFigures {
-  std::size_t worth = 0;     // candidates worth sending under the rule (those of waiting cells not counted)
+  std::size_t worth = 0;     // candidates found worth sending under the rule (those of waiting cells, and
+                             // those that joined stale slabs, not counted)
   std::size_t sent = 0;      // cells the update carried
   std::size_t deferred = 0;  // cells waiting after it
   std::size_t overflowed = 0;  // changes worth sending that went to a stale slab since the update before:

@@ -18,11 +18,16 @@
 
 #include "ogf/common/result.hpp"
 #include "ogf/correction/scan_pose_correction.hpp"
+#include "ogf/core/huge_pages.hpp"
 #include "ogf/core/measurement.hpp"
 #include "ogf/delta/published_cell.hpp"
 #include "ogf/pipeline/mapper_config.hpp"
 
 namespace ogf::pipeline {
+
+// The cells one scan changed, as delta candidates: a fresh map's first 0.1 m street scan changes 3.4 M
+// cells, 68 MB, in huge pages where the kernel has them (a 4 KB page's first write is a slow fault).
+using ChangedCells = std::vector<delta::PublishedCell, HugePageAllocator<delta::PublishedCell>>;
 
 class ScanMapper {
  public:
@@ -63,7 +68,7 @@ class ScanMapper {
   // Folds measurements into the filter in the filter's deterministic order. When `changes` is given,
   // the cells whose class or quantised probability changed are appended to it as delta candidates.
   filter::UpdateStats apply(std::span<const Measurement> measurements,
-                            std::vector<delta::PublishedCell>* changes = nullptr);
+                            ChangedCells* changes = nullptr);
 
   // Replaces the filter with a saved map (the filter's map file bytes). Refused, naming the field, when the
   // saved map was made with another resolution, kernel or stencil than this configuration; a map saved in
