@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <limits>
+#include <utility>
 
 namespace ogf::navigation {
 namespace {
@@ -29,6 +31,8 @@ struct NavProjection::Tile {
   std::vector<BandCell> cells;  // column slot × layers + (z − lowest layer)
   std::array<NavColumn, kTileColumns> columns{};
   std::size_t known = 0;
+  std::array<std::uint64_t, (kTileColumns + 63) / 64> dirty{};  // column slots updated since refresh()
+  bool listed = false;                                          // in dirty_tiles_
 };
 
 std::size_t NavProjection::TileKeyHash::operator()(const TileKey& k) const noexcept {
@@ -50,8 +54,31 @@ NavProjection::NavProjection(double resolution, const NavBand& band)
       free_layers_needed_(band.freeLayersNeeded(resolution)) {}
 
 NavProjection::~NavProjection() = default;
-NavProjection::NavProjection(NavProjection&&) noexcept = default;
-NavProjection& NavProjection::operator=(NavProjection&&) noexcept = default;
+// By hand: the moved-from projection must not keep the pointer to a tile it no longer owns.
+NavProjection::NavProjection(NavProjection&& other) noexcept
+    : resolution_(other.resolution_),
+      band_(other.band_),
+      layers_(other.layers_),
+      free_layers_needed_(other.free_layers_needed_) {
+  *this = std::move(other);
+}
+
+NavProjection& NavProjection::operator=(NavProjection&& other) noexcept {
+  if (this == &other) return *this;
+  resolution_ = other.resolution_;
+  band_ = other.band_;
+  layers_ = other.layers_;
+  free_layers_needed_ = other.free_layers_needed_;
+  tiles_ = std::move(other.tiles_);
+  other.tiles_.clear();
+  dirty_tiles_ = std::move(other.dirty_tiles_);
+  other.dirty_tiles_.clear();
+  last_key_ = other.last_key_;
+  last_tile_ = std::exchange(other.last_tile_, nullptr);
+  checksum_ = std::exchange(other.checksum_, 0);
+  known_columns_ = std::exchange(other.known_columns_, 0);
+  return *this;
+}
 
 NavProjection::Tile& NavProjection::tileAt(const TileKey& key) {
   auto& slot = tiles_[key];
@@ -62,11 +89,21 @@ NavProjection::Tile& NavProjection::tileAt(const TileKey& key) {
 void NavProjection::update(const CellState& cell) {
   if (!layers_.contains(cell.key.z)) return;
   const ColumnKey column{cell.key.x, cell.key.y};
-  auto& tile = tileAt(tileOf(column));
+  const TileKey key = tileOf(column);
+  if (last_tile_ == nullptr || !(key == last_key_)) {
+    last_key_ = key;
+    last_tile_ = &tileAt(key);
+  }
+  Tile& tile = *last_tile_;
   const auto layers = static_cast<std::size_t>(layers_.count());
-  tile.cells[slotOf(column) * layers + static_cast<std::size_t>(cell.key.z - layers_.lo)] = {
+  const std::size_t slot = slotOf(column);
+  tile.cells[slot * layers + static_cast<std::size_t>(cell.key.z - layers_.lo)] = {
       cellCost(cell.probability, cell.variance), cell.cell_class};
-  touched_.push_back(column);
+  tile.dirty[slot >> 6] |= std::uint64_t{1} << (slot & 63U);
+  if (!tile.listed) {
+    tile.listed = true;
+    dirty_tiles_.emplace_back(key, &tile);
+  }
 }
 
 void NavProjection::update(std::span<const CellState> cells) {
@@ -74,39 +111,44 @@ void NavProjection::update(std::span<const CellState> cells) {
 }
 
 std::vector<TileKey> NavProjection::refresh() {
-  std::sort(touched_.begin(), touched_.end());
-  touched_.erase(std::unique(touched_.begin(), touched_.end()), touched_.end());
   std::vector<TileKey> changed;
   const auto layers = static_cast<std::size_t>(layers_.count());
-  for (const auto& column : touched_) {
-    const auto key = tileOf(column);
-    auto& tile = *tiles_.at(key);
-    const auto slot = slotOf(column);
-    const auto now = classifyColumn(std::span(tile.cells).subspan(slot * layers, layers), free_layers_needed_);
-    auto& was = tile.columns[slot];
-    if (now == was) continue;
-    if (was.known()) {
-      checksum_ -= columnChecksum(column, was);
-      --tile.known;
-      --known_columns_;
+  for (auto& [key, tile] : dirty_tiles_) {
+    bool any = false;
+    for (std::size_t w = 0; w < tile->dirty.size(); ++w) {
+      for (std::uint64_t rest = tile->dirty[w]; rest != 0; rest &= rest - 1) {
+        const std::size_t slot = w * 64 + static_cast<std::size_t>(std::countr_zero(rest));
+        const auto now = classifyColumn(std::span(tile->cells).subspan(slot * layers, layers), free_layers_needed_);
+        auto& was = tile->columns[slot];
+        if (now == was) continue;
+        const ColumnKey column = columnAt(key, slot);
+        if (was.known()) {
+          checksum_ -= columnChecksum(column, was);
+          --tile->known;
+          --known_columns_;
+        }
+        if (now.known()) {
+          checksum_ += columnChecksum(column, now);
+          ++tile->known;
+          ++known_columns_;
+        }
+        was = now;
+        any = true;
+      }
     }
-    if (now.known()) {
-      checksum_ += columnChecksum(column, now);
-      ++tile.known;
-      ++known_columns_;
-    }
-    was = now;
-    changed.push_back(key);
+    tile->dirty = {};
+    tile->listed = false;
+    if (any) changed.push_back(key);
   }
-  touched_.clear();
+  dirty_tiles_.clear();
   std::sort(changed.begin(), changed.end());
-  changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
   return changed;
 }
 
 void NavProjection::clear() {
   tiles_.clear();
-  touched_.clear();
+  dirty_tiles_.clear();
+  last_tile_ = nullptr;
   checksum_ = 0;
   known_columns_ = 0;
 }

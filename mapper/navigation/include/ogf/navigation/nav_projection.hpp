@@ -103,7 +103,13 @@ class NavProjection {
   LayerRange layers_;
   std::int32_t free_layers_needed_;
   std::unordered_map<TileKey, std::unique_ptr<Tile>, TileKeyHash> tiles_;
-  std::vector<ColumnKey> touched_;  // columns to reclassify, possibly repeated
+  // The tiles with columns to reclassify (each once; Tile::dirty says which columns): a 0.1 m scan
+  // updates a million band cells, a dozen per column, so a list of touched columns would be sorted down
+  // to a twelfth of itself every scan.
+  std::vector<std::pair<TileKey, Tile*>> dirty_tiles_;
+  // The tile of the last update (cells come block by block, and a tile holds whole blocks' columns).
+  TileKey last_key_{};
+  Tile* last_tile_ = nullptr;
   std::uint64_t checksum_ = 0;
   std::size_t known_columns_ = 0;
 };
