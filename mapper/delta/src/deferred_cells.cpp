@@ -14,8 +14,7 @@ void DeferredCells::enqueue(const CellKey& key, Slot& slot) {
 bool DeferredCells::waits(const CellKey& key) const {
   const CellKey slab = PublishedBlock::blockKeyOf(key);
   if (!asked_valid_ || !(slab == asked_slab_)) {
-    const std::uint64_t* bits = slabs_.find(slab);
-    asked_bits_ = bits == nullptr ? 0 : *bits;
+    asked_bits_ = waitingIn(slab);
     asked_slab_ = slab;
     asked_valid_ = true;
   }

@@ -11,11 +11,11 @@ namespace {
 
 std::int32_t floorDiv(std::int32_t a, std::int32_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
-// The column's place in its tile: row-major from the tile's south-west column.
-std::size_t slotOf(const ColumnKey& c) {
-  const auto t = tileOf(c);
+// The column's place in its tile `t`: row-major from the tile's south-west column.
+std::size_t slotIn(const ColumnKey& c, const TileKey& t) {
   return static_cast<std::size_t>(c.y - t.y * kTileSize) * kTileSize + static_cast<std::size_t>(c.x - t.x * kTileSize);
 }
+std::size_t slotOf(const ColumnKey& c) { return slotIn(c, tileOf(c)); }
 
 }  // namespace
 
@@ -96,7 +96,7 @@ void NavProjection::update(const CellState& cell) {
   }
   Tile& tile = *last_tile_;
   const auto layers = static_cast<std::size_t>(layers_.count());
-  const std::size_t slot = slotOf(column);
+  const std::size_t slot = slotIn(column, key);
   tile.cells[slot * layers + static_cast<std::size_t>(cell.key.z - layers_.lo)] = {
       cellCost(cell.probability, cell.variance), cell.cell_class};
   tile.dirty[slot >> 6] |= std::uint64_t{1} << (slot & 63U);
