@@ -91,7 +91,9 @@ void MapperDaemon::restore() {
   persistence_.holdPublished();
   const persistence::MapPager* pager = persistence_.pager();
   nav_.restored(cells, pager ? pager->heldPublishedPages() : std::vector<std::filesystem::path>{});
-  refreshMapFigures();
+  std::lock_guard lk(shared_.mu);
+  shared_.stats.delta_seq = seq;
+  fillMapFigures();
 }
 
 void MapperDaemon::start() {
@@ -122,7 +124,6 @@ void MapperDaemon::stop() {
   if (worker_.joinable()) worker_.join();
   services_.finishExport(true);
   publisher_.stop();
-  refreshMapFigures();
   {
     std::lock_guard lk(shared_.mu);
     const auto& pc = intake_.pendingCounts();
@@ -206,7 +207,7 @@ void MapperDaemon::mapPlaced(const fusion::ScanPoints& points, const ScanPtr& sc
 
 bool MapperDaemon::dueBetweenScans() {
   const auto now = steadyUtime();
-  return shared_.status_waiting || publisher_.keyframeDue(intake_.keyframeRequested(), now) || services_.waitingLocked() ||
+  return publisher_.keyframeDue(intake_.keyframeRequested(), now) || services_.waitingLocked() ||
          persistence_.snapshotWritten() || services_.exportWritten() || persistence_.snapshotDue(now);
 }
 
@@ -219,21 +220,7 @@ bool MapperDaemon::betweenScans(bool keyframe_requested) {
   nav_.turn(now);
   persistence_.finishSnapshotWrite(false);
   if (persistence_.snapshotDue(now)) persistence_.takeSnapshot();
-  answerStatus();
   return services_waiting;
-}
-
-void MapperDaemon::answerStatus() {
-  {
-    std::lock_guard lk(shared_.mu);
-    if (!shared_.status_waiting) return;
-  }
-  refreshMapFigures();
-  {
-    std::lock_guard lk(shared_.mu);
-    shared_.status_waiting = false;
-  }
-  status_.figuresReady();
 }
 
 void MapperDaemon::mapScan(const ScanPtr& scan, SourceIntake& source) {
@@ -248,11 +235,13 @@ void MapperDaemon::mapScan(const ScanPtr& scan, SourceIntake& source) {
   persistence_.pageOut();  // after the delta: the published cells of a region leave with it
   publisher_.publishDeltas(deltas);
   nav_.scanMapped(scan->utime, changes_, steadyUtime());
+  const MapFigures figures = mapFiguresOf(mapper_, deltas_, persistence_.heldBlocks());
   std::lock_guard lk(shared_.mu);
   ++shared_.stats.scans_mapped;
   shared_.stats.measurements += static_cast<std::int64_t>(measurements.size());
   source.scanMapped(static_cast<std::int64_t>(measurements.size()), mapper_.sensorOrigin());
-  shared_.figures_stale = true;  // delta_seq and the map's figures go into the status together
+  shared_.stats.delta_seq = deltas_.seq();
+  mapper_daemon::fillMapFigures(shared_.stats, figures);
 }
 
 void MapperDaemon::resetMap() {
@@ -276,12 +265,14 @@ void MapperDaemon::resetMap() {
   refreshMapFigures();
 }
 
+void MapperDaemon::fillMapFigures() {
+  mapper_daemon::fillMapFigures(shared_.stats, mapFiguresOf(mapper_, deltas_, persistence_.heldBlocks()));
+}
+
 void MapperDaemon::refreshMapFigures() {
-  const MapFigures figures = mapFiguresOf(mapper_, deltas_, persistence_.heldBlocks());
   std::lock_guard lk(shared_.mu);
   shared_.stats.delta_seq = deltas_.seq();
-  mapper_daemon::fillMapFigures(shared_.stats, figures);
-  shared_.figures_stale = false;
+  fillMapFigures();
 }
 
 }  // namespace ogf::mapper_daemon

@@ -79,15 +79,12 @@ class MapperDaemon {
   // work still waits.
   bool betweenScans(bool keyframe_requested);
   // A measured scan's path: journalled, the regions it reaches brought in, folded into the filter, its
-  // deltas cut, far regions paged out, the deltas published, the status' counters updated (the map's
-  // figures marked stale: answerStatus computes them when a status is due).
+  // deltas cut, far regions paged out, the deltas published, the status' counters updated.
   void mapScan(const ScanPtr& scan, SourceIntake& source);
   void resetMap();
-  // The map's figures and the delta_seq they belong to, into the status' counters (computed before
-  // shared_.mu is taken).
+  // The map's figures in the status (shared_.mu held); refreshMapFigures takes the lock.
+  void fillMapFigures();
   void refreshMapFigures();
-  // The map's figures for a status that waits for them (SharedState::status_waiting), then the status.
-  void answerStatus();
   bool staticPose() const { return options_.pose_source == PoseSource::kStatic; }
 
   MapperOptions options_;
