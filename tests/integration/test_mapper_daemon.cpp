@@ -5,7 +5,9 @@
 //   run has at the same update (same filter checksum) and never behind what it had acknowledged, also
 //   while regions of the map are paged out to the state directory and back;
 // - under a small byte budget on the delta channel, cells wait and go out later, and the client stays
-//   consistent.
+//   consistent;
+// - every status sent while scans are mapped gives the checksum, delta seq, measurements and sensor
+//   position of exactly the scans it counts as mapped.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -23,6 +25,7 @@
 #include <optional>
 #include <random>
 #include <regex>
+#include <set>
 #include <string>
 #include <thread>
 #include <tuple>
@@ -202,6 +205,88 @@ TEST_F(MapperDaemonTest, ClientRebuildsTheDaemonsMapWhileRegionsArePagedOutAndIn
   const std::string log((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(log.find("within the scans' reach"), std::string::npos) << "regions should churn: " << log;
   EXPECT_EQ(log.find("are lost"), std::string::npos) << log;
+}
+
+TEST_F(MapperDaemonTest, EveryStatusWhileMappingGivesTheChecksumAndCountsOfTheSameScans) {
+  constexpr int kScans = 40;
+  constexpr int kPoints = 1500;
+  // The same scans offline: after k scans, the filter checksum, the measurements and the sensor's position.
+  struct AfterScans {
+    std::uint64_t checksum = 0;
+    std::int64_t measurements = 0;
+    Eigen::Vector3d sensor = Eigen::Vector3d::Zero();
+  };
+  std::vector<AfterScans> after(1);  // [k] after k scans
+  {
+    ogf::pipeline::MapperConfig cfg;  // the daemon's defaults
+    auto offline = ogf::pipeline::ScanMapper::create(cfg);
+    ASSERT_TRUE(offline.ok());
+    ogf::fusion::PoseBuffer poses(cfg.fusion.pose_buffer);
+    after[0].checksum = offline->filter().checksum();
+    for (int i = 0; i < kScans; ++i) {
+      const auto step = ogf::testing::feedStep(i, kPoints);
+      for (const auto& p : step.poses)
+        poses.insert({p.utime, {p.position[0], p.position[1], p.position[2]},
+                      Eigen::Quaterniond(p.orientation[0], p.orientation[1], p.orientation[2], p.orientation[3])});
+      const auto& sc = step.scan;
+      if (offline->measure({sc.device_utime_start, sc.x, sc.y, sc.z, sc.time_offset_ns}, poses) !=
+          ogf::fusion::PoseCoverage::kCovered)
+        break;  // the last scans may wait for odometry beyond their end
+      offline->apply(offline->measurements());
+      after.push_back({offline->filter().checksum(),
+                       after.back().measurements + static_cast<std::int64_t>(offline->measurements().size()),
+                       offline->sensorOrigin()});
+    }
+  }
+  ASSERT_GE(after.size(), static_cast<std::size_t>(kScans - 1));
+
+  // Statuses every 2 ms: many fall while the worker maps a scan, and some go out before it can answer.
+  std::ofstream(dir_ / "mapper.yaml") << "status_interval_s: 0.002\n";
+  const std::string url = ogf::testing::loopbackUdpmUrl(38);
+  ogf::testing::MessageLog<ogf::mapper_status_t> statuses(url, kMapperStatusChannel);
+  Mapper mapper({kBin + "/ogf-mapper", "--lcm-url", url, "--config", (dir_ / "mapper.yaml").string(), "--in-memory",
+                 "--log-level", "warn"},
+                (dir_ / "mapper.log").string(), url, kMapperStatusChannel);
+  ASSERT_TRUE(mapper.reportsStatus(10s));
+  lcm::LCM lcm(url);
+  // A scan every 15 ms for 0.6 s.
+  for (int i = 0; i < kScans; ++i) {
+    publishStep(lcm, ogf::testing::feedStep(i, kPoints));
+    std::this_thread::sleep_for(15ms);
+  }
+  const auto done = mapper.waitForStatus(
+      [](const ogf::mapper_status_t& s) {
+        return s.scans_in == kScans && s.scans_mapped + s.scans_dropped_no_pose + s.scans_dropped_behind == kScans;
+      },
+      30s);
+  ASSERT_TRUE(done) << mapper.log();
+  ASSERT_EQ(done->scans_dropped_behind, 0) << "a scan dropped leaves a gap in the scans counted as mapped";
+  ASSERT_EQ(done->scans_mapped + 1, static_cast<std::int64_t>(after.size()) + done->scans_dropped_no_pose);
+
+  std::set<std::int64_t> counts_seen;
+  for (const auto& s : statuses.messages()) {
+    const std::int64_t k = s.scans_mapped;
+    if (k == 0) continue;
+    SCOPED_TRACE("status of " + std::to_string(k) + " scans mapped");
+    ASSERT_LT(k, static_cast<std::int64_t>(after.size()));
+    const AfterScans& expected = after[static_cast<std::size_t>(k)];
+    counts_seen.insert(k);
+    EXPECT_EQ(static_cast<std::uint64_t>(s.filter_checksum), expected.checksum);
+    EXPECT_EQ(s.delta_seq, k);
+    EXPECT_EQ(s.measurements, expected.measurements);
+    ASSERT_EQ(s.num_sources, 1);
+    const auto& source = s.sources[0];
+    EXPECT_EQ(source.scans_mapped, k);
+    EXPECT_EQ(source.measurements, expected.measurements);
+    ASSERT_GT(source.trail_size, 0);
+    const auto& at = source.trail.back();
+    EXPECT_NEAR(at[0], expected.sensor.x(), 1e-4);
+    EXPECT_NEAR(at[1], expected.sensor.y(), 1e-4);
+    EXPECT_NEAR(at[2], expected.sensor.z(), 1e-4);
+  }
+  // Statuses before the last scan was mapped, not only the final one.
+  EXPECT_GE(counts_seen.size(), 3U) << "statuses of " << counts_seen.size() << " distinct scan counts";
+  EXPECT_TRUE(mapper.stop());
 }
 
 // Kills the daemon (kill -9) at random instants over `rounds` rounds of scans, restarting it each time on its

@@ -111,7 +111,9 @@ std::optional<ExportDirectory> MapServices::exportDestination(const ogf::map_com
     refuse(CommandRefusal::kBadName, "export name '" + command.path + "' exists; an export never replaces a file");
     return std::nullopt;
   }
-  // The free space, from the map's size alone, before anything is copied.
+  // The free space, from the map's size alone, before anything is copied (its figures brought up to date:
+  // they are kept for the status, which may not have asked for them since the last scan).
+  hooks_.refresh_figures();
   std::int64_t cells = 0;
   {
     std::lock_guard lk(shared_.mu);

@@ -91,9 +91,7 @@ void MapperDaemon::restore() {
   persistence_.holdPublished();
   const persistence::MapPager* pager = persistence_.pager();
   nav_.restored(cells, pager ? pager->heldPublishedPages() : std::vector<std::filesystem::path>{});
-  std::lock_guard lk(shared_.mu);
-  shared_.stats.delta_seq = seq;
-  fillMapFigures();
+  refreshMapFigures();
 }
 
 void MapperDaemon::start() {
@@ -124,6 +122,7 @@ void MapperDaemon::stop() {
   if (worker_.joinable()) worker_.join();
   services_.finishExport(true);
   publisher_.stop();
+  refreshMapFigures();
   {
     std::lock_guard lk(shared_.mu);
     const auto& pc = intake_.pendingCounts();
@@ -207,7 +206,7 @@ void MapperDaemon::mapPlaced(const fusion::ScanPoints& points, const ScanPtr& sc
 
 bool MapperDaemon::dueBetweenScans() {
   const auto now = steadyUtime();
-  return publisher_.keyframeDue(intake_.keyframeRequested(), now) || services_.waitingLocked() ||
+  return shared_.status_waiting || publisher_.keyframeDue(intake_.keyframeRequested(), now) || services_.waitingLocked() ||
          persistence_.snapshotWritten() || services_.exportWritten() || persistence_.snapshotDue(now);
 }
 
@@ -220,7 +219,21 @@ bool MapperDaemon::betweenScans(bool keyframe_requested) {
   nav_.turn(now);
   persistence_.finishSnapshotWrite(false);
   if (persistence_.snapshotDue(now)) persistence_.takeSnapshot();
+  answerStatus();
   return services_waiting;
+}
+
+void MapperDaemon::answerStatus() {
+  {
+    std::lock_guard lk(shared_.mu);
+    if (!shared_.status_waiting) return;
+  }
+  refreshMapFigures();
+  {
+    std::lock_guard lk(shared_.mu);
+    shared_.status_waiting = false;
+  }
+  status_.figuresReady();
 }
 
 void MapperDaemon::mapScan(const ScanPtr& scan, SourceIntake& source) {
@@ -235,13 +248,11 @@ void MapperDaemon::mapScan(const ScanPtr& scan, SourceIntake& source) {
   persistence_.pageOut();  // after the delta: the published cells of a region leave with it
   publisher_.publishDeltas(deltas);
   nav_.scanMapped(scan->utime, changes_, steadyUtime());
-  const MapFigures figures = mapFiguresOf(mapper_, deltas_, persistence_.heldBlocks());
+  ++mapped_.scans;
+  mapped_.measurements += static_cast<std::int64_t>(measurements.size());
   std::lock_guard lk(shared_.mu);
-  ++shared_.stats.scans_mapped;
-  shared_.stats.measurements += static_cast<std::int64_t>(measurements.size());
   source.scanMapped(static_cast<std::int64_t>(measurements.size()), mapper_.sensorOrigin());
-  shared_.stats.delta_seq = deltas_.seq();
-  mapper_daemon::fillMapFigures(shared_.stats, figures);
+  shared_.figures_stale = true;  // the counts of this scan go into the status with the map's figures
 }
 
 void MapperDaemon::resetMap() {
@@ -265,14 +276,15 @@ void MapperDaemon::resetMap() {
   refreshMapFigures();
 }
 
-void MapperDaemon::fillMapFigures() {
-  mapper_daemon::fillMapFigures(shared_.stats, mapFiguresOf(mapper_, deltas_, persistence_.heldBlocks()));
-}
-
 void MapperDaemon::refreshMapFigures() {
+  const MapFigures figures = mapFiguresOf(mapper_, deltas_, persistence_.heldBlocks());
   std::lock_guard lk(shared_.mu);
+  shared_.stats.scans_mapped = mapped_.scans;
+  shared_.stats.measurements = mapped_.measurements;
+  for (const auto& source : intake_.sources()) source->reportMapped();
   shared_.stats.delta_seq = deltas_.seq();
-  fillMapFigures();
+  mapper_daemon::fillMapFigures(shared_.stats, figures);
+  shared_.figures_stale = false;
 }
 
 }  // namespace ogf::mapper_daemon

@@ -88,16 +88,17 @@ const SourceIntake::Pending::Entry* SourceIntake::readyFront(std::int64_t now) {
 }
 
 void SourceIntake::scanMapped(std::int64_t measurements, const Eigen::Vector3d& sensor_origin) {
-  ++scans_mapped_;
-  measurements_ += measurements;
+  ++mapped_.scans;
+  mapped_.measurements += measurements;
+  auto& trail = mapped_.trail;
   const Eigen::Vector3f at = sensor_origin.cast<float>();
   // The newest position always ends the trail; it replaces the last one while the sensor has not moved
   // kTrailSpacingM from the one before.
-  if (trail_.size() >= 2 && (trail_[trail_.size() - 2] - at).norm() < kTrailSpacingM) {
-    trail_.back() = at;
+  if (trail.size() >= 2 && (trail[trail.size() - 2] - at).norm() < kTrailSpacingM) {
+    trail.back() = at;
   } else {
-    trail_.push_back(at);
-    if (trail_.size() > kTrailPoints) trail_.pop_front();
+    trail.push_back(at);
+    if (trail.size() > kTrailPoints) trail.pop_front();
   }
 }
 
@@ -217,22 +218,23 @@ ogf::source_status_t SourceIntake::status(std::int64_t steady_now) const {
   const auto& pc = pending_.counts();
   s.scans_refused_time = clock_.counts().refused();
   s.scans_in = pc.scans_in + malformed_scans_ + s.scans_refused_time;
-  s.scans_mapped = scans_mapped_;
+  s.scans_mapped = reported_.scans;
   s.scans_dropped_behind = pc.scans_dropped_behind;
   s.scans_dropped_no_pose = pc.scans_dropped_no_pose;
   s.scans_late = pc.scans_late;
   s.scans_rejected = pc.scans_rejected + malformed_scans_;
   s.scans_dropped_pose_jump = pc.scans_dropped_pose_jump;
-  s.measurements = measurements_;
+  s.measurements = reported_.measurements;
   s.packets_in = packets_in_;
   s.packets_rejected = packets_rejected_;
   const OdometryCounts odometry = robot_.counts();
   s.poses_in = odometry.poses_in;
   s.poses_rejected = odometry.poses_rejected;
   s.poses_refused_time = odometry.poses_refused_time;
-  s.trail_size = static_cast<std::int16_t>(trail_.size());
-  s.trail.resize(trail_.size());
-  for (std::size_t i = 0; i < trail_.size(); ++i) s.trail[i] = {trail_[i].x(), trail_[i].y(), trail_[i].z()};
+  const auto& trail = reported_.trail;
+  s.trail_size = static_cast<std::int16_t>(trail.size());
+  s.trail.resize(trail.size());
+  for (std::size_t i = 0; i < trail.size(); ++i) s.trail[i] = {trail[i].x(), trail[i].y(), trail[i].z()};
   return s;
 }
 

@@ -1,6 +1,8 @@
 // ogf-mapper's status (status_report.hpp): the message assembled from the daemon's parts and published.
 #include "ogf/mapper_daemon/status_report.hpp"
 
+#include <boost/asio/post.hpp>
+
 #include <chrono>
 
 #include "ogf/mapper_daemon/daemon_time.hpp"
@@ -28,6 +30,7 @@ StatusReport::StatusReport(const MapperOptions& options, lcm::LCM& lcm, transpor
 void StatusReport::start() { arm(); }
 
 void StatusReport::stop() {
+  stopped_ = true;
   boost::system::error_code ec;
   timer_.cancel(ec);
 }
@@ -48,17 +51,43 @@ void StatusReport::arm() {
   });
 }
 
+void StatusReport::figuresReady() {
+  boost::asio::post(timer_.get_executor(), [this] {
+    if (stopped_) return;
+    ogf::mapper_status_t s;
+    {
+      std::lock_guard lk(shared_.mu);
+      s = compose();
+    }
+    send(s);
+  });
+}
+
 void StatusReport::publish() {
   ogf::mapper_status_t s;
   {
     std::lock_guard lk(shared_.mu);
-    s = shared_.stats;
-    intake_.fillStatus(s);
-    services_.fillStatus(s);
-    s.update_ms_mean = update_count_ > 0 ? static_cast<float>(update_ms_sum_ / update_count_) : 0.0f;
-    update_ms_sum_ = 0;
-    update_count_ = 0;
+    if (shared_.figures_stale && !shared_.status_waiting) {
+      shared_.status_waiting = true;
+      shared_.wake();
+      return;
+    }
+    s = compose();
   }
+  send(s);
+}
+
+ogf::mapper_status_t StatusReport::compose() {
+  ogf::mapper_status_t s = shared_.stats;
+  intake_.fillStatus(s);
+  services_.fillStatus(s);
+  s.update_ms_mean = update_count_ > 0 ? static_cast<float>(update_ms_sum_ / update_count_) : 0.0f;
+  update_ms_sum_ = 0;
+  update_count_ = 0;
+  return s;
+}
+
+void StatusReport::send(ogf::mapper_status_t& s) {
   s.utime = wallUtime();
   lcm_.publish(options_.status_channel, &s);
 }

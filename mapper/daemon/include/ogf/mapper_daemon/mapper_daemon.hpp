@@ -79,12 +79,16 @@ class MapperDaemon {
   // work still waits.
   bool betweenScans(bool keyframe_requested);
   // A measured scan's path: journalled, the regions it reaches brought in, folded into the filter, its
-  // deltas cut, far regions paged out, the deltas published, the status' counters updated.
+  // deltas cut, far regions paged out, the deltas published, the scan counted (the map's figures marked
+  // stale: answerStatus computes them when a status is due).
   void mapScan(const ScanPtr& scan, SourceIntake& source);
   void resetMap();
-  // The map's figures in the status (shared_.mu held); refreshMapFigures takes the lock.
-  void fillMapFigures();
+  // The map's figures, and the delta_seq, scans and measurements they belong to (the whole map's and each
+  // source's), into the status' counters: a status never pairs one scan's counts with another's checksum.
+  // The figures are computed before shared_.mu is taken.
   void refreshMapFigures();
+  // The map's figures for a status that waits for them (SharedState::status_waiting), then the status.
+  void answerStatus();
   bool staticPose() const { return options_.pose_source == PoseSource::kStatic; }
 
   MapperOptions options_;
@@ -95,6 +99,11 @@ class MapperDaemon {
   std::optional<correction::ScanPoseCorrection> correction_;  // absent in pose_correction mode none
   delta::DeltaStream deltas_;
   pipeline::ChangedCells changes_;
+  // The scans mapped and their measurements (the worker's; refreshMapFigures puts them in the status).
+  struct Mapped {
+    std::int64_t scans = 0;
+    std::int64_t measurements = 0;
+  } mapped_;
 
   ScanIntake intake_;
   MapPersistence persistence_;

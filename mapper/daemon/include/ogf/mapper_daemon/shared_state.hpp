@@ -18,6 +18,12 @@ struct SharedState {
   bool stop = false;
   std::int64_t worker_heartbeat = 0;  // steady time the worker last came round its loop
   ogf::mapper_status_t stats{};       // counters copied into each status message
+  // The map changed since the map's figures in `stats` (cells, memory_bytes and filter_checksum, with the
+  // delta_seq they belong to) were computed. The checksum takes milliseconds a scan at fine cells, so the
+  // worker computes the figures when a status wants them, not after every scan.
+  bool figures_stale = false;
+  // A status is due and waits for the worker to bring the figures up to date (StatusReport::publish).
+  bool status_waiting = false;
 
   // Wakes the worker (mu held).
   void wake() {

@@ -65,7 +65,10 @@ class SourceIntake {
   const Pending::Entry* readyFront(std::int64_t now);
   Pending::Entry popFront() { return pending_.popFront(); }
   // The worker mapped one of its scans: `measurements` cells, the sensor at `sensor_origin` (map frame).
+  // The status shows it from the next reportMapped(), together with the map's figures of the same scan.
   void scanMapped(std::int64_t measurements, const Eigen::Vector3d& sensor_origin);
+  // The scans mapped so far, their measurements and the trail go into the status from now on.
+  void reportMapped() { reported_ = mapped_; }
   // Its robot's odometry arrived (a message, whatever became of it).
   void poseArrived(std::int64_t steady_utime) { inputs_.poseArrived(steady_utime); }
   // The inputs' silence counts from here.
@@ -108,11 +111,16 @@ class SourceIntake {
   fusion::InputWatch inputs_;
   bool inputs_were_ok_ = false;  // the inputs have been OK before (a return to OK is said as such)
   std::int64_t malformed_scans_ = 0;
-  std::int64_t scans_mapped_ = 0;
-  std::int64_t measurements_ = 0;
   std::int64_t packets_in_ = 0;
   std::int64_t packets_rejected_ = 0;
-  std::deque<Eigen::Vector3f> trail_;
+  // What the worker has mapped of this source, and what of it the status shows (reportMapped).
+  struct Mapped {
+    std::int64_t scans = 0;
+    std::int64_t measurements = 0;
+    std::deque<Eigen::Vector3f> trail;  // the sensor's positions, newest last
+  };
+  Mapped mapped_;
+  Mapped reported_;
 
   // The Asio thread's alone: the decoder of raw packets and the scan it fills.
   std::optional<velodyne::PacketStream> packets_;
