@@ -6,6 +6,8 @@
 
 namespace ogf::transport {
 
+bool canReceive(lcm::LCM& lcm) { return lcm.getFileno() >= 0; }
+
 // The descriptor is dup()ed: Asio closes what it owns, and LCM must keep its own.
 LcmAsioBridge::LcmAsioBridge(boost::asio::io_context& io, lcm::LCM& lcm, std::function<void()> on_end)
     : lcm_(lcm), descriptor_(io, ::dup(lcm.getFileno())), on_end_(std::move(on_end)) {

@@ -90,8 +90,17 @@ def loopback_bus():
         if not _routes_over_lo():
             pytest.skip("could not add a multicast route over lo")
 
+    # As tests/support/multicast.cpp: 256 ports per process, below the kernel's ephemeral ports (every LCM
+    # process's send socket holds one of those without sharing it); the upper half for the Python tests.
+    try:
+        with open("/proc/sys/net/ipv4/ip_local_port_range") as f:
+            ephemeral = int(f.read().split()[0])
+    except (OSError, ValueError, IndexError):
+        ephemeral = 32768
+    processes = max(1, (ephemeral - 20000) // 256)
+
     def url(slot):
-        port = 20000 + (os.getpid() * 256 + 128 + (slot & 127)) % 40000
+        port = 20000 + (os.getpid() % processes) * 256 + 128 + (slot & 127)
         return f"udpm://239.255.76.67:{port}?ttl=0&recv_buf_size=8388608"
 
     return url

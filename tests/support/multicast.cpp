@@ -5,10 +5,14 @@
 #include <array>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <memory>
 
 namespace ogf::testing {
+
 namespace {
+
+constexpr int kFirstTestPort = 20000;
 
 std::string run(const char* cmd) {
   std::string out;
@@ -22,6 +26,13 @@ std::string run(const char* cmd) {
 bool routesOverLoopback() {
   const std::string route = run("ip route get 239.255.76.67 2>/dev/null");
   return route.find(" dev lo") != std::string::npos;
+}
+
+// The lowest port the kernel hands to a socket bound to none (Linux's default 32768).
+int firstEphemeralPort() {
+  std::ifstream in("/proc/sys/net/ipv4/ip_local_port_range");
+  int low = 0;
+  return in >> low && low > kFirstTestPort + 256 ? low : 32768;
 }
 
 }  // namespace
@@ -41,9 +52,10 @@ std::optional<std::string> ensureLoopbackMulticast() {
 
 std::string loopbackUdpmUrl(int slot) {
   // 256 ports per process, the slot's one among them: two test processes running side by side (their pids
-  // a few apart) never share a port, as they did with pid + slot when the pids differed by the slots'
-  // difference.
-  const int port = 20000 + static_cast<int>((static_cast<long>(::getpid()) * 256 + (slot & 255)) % 40000);
+  // a few apart) never share a port. All below the kernel's ephemeral ports: every LCM process's send
+  // socket is bound to one of those, without sharing it, and a udpm URL on the same port cannot be joined.
+  static const int processes = (firstEphemeralPort() - kFirstTestPort) / 256;
+  const int port = kFirstTestPort + static_cast<int>(::getpid() % processes) * 256 + (slot & 255);
   return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=8388608";
 }
 

@@ -196,6 +196,10 @@ int main(int argc, char** argv) {
     spdlog::critical("cannot join the LCM bus {} (udpm needs a multicast route)", bus);
     return ogf::cli::kExitFailure;
   }
+  if (!ogf::transport::canReceive(lcm)) {
+    spdlog::critical("cannot receive on the LCM bus {}: the port is held by a socket that does not share it", bus);
+    return ogf::cli::kExitFailure;
+  }
   ogf::transport::DaemonLoop loop;
   ogf::transport::LcmAsioBridge bridge(loop.io(), lcm, [&loop] { loop.requestStop(ogf::cli::kExitFailure); });
   auto daemon = ogf::mapper_daemon::MapperDaemon::create(options, lcm, loop);

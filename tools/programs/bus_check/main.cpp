@@ -88,6 +88,10 @@ int main(int argc, char** argv) {
                   resolved);
     return 2;
   }
+  if (!ogf::transport::canReceive(lcm)) {
+    spdlog::error("cannot receive on the LCM bus {}: the port is held by a socket that does not share it", resolved);
+    return 2;
+  }
 
   ogf::transport::DaemonLoop loop;
   ogf::transport::LcmAsioBridge bridge(loop.io(), lcm);

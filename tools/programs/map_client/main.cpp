@@ -269,6 +269,10 @@ int main(int argc, char** argv) {
     spdlog::error("cannot join the LCM bus {}", resolved);
     return kExitUsage;
   }
+  if (!ogf::transport::canReceive(lcm)) {
+    spdlog::error("cannot receive on the LCM bus {}: the port is held by a socket that does not share it", resolved);
+    return kExitUsage;
+  }
 
   ogf::transport::DaemonLoop loop;
   std::optional<DeltaFollower> deltas;
