@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 namespace ogf::navigation {
 namespace {
@@ -61,14 +64,51 @@ double quantileOf(double p) {
   return normalQuantile(p);
 }
 
+// The rounded cost 100 · Φ(x) as Φ gives it: the reference costAtProbit's steps are found from.
+std::int8_t roundedCost(double x) {
+  return static_cast<std::int8_t>(std::lround(std::clamp(normalCdf(x), 0.0, 1.0) * 100));
+}
+
+// The smallest double x with roundedCost(x) > k, for k = 0..99, by bisection over the doubles between -10
+// and 10 (Φ(-10) and 1 - Φ(10) are far below half a percent). A map of ordered doubles to integers makes
+// every double in between a candidate, so each step is exact, not within some tolerance.
+std::array<double, 100> costSteps() {
+  const auto ordered = [](double x) {
+    const auto bits = std::bit_cast<std::int64_t>(x);
+    return bits < 0 ? std::numeric_limits<std::int64_t>::min() - bits : bits;
+  };
+  const auto unordered = [](std::int64_t o) {
+    return std::bit_cast<double>(o < 0 ? std::numeric_limits<std::int64_t>::min() - o : o);
+  };
+  std::array<double, 100> steps{};
+  for (int k = 0; k < 100; ++k) {
+    std::int64_t lo = ordered(-10.0);  // roundedCost(lo) <= k
+    std::int64_t hi = ordered(10.0);   // roundedCost(hi) > k
+    // The distance between them passes 2^63: counted unsigned.
+    for (std::uint64_t apart = static_cast<std::uint64_t>(hi) - static_cast<std::uint64_t>(lo); apart > 1;
+         apart = static_cast<std::uint64_t>(hi) - static_cast<std::uint64_t>(lo)) {
+      const std::int64_t mid = lo + static_cast<std::int64_t>(apart / 2);
+      (roundedCost(unordered(mid)) > k ? hi : lo) = mid;
+    }
+    steps[static_cast<std::size_t>(k)] = unordered(hi);
+  }
+  return steps;
+}
+
 }  // namespace
+
+std::int8_t costAtProbit(double x) {
+  static const std::array<double, 100> steps = costSteps();
+  // The steps at or below x: 7 comparisons where Φ would take an erfc (the live grid costs a million cells
+  // a scan at 0.1 m).
+  return static_cast<std::int8_t>(std::upper_bound(steps.begin(), steps.end(), x) - steps.begin());
+}
 
 std::int8_t cellCost(double predictive_probability, double variance) {
   const double p = std::clamp(std::isnan(predictive_probability) ? 0.5 : predictive_probability, 1e-4, 1 - 1e-4);
   const double s = std::isfinite(variance) && variance > 0 ? variance : 0.0;
   const double mean = quantileOf(p) * std::sqrt(1 + s);
-  const double upper = normalCdf(mean + std::sqrt(s));
-  return static_cast<std::int8_t>(std::lround(std::clamp(upper, 0.0, 1.0) * 100));
+  return costAtProbit(mean + std::sqrt(s));
 }
 
 NavColumn classifyColumn(std::span<const BandCell> cells, std::int32_t free_layers_needed) {

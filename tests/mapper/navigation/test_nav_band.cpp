@@ -1,5 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
 #include "ogf/navigation/column_rule.hpp"
 #include "ogf/navigation/nav_band.hpp"
 
@@ -61,6 +66,38 @@ TEST(CellCost, IsTheProbabilityWithoutVarianceAndRisesWithVariance) {
   EXPECT_EQ(cellCost(1.0, 0.0), 100);
   EXPECT_EQ(cellCost(0.2, -1.0), 20);
   EXPECT_EQ(cellCost(std::numeric_limits<double>::quiet_NaN(), 0.0), 50);
+}
+
+// 100 · Φ(x) rounded, computed here from erfc as the cost's definition says.
+std::int8_t roundedPercentOfPhi(double x) {
+  return static_cast<std::int8_t>(std::lround(std::clamp(0.5 * std::erfc(-x / std::sqrt(2.0)), 0.0, 1.0) * 100));
+}
+
+TEST(CellCost, AtEveryProbitItIsOneHundredPhiRounded) {
+  // Where the rounded value steps (Φ(x) = (k + 0.5) / 100), every double within 2000 of the step either side.
+  int steps_checked = 0;
+  for (int k = 0; k < 100; ++k) {
+    double x = 0;
+    for (double lo = -10, hi = 10, i = 0; i < 200; ++i) {  // Φ(x) ≈ (k + 0.5) / 100
+      x = (lo + hi) / 2;
+      (0.5 * std::erfc(-x / std::sqrt(2.0)) < (k + 0.5) / 100 ? lo : hi) = x;
+    }
+    double below = x, above = x;
+    for (int i = 0; i < 2000; ++i) {
+      below = std::nextafter(below, -1e9);
+      above = std::nextafter(above, 1e9);
+      ASSERT_EQ(costAtProbit(below), roundedPercentOfPhi(below)) << "k " << k << " x " << below;
+      ASSERT_EQ(costAtProbit(above), roundedPercentOfPhi(above)) << "k " << k << " x " << above;
+    }
+    EXPECT_EQ(roundedPercentOfPhi(below), k);
+    EXPECT_EQ(roundedPercentOfPhi(above), k + 1);
+    ++steps_checked;
+  }
+  EXPECT_EQ(steps_checked, 100);
+  // And a dense sweep, the tails and the infinities.
+  for (double x = -12; x <= 12; x += 1e-4) ASSERT_EQ(costAtProbit(x), roundedPercentOfPhi(x)) << x;
+  EXPECT_EQ(costAtProbit(-std::numeric_limits<double>::infinity()), 0);
+  EXPECT_EQ(costAtProbit(std::numeric_limits<double>::infinity()), 100);
 }
 
 TEST(ClassifyColumn, OccupiedWhenAnyCellIsFreeWhenEnoughLayersAreElseUnknown) {

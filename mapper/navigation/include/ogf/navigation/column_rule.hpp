@@ -40,6 +40,11 @@ struct NavColumn {
 // to [1e-4, 1 − 1e-4], s < 0 or not finite read as 0).
 std::int8_t cellCost(double predictive_probability, double variance);
 
+// 100 · Φ(x), rounded (half away from zero): the cost of a cell whose probit one standard deviation above
+// its estimate is x. Read from the 100 values of x where the rounded cost steps up, found once from
+// Φ itself, so it equals the rounded Φ(x) for every x but NaN.
+std::int8_t costAtProbit(double x);
+
 // The column of `cells` (one per band layer, never-allocated ones unknown), given how many free layers
 // make it free (NavBand::freeLayersNeeded).
 NavColumn classifyColumn(std::span<const BandCell> cells, std::int32_t free_layers_needed);
