@@ -13,8 +13,11 @@
 #   udpm over loopback, replays the drive in real time (ogf-replay), and counts every message on the bus
 #   with lcm-logger writing into a pipe read by scripts/lcm_bytes.py (nothing is stored). Prints a Markdown
 #   table: MB/s are the bytes of a channel divided by the seconds driven; "busiest s" is its largest
-#   second; the delta messages counted are checked against those ogf-map-client received; "mapped" is the scans ogf-mapper mapped of those it received; "client" says whether
-#   ogf-map-client (following both with --nav) ended with the mapper's checksum of the map / of the grid.
+#   second; the delta messages counted are checked against those ogf-map-client received; "mapped" is
+#   the scans ogf-mapper mapped of those it received; "client" says whether ogf-map-client (following
+#   both with --nav) ended with the mapper's checksum of the map / of the grid;
+#   "mapper cores" is ogf-mapper's CPU time (all its threads) from the drive's start until it mapped the
+#   last scan, over the seconds driven: 0.5 is half a core, a mapper at twice real time.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 source "$here/scripts/run-common.sh"
@@ -37,7 +40,7 @@ while [ $# -gt 0 ]; do
     --drives) drives=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --lcm-url) url=$2; shift 2 ;;
-    -h|--help) sed -n '2,18p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,20p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "wire.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -52,6 +55,9 @@ out=$(cd "$out" && pwd)
 pids=()
 cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }
 trap cleanup EXIT
+
+# CPU seconds (user + system, all threads) process $1 has used so far.
+cpu_seconds() { awk -v tck="$(getconf CLK_TCK)" '{ printf "%.2f", ($14 + $15) / tck }' "/proc/$1/stat"; }
 
 # One run: drive $1 simulated in $2, resolution $3, rule $4, $5 seconds; appends its row to the table rows.
 run() {
@@ -77,12 +83,14 @@ run() {
   "$bin/ogf-map-client" --lcm-url "$url" --nav --progress >"$dir/client.log" 2>&1 &
   local client=$!; pids+=("$client")
   sleep 1
+  local cpu_start; cpu_start=$(cpu_seconds "$mapper")
   "$bin/ogf-replay" --pcap "$sim/capture.pcap" --dest 127.0.0.1 --data-port "$data_port" \
     --position-port "$position_port" --speed 1 --odometry "$sim/odometry.csv" --lcm-url "$url" \
     --start-delay 1.5 > "$dir/replay.txt"
   sleep 0.5
   kill -TERM "$driver"; wait "$driver" || true
   wait_for_quiet_client "$dir/client.log"  # the mapper drains its queue
+  echo "$cpu_start $(cpu_seconds "$mapper")" > "$dir/cpu.txt"
   kill -TERM "$client"; wait "$client" || true
   kill -TERM "$mapper"; wait "$mapper" || true
   kill -INT "$logger"; wait "$logger" || true
@@ -105,10 +113,12 @@ c = re.search(r" consistent (\w+)", last)
 n = re.search(r"nav_consistent (\w+)", nav)
 got = re.search(r" messages (\d+)", last)
 deltas = b.get("OGF_MAP_DELTA", {})
+cpu_start, cpu_end = (float(x) for x in open(f"{d}/cpu.txt").read().split())
+cores = (cpu_end - cpu_start) / float(seconds)
 print(f"| {drive} ({seconds} s) | {res} | {rule} | {rate('VELODYNE_SCAN'):.2f} | {rate('VELODYNE_PACKETS'):.2f} | "
       f"{rate('OGF_MAP_DELTA'):.3f} | {rate('OGF_MAP_DELTA', 'peak_bytes_per_s'):.2f} | "
       f"{rate('OGF_NAV_GRID') * 1000:.1f} | {rate('OGF_NAV_GRID', 'peak_bytes_per_s') * 1000:.1f} | "
-      f"{deltas.get('messages', 0)} / {got.group(1) if got else '?'} | {mapped} | "
+      f"{deltas.get('messages', 0)} / {got.group(1) if got else '?'} | {mapped} | {cores:.2f} | "
       f"{c.group(1) if c else '?'} / {n.group(1) if n else '?'} |")
 PY
   tail -n 1 "$out/rows.md" >&2
@@ -133,6 +143,6 @@ for drive in $drives; do
 done
 
 echo
-echo "| drive | cell m | deltas | VELODYNE_SCAN MB/s | VELODYNE_PACKETS MB/s | OGF_MAP_DELTA MB/s | OGF_MAP_DELTA busiest s MB | OGF_NAV_GRID kB/s | OGF_NAV_GRID busiest s kB | delta messages counted / client's | mapped | client map / grid |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+echo "| drive | cell m | deltas | VELODYNE_SCAN MB/s | VELODYNE_PACKETS MB/s | OGF_MAP_DELTA MB/s | OGF_MAP_DELTA busiest s MB | OGF_NAV_GRID kB/s | OGF_NAV_GRID busiest s kB | delta messages counted / client's | mapped | mapper cores | client map / grid |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 cat "$out/rows.md"

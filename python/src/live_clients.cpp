@@ -118,7 +118,7 @@ void defineLiveClients(py::module_& m) {
       "Follows the mapper's 3-D map live: rebuilds it from the delta stream (OGF_MAP_DELTA), asking for a keyframe "
       "on OGF_MAP_REQUEST at start and after a gap, as ogf-map-client does. lcm_url None means $LCM_DEFAULT_URL, "
       "else LCM's default. The map is the same arrays as ogf.Map's, in cell-key order (x, then y, then z), with "
-      "the probability quantised as the deltas carry it. ValueError when the URL cannot be joined.");
+      "the probability quantised as the deltas carry it. ValueError when the URL cannot be joined or received on.");
   map_client.def(py::init<const std::optional<std::string>&, const std::string&, const std::string&>(),
                  py::arg("lcm_url") = py::none(), py::arg("channel") = "OGF_MAP_DELTA",
                  py::arg("request_channel") = "OGF_MAP_REQUEST",
@@ -142,7 +142,7 @@ void defineLiveClients(py::module_& m) {
       m, "NavClient",
       "Follows the mapper's 2-D navigation grid live: rebuilds it from OGF_NAV_GRID (changed tiles between full "
       "keyframes), asking for a keyframe on OGF_NAV_REQUEST at start and after a gap. lcm_url None means "
-      "$LCM_DEFAULT_URL, else LCM's default. ValueError when the URL cannot be joined.");
+      "$LCM_DEFAULT_URL, else LCM's default. ValueError when the URL cannot be joined or received on.");
   nav_client.def(py::init<const std::optional<std::string>&, const std::string&, const std::string&>(),
                  py::arg("lcm_url") = py::none(), py::arg("channel") = "OGF_NAV_GRID",
                  py::arg("request_channel") = "OGF_NAV_REQUEST",

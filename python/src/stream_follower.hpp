@@ -19,6 +19,7 @@
 
 #include "errors.hpp"
 #include "ogf/delta/keyframe_request.hpp"
+#include "ogf/transport/lcm_asio_bridge.hpp"
 #include "ogf/transport/lcm_url.hpp"
 #include "ogf/transport/subscriber.hpp"
 
@@ -30,11 +31,13 @@ class StreamFollower {
   static constexpr std::chrono::milliseconds kSlice{100};
   static constexpr std::chrono::seconds kKeyframeRetry{1};
 
-  // ValueError when the URL is not one LCM can join.
+  // ValueError when the URL is not one LCM can join, or its port is held by a socket that does not share it.
   StreamFollower(const std::optional<std::string>& url, const std::string& channel, const std::string& request_channel)
       : url_(transport::withReceiveBuffer(transport::resolveLcmUrl(url.value_or("")))),
         channel_(channel), request_channel_(request_channel), lcm_(url_) {
     if (!lcm_.good()) raiseValueError("cannot join the LCM bus '" + url_ + "' (is it a valid LCM URL?)");
+    if (!transport::canReceive(lcm_))
+      raiseValueError("cannot receive on the LCM bus '" + url_ + "': the port is held by a socket that does not share it");
     subscriber_.emplace(
         lcm_, channel_,
         [this](const Message& m, const lcm::ReceiveBuffer&, const std::string&) {

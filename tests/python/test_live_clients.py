@@ -6,6 +6,7 @@ publisher (nav_test_publisher.cpp, navigation::NavStream) to the published check
 import os
 import re
 import signal
+import socket
 import subprocess
 import time
 
@@ -45,6 +46,18 @@ def test_bad_lcm_url_raises_value_error():
         ogf.MapClient("nosuchprovider://x")
     with pytest.raises(ValueError, match="nosuchprovider://x"):
         ogf.NavClient(lcm_url="nosuchprovider://x")
+
+
+def test_a_bus_port_held_unshared_raises_value_error(loopback_bus):
+    url = loopback_bus(20)
+    port = int(re.search(r":(\d+)\?", url).group(1))
+    # A plain UDP socket on the port, as the kernel binds every sending socket: udpm cannot bind it too.
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as held:
+        held.bind(("0.0.0.0", port))
+        with pytest.raises(ValueError, match="cannot receive on the LCM bus"):
+            ogf.MapClient(url)
+        with pytest.raises(ValueError, match="cannot receive on the LCM bus"):
+            ogf.NavClient(lcm_url=url)
 
 
 def test_map_client_follows_a_real_mapper_to_its_checksum(sim_lab, loopback_bus, tmp_path):
