@@ -56,8 +56,10 @@ pids=()
 cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }
 trap cleanup EXIT
 
-# CPU seconds (user + system, all threads) process $1 has used so far.
-cpu_seconds() { awk -v tck="$(getconf CLK_TCK)" '{ printf "%.2f", ($14 + $15) / tck }' "/proc/$1/stat"; }
+# CPU seconds (user + system, all threads) process $1 has used so far; nan when it has gone.
+cpu_seconds() {
+  awk -v tck="$(getconf CLK_TCK)" '{ printf "%.2f", ($14 + $15) / tck }' "/proc/$1/stat" 2>/dev/null || echo nan
+}
 
 # One run: drive $1 simulated in $2, resolution $3, rule $4, $5 seconds; appends its row to the table rows.
 run() {
