@@ -107,6 +107,8 @@ TEST(BusCheck, AProgramWhoseBusPortIsHeldUnsharedSaysSoAndExits) {
       {kBin + "/ogf-bus-check", "--lcm-url", url, "--timeout", "5"},
       {kBin + "/ogf-mapper", "--lcm-url", url, "--in-memory"},
       {kBin + "/ogf-map-client", "--lcm-url", url, "--duration", "5"},
+      {kBin + "/ogf-view", "--lcm-url", url, "--port", "0"},
+      {kBin + "/ogf-map-query", "--lcm-url", url, "--timeout", "5", "sources"},
   };
   int n = 0;
   for (const auto& argv : programs) {

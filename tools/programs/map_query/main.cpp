@@ -29,6 +29,7 @@
 #include "ogf/common/json_string.hpp"
 #include "ogf/messages/source_status_names.hpp"
 #include "ogf/mapper_daemon/command_auth.hpp"
+#include "ogf/transport/lcm_asio_bridge.hpp"
 #include "ogf/transport/lcm_url.hpp"
 #include "ogf/transport/logging.hpp"
 #include "ogf/transport/subscriber.hpp"
@@ -332,6 +333,10 @@ int main(int argc, char** argv) {
   lcm::LCM lcm(resolved);
   if (!lcm.good()) {
     spdlog::error("cannot join the LCM bus {}", resolved);
+    return kExitFailed;
+  }
+  if (!ogf::transport::canReceive(lcm)) {
+    spdlog::error("cannot receive on the LCM bus {}: the port is held by a socket that does not share it", resolved);
     return kExitFailed;
   }
   if (o.sources->parsed()) return sources(o, lcm, resolved);

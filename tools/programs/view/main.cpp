@@ -274,6 +274,10 @@ class BusFeed {
       spdlog::error("cannot join the LCM bus {}", resolved);
       return kExitFailure;
     }
+    if (!ogf::transport::canReceive(*lcm_)) {
+      spdlog::error("cannot receive on the LCM bus {}: the port is held by a socket that does not share it", resolved);
+      return kExitFailure;
+    }
     feed_.receiver().onDeltaCell([this](const ogf::delta::PublishedCell& c) { feed_.slots().set(c); });
     subscribe();
     bridge_ = std::make_unique<ogf::transport::LcmAsioBridge>(io, *lcm_);
