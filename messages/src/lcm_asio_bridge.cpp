@@ -6,7 +6,10 @@
 
 namespace ogf::transport {
 
-bool canReceive(lcm::LCM& lcm) { return lcm.getFileno() >= 0; }
+std::optional<std::string> receiveProblem(lcm::LCM& lcm, std::string_view url) {
+  if (lcm.getFileno() >= 0) return std::nullopt;
+  return "cannot receive on the LCM bus " + std::string(url) + ": the port is held by a socket that does not share it";
+}
 
 // The descriptor is dup()ed: Asio closes what it owns, and LCM must keep its own.
 LcmAsioBridge::LcmAsioBridge(boost::asio::io_context& io, lcm::LCM& lcm, std::function<void()> on_end)

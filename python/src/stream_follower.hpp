@@ -36,8 +36,7 @@ class StreamFollower {
       : url_(transport::withReceiveBuffer(transport::resolveLcmUrl(url.value_or("")))),
         channel_(channel), request_channel_(request_channel), lcm_(url_) {
     if (!lcm_.good()) raiseValueError("cannot join the LCM bus '" + url_ + "' (is it a valid LCM URL?)");
-    if (!transport::canReceive(lcm_))
-      raiseValueError("cannot receive on the LCM bus '" + url_ + "': the port is held by a socket that does not share it");
+    if (const auto why = transport::receiveProblem(lcm_, url_)) raiseValueError(*why);
     subscriber_.emplace(
         lcm_, channel_,
         [this](const Message& m, const lcm::ReceiveBuffer&, const std::string&) {

@@ -196,8 +196,8 @@ int main(int argc, char** argv) {
     spdlog::critical("cannot join the LCM bus {} (udpm needs a multicast route)", bus);
     return ogf::cli::kExitFailure;
   }
-  if (!ogf::transport::canReceive(lcm)) {
-    spdlog::critical("cannot receive on the LCM bus {}: the port is held by a socket that does not share it", bus);
+  if (const auto why = ogf::transport::receiveProblem(lcm, bus)) {
+    spdlog::critical("{}", *why);
     return ogf::cli::kExitFailure;
   }
   ogf::transport::DaemonLoop loop;

@@ -88,8 +88,8 @@ int main(int argc, char** argv) {
                   resolved);
     return 2;
   }
-  if (!ogf::transport::canReceive(lcm)) {
-    spdlog::error("cannot receive on the LCM bus {}: the port is held by a socket that does not share it", resolved);
+  if (const auto why = ogf::transport::receiveProblem(lcm, resolved)) {
+    spdlog::error("{}", *why);
     return 2;
   }
 

@@ -269,8 +269,8 @@ int main(int argc, char** argv) {
     spdlog::error("cannot join the LCM bus {}", resolved);
     return kExitUsage;
   }
-  if (!ogf::transport::canReceive(lcm)) {
-    spdlog::error("cannot receive on the LCM bus {}: the port is held by a socket that does not share it", resolved);
+  if (const auto why = ogf::transport::receiveProblem(lcm, resolved)) {
+    spdlog::error("{}", *why);
     return kExitUsage;
   }
 

@@ -274,8 +274,8 @@ class BusFeed {
       spdlog::error("cannot join the LCM bus {}", resolved);
       return kExitFailure;
     }
-    if (!ogf::transport::canReceive(*lcm_)) {
-      spdlog::error("cannot receive on the LCM bus {}: the port is held by a socket that does not share it", resolved);
+    if (const auto why = ogf::transport::receiveProblem(*lcm_, resolved)) {
+      spdlog::error("{}", *why);
       return kExitFailure;
     }
     feed_.receiver().onDeltaCell([this](const ogf::delta::PublishedCell& c) { feed_.slots().set(c); });

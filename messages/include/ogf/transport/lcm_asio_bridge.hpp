@@ -10,18 +10,23 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
 
 namespace ogf::transport {
 
-// Whether `lcm` can receive. udpm opens its receive socket when first asked, binding the URL's port and
-// joining its group; when that fails (a socket that does not share the port holds it: "bind: Address
-// already in use" on stderr, from LCM) it has no descriptor to watch, though good() was true.
-bool canReceive(lcm::LCM& lcm);
+// Why `lcm`, joined to `url`, cannot receive, or nothing when it can. udpm opens its receive socket when
+// first asked, binding the URL's port and joining its group; when that fails (a socket that does not share
+// the port holds it: "bind: Address already in use" on stderr, from LCM) it has no descriptor to watch,
+// though good() was true.
+std::optional<std::string> receiveProblem(lcm::LCM& lcm, std::string_view url);
 
 class LcmAsioBridge {
  public:
-  // `lcm` must be able to receive (canReceive). `on_end` runs once when LCM reports an error or the end
-  // of a file:// log (handle returns < 0); the bridge then stops watching. Without it an exhausted log would spin the loop.
+  // `lcm` must be able to receive (receiveProblem). `on_end` runs once when LCM reports an error or the
+  // end of a file:// log (handle returns < 0); the bridge then stops watching. Without it an exhausted log
+  // would spin the loop.
   LcmAsioBridge(boost::asio::io_context& io, lcm::LCM& lcm, std::function<void()> on_end = {});
   ~LcmAsioBridge();
   LcmAsioBridge(const LcmAsioBridge&) = delete;
