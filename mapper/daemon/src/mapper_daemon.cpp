@@ -248,8 +248,6 @@ void MapperDaemon::mapScan(const ScanPtr& scan, SourceIntake& source) {
   persistence_.pageOut();  // after the delta: the published cells of a region leave with it
   publisher_.publishDeltas(deltas);
   nav_.scanMapped(scan->utime, changes_, steadyUtime());
-  ++mapped_.scans;
-  mapped_.measurements += static_cast<std::int64_t>(measurements.size());
   std::lock_guard lk(shared_.mu);
   source.scanMapped(static_cast<std::int64_t>(measurements.size()), mapper_.sensorOrigin());
   shared_.figures_stale = true;  // the counts of this scan go into the status with the map's figures
@@ -279,9 +277,14 @@ void MapperDaemon::resetMap() {
 void MapperDaemon::refreshMapFigures() {
   const MapFigures figures = mapFiguresOf(mapper_, deltas_, persistence_.heldBlocks());
   std::lock_guard lk(shared_.mu);
-  shared_.stats.scans_mapped = mapped_.scans;
-  shared_.stats.measurements = mapped_.measurements;
-  for (const auto& source : intake_.sources()) source->reportMapped();
+  // The map's scans and measurements are its sources'.
+  shared_.stats.scans_mapped = 0;
+  shared_.stats.measurements = 0;
+  for (const auto& source : intake_.sources()) {
+    source->reportMapped();
+    shared_.stats.scans_mapped += source->scansReported();
+    shared_.stats.measurements += source->measurementsReported();
+  }
   shared_.stats.delta_seq = deltas_.seq();
   mapper_daemon::fillMapFigures(shared_.stats, figures);
   shared_.figures_stale = false;

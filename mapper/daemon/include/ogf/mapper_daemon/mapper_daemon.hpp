@@ -99,11 +99,6 @@ class MapperDaemon {
   std::optional<correction::ScanPoseCorrection> correction_;  // absent in pose_correction mode none
   delta::DeltaStream deltas_;
   pipeline::ChangedCells changes_;
-  // The scans mapped and their measurements (the worker's; refreshMapFigures puts them in the status).
-  struct Mapped {
-    std::int64_t scans = 0;
-    std::int64_t measurements = 0;
-  } mapped_;
 
   ScanIntake intake_;
   MapPersistence persistence_;

@@ -69,6 +69,9 @@ class SourceIntake {
   void scanMapped(std::int64_t measurements, const Eigen::Vector3d& sensor_origin);
   // The scans mapped so far, their measurements and the trail go into the status from now on.
   void reportMapped() { reported_ = mapped_; }
+  // The scans mapped and their measurements as the status shows them (at the last reportMapped()).
+  std::int64_t scansReported() const { return reported_.scans; }
+  std::int64_t measurementsReported() const { return reported_.measurements; }
   // Its robot's odometry arrived (a message, whatever became of it).
   void poseArrived(std::int64_t steady_utime) { inputs_.poseArrived(steady_utime); }
   // The inputs' silence counts from here.
