@@ -59,6 +59,16 @@ void publishStep(lcm::LCM& lcm, const ogf::testing::FeedStep& step) {
   lcm.publish("VELODYNE_SCAN", &step.scan);
 }
 
+// Waits, up to `max_waits` times 5 ms, while the daemon has 3 or more scans in hand (received, neither
+// mapped nor dropped), so a fast feed does not overrun its queue.
+void waitWhileScansInHand(const Mapper& mapper, int max_waits) {
+  for (int w = 0; w < max_waits; ++w) {
+    const auto s = mapper.latestStatus();
+    if (!s || s->scans_in - s->scans_mapped - s->scans_dropped_behind - s->scans_dropped_no_pose < 3) return;
+    std::this_thread::sleep_for(5ms);
+  }
+}
+
 class MapperDaemonTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -97,11 +107,7 @@ void clientRebuildsTheDaemonsMap(const fs::path& dir, int channel, int scans, co
     publishStep(lcm, ogf::testing::feedStep(i, 400));
     // Pace like a fast replay; wait whenever the daemon has 3 or more scans in hand.
     std::this_thread::sleep_for(2ms);
-    for (int w = 0; w < 200; ++w) {
-      const auto s = mapper.latestStatus();
-      if (!s || s->scans_in - s->scans_mapped - s->scans_dropped_behind - s->scans_dropped_no_pose < 3) break;
-      std::this_thread::sleep_for(5ms);
-    }
+    waitWhileScansInHand(mapper, 200);
   }
   const auto done = mapper.waitForStatus(
       [scans](const ogf::mapper_status_t& s) {
@@ -254,11 +260,7 @@ TEST_F(MapperDaemonTest, EveryStatusWhileMappingGivesTheChecksumAndCountsOfTheSa
   for (int i = 0; i < kScans; ++i) {
     publishStep(lcm, ogf::testing::feedStep(i, kPoints));
     std::this_thread::sleep_for(15ms);
-    for (int w = 0; w < 400; ++w) {
-      const auto s = mapper.latestStatus();
-      if (!s || s->scans_in - s->scans_mapped - s->scans_dropped_behind - s->scans_dropped_no_pose < 3) break;
-      std::this_thread::sleep_for(5ms);
-    }
+    waitWhileScansInHand(mapper, 400);
   }
   const auto done = mapper.waitForStatus(
       [](const ogf::mapper_status_t& s) {
