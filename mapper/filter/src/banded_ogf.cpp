@@ -10,7 +10,6 @@
 #include <cstring>
 #include <limits>
 #include <string>
-#include <thread>
 #include <utility>
 
 #include "ogf/filter/layer_changes.hpp"
@@ -209,6 +208,16 @@ void BandedOgf::initialiseBlock(Block& block) {
   }
 }
 
+WorkerPool* BandedOgf::pool() {
+  if (config_.threads <= 1) {
+    return nullptr;
+  }
+  if (pool_ == nullptr || pool_->threads() != static_cast<std::size_t>(config_.threads)) {
+    pool_ = std::make_unique<WorkerPool>(config_.threads);
+  }
+  return pool_.get();
+}
+
 std::uint32_t BandedOgf::lookUp(const CellKey& blockKey) {
   Batch& work = scratch_;
   bool inserted = false;
@@ -305,40 +314,27 @@ inline void BandedOgf::prefetchRunsAhead(std::span<const Measurement> batch, std
   }
 }
 
-// The measurements of run r: its group (made at its first accepted measurement), each accepted one's group
-// and code from `accepted` on, the neighbouring blocks they reach and their count (Group::end for now).
-inline void BandedOgf::groupRun(std::span<const Measurement> batch, std::size_t r, std::vector<Group>& groups,
-                                std::size_t& accepted, UpdateStats& stats) {
+// Whether a measurement can be applied at all: y is ±1, and in a 2-D map it lies on the z = 0 slice.
+inline bool BandedOgf::acceptable(const Measurement& m) const {
+  return (m.y == 1 || m.y == -1) && (config_.dimensions != 2 || m.key.z == 0);
+}
+
+// The measurements [i, end) of one run into `group` (number g) from `next` on: rejected ones counted,
+// free ones held back (marks: the block's, when it existed and the occupied priority holds), each other
+// one's group and code (position in the block, y), and the neighbouring blocks they reach and their count
+// (Group::end for now).
+inline void BandedOgf::acceptRun(std::span<const Measurement> batch, std::size_t i, std::size_t end,
+                                 std::uint32_t g, Group& group, std::size_t& next, UpdateStats& stats) {
   Batch& work = scratch_;
-  const bool flat = config_.dimensions == 2;
-  const bool readsExisting = readsBlocks();
-  const bool occupiedPriority = prioritisesOccupied();
-  std::size_t next = accepted;  // in a register through the loop, not through the reference
-  const CellKey block = blockKeyOf(batch[work.runs[r]].key);
-  std::uint32_t group = BlockKeyTable::kAbsent;
+  std::uint8_t* marks = group.marks;
+  std::size_t out = next;  // in a register through the loop, not through the reference
   std::uint32_t neighbours = 0;
   std::size_t count = 0;
-  std::uint8_t* marks = nullptr;
-  for (std::size_t i = work.runs[r]; i < work.runs[r + 1]; ++i) {
+  for (; i < end; ++i) {
     const Measurement& m = batch[i];
-    if ((m.y != 1 && m.y != -1) || (flat && m.key.z != 0)) {
+    if (!acceptable(m)) {
       ++stats.rejected;
       continue;
-    }
-    if (group == BlockKeyTable::kAbsent) {
-      bool inserted = false;
-      group = work.blocks.findOrInsert(block, static_cast<std::uint32_t>(groups.size()), inserted);
-      if (inserted) {
-        Block* existing = readsExisting ? work.touched[lookUp(block)].block : nullptr;
-        std::uint8_t* existingMarks = nullptr;
-        if (existing != nullptr && occupiedPriority) {
-          existing->changed();  // holding back free measurements counts on the marks
-          existingMarks = existing->marks().data();
-        }
-        groups.push_back({block, colourOf(block), 0, 0, 0, existingMarks,
-                          existing != nullptr ? existing->data() : nullptr});
-      }
-      marks = groups[group].marks;
     }
     const std::size_t local = localIndexOf(m.key);
     // A cell's marks before the batch decide (occupied measurements mark it in obtainNeighbourhoods), so the
@@ -349,15 +345,48 @@ inline void BandedOgf::groupRun(std::span<const Measurement> batch, std::size_t 
     }
     neighbours |= neighbourMask_[local];
     ++count;
-    work.groupOf[next] = group;
-    work.codes[next] = static_cast<std::uint16_t>((local << 1) | (m.y > 0 ? 1U : 0U));
-    ++next;
+    work.groupOf[out] = g;
+    work.codes[out] = static_cast<std::uint16_t>((local << 1) | (m.y > 0 ? 1U : 0U));
+    ++out;
   }
-  accepted = next;
-  if (group != BlockKeyTable::kAbsent) {
-    groups[group].neighbours |= neighbours;
-    groups[group].end += count;  // the count for now
+  next = out;
+  group.neighbours |= neighbours;
+  group.end += count;
+}
+
+// The group of a block the batch measures, with the block's marks (when the occupied priority holds:
+// it is then written, and its hash forgotten) and values, where it existed before the batch.
+BandedOgf::Group BandedOgf::makeGroup(const CellKey& block, Block* existing) const {
+  std::uint8_t* existingMarks = nullptr;
+  if (existing != nullptr && prioritisesOccupied()) {
+    existing->changed();  // holding back free measurements counts on the marks
+    existingMarks = existing->marks().data();
   }
+  return {block, colourOf(block), 0, 0, 0, existingMarks, existing != nullptr ? existing->data() : nullptr};
+}
+
+// The measurements of run r: its group (made at its first acceptable measurement, or found when the block
+// came in an earlier run), then acceptRun.
+inline void BandedOgf::groupRun(std::span<const Measurement> batch, std::size_t r, std::vector<Group>& groups,
+                                std::size_t& accepted, UpdateStats& stats) {
+  Batch& work = scratch_;
+  std::size_t i = work.runs[r];
+  const std::size_t end = work.runs[r + 1];
+  for (; i < end && !acceptable(batch[i]); ++i) {
+    ++stats.rejected;
+  }
+  if (i == end) {
+    return;
+  }
+  const CellKey block = blockKeyOf(batch[i].key);
+  bool inserted = false;
+  const std::uint32_t g = work.blocks.findOrInsert(block, static_cast<std::uint32_t>(groups.size()), inserted);
+  if (inserted) {
+    groups.push_back(makeGroup(block, readsBlocks() ? work.touched[lookUp(block)].block : nullptr));
+  } else {
+    work.groupsInRuns = false;
+  }
+  acceptRun(batch, i, end, g, groups[g], accepted, stats);
 }
 
 // 1. The blocks of the batch (a group each), and per measurement its group and a code (position in the
@@ -365,12 +394,19 @@ inline void BandedOgf::groupRun(std::span<const Measurement> batch, std::size_t 
 std::vector<BandedOgf::Group> BandedOgf::groupByBlock(std::span<const Measurement> batch,
                                                       UpdateStats& stats) {
   Batch& work = scratch_;
-  work.blocks.clear();
-  work.touchedIndex.clear();
-  work.touched.clear();
   work.groupOf.resize(batch.size());
   work.codes.resize(batch.size());
   std::vector<Group> groups;
+  if (WorkerPool* threads = batch.size() >= kParallelGroupMin ? pool() : nullptr; threads != nullptr) {
+    if (groupInParallel(batch, groups, stats, *threads)) {
+      return groups;
+    }
+    groups.clear();
+  }
+  work.blocks.clear();
+  work.touchedIndex.clear();
+  work.touched.clear();
+  work.groupsInRuns = true;
   findRuns(batch);
   const std::size_t runCount = work.runs.size() - 1;
   // Only for batches in runs (a scan's): in a batch in no order of blocks, a run is a measurement, and
@@ -390,36 +426,220 @@ std::vector<BandedOgf::Group> BandedOgf::groupByBlock(std::span<const Measuremen
   return groups;
 }
 
-// 2. The deterministic order: colour, block key, position in the block (then y). Groups are sorted, the
-//    measurements placed by counting (into scratch_.sorted), then each group's few codes sorted.
+// groupByBlock on the pool's threads, for a batch whose blocks come in one run each (a scan's). Three
+// passes: the threads find the runs of their shares of the batch and look their blocks up in the map; one
+// thread numbers the groups in the order of the runs (as groupRun does); the threads accept the
+// measurements of their shares of the runs (acceptRun), each into its own part of the arrays, and these
+// are closed up in order. The result is groupByBlock's on one thread. False (nothing kept) for a batch
+// in which a block comes in two runs, or whose runs are single measurements.
+bool BandedOgf::groupInParallel(std::span<const Measurement> batch, std::vector<Group>& groups,
+                                UpdateStats& stats, WorkerPool& threads) {
+  Batch& work = scratch_;
+  const std::size_t n = batch.size();
+  const EvenSplit split{n, threads.threads()};
+  std::vector<RunPart>& parts = work.runParts;
+  parts.resize(split.parts);
+  const bool readsExisting = readsBlocks();
+  const auto runBlock = [&](std::size_t i) { return blockKeyOf(batch[i].key); };
+  threads.run([&](std::size_t p) {
+    RunPart& part = parts[p];
+    part.starts.clear();
+    part.blocks.clear();
+    part.acceptable.clear();
+    const std::size_t b = split.begin(p);
+    const std::size_t e = split.begin(p + 1);
+    for (std::size_t i = b; i < e; ++i) {
+      if (i == 0 || !(runBlock(i) == runBlock(i - 1))) {
+        part.starts.push_back(i);
+      }
+    }
+    std::size_t last = e;  // where the part's last run ends: in the next part, or at the batch's end
+    while (last < n && runBlock(last) == runBlock(last - 1)) {
+      ++last;
+    }
+    for (std::size_t j = 0; j < part.starts.size(); ++j) {
+      const std::size_t runEnd = j + 1 < part.starts.size() ? part.starts[j + 1] : last;
+      bool any = false;
+      for (std::size_t i = part.starts[j]; i < runEnd && !any; ++i) {
+        any = acceptable(batch[i]);
+      }
+      part.acceptable.push_back(any ? 1 : 0);
+      if (readsExisting && j + kRunSlotAhead < part.starts.size()) {
+        storage_.prefetch(runBlock(part.starts[j + kRunSlotAhead]));
+      }
+      part.blocks.push_back(readsExisting && any ? storage_.find(runBlock(part.starts[j])) : nullptr);
+    }
+  });
+  std::vector<std::size_t>& runs = work.runs;
+  runs.clear();
+  std::vector<Block*>& blocksOfRuns = work.runBlocks;
+  blocksOfRuns.clear();
+  std::vector<std::uint8_t>& acceptableRuns = work.runAcceptable;
+  acceptableRuns.clear();
+  for (const RunPart& part : parts) {
+    runs.insert(runs.end(), part.starts.begin(), part.starts.end());
+    blocksOfRuns.insert(blocksOfRuns.end(), part.blocks.begin(), part.blocks.end());
+    acceptableRuns.insert(acceptableRuns.end(), part.acceptable.begin(), part.acceptable.end());
+  }
+  runs.push_back(n);
+  const std::size_t runCount = runs.size() - 1;
+  if (runCount * kMinRunForPrefetch > n) {
+    return false;
+  }
+  // The groups, numbered in the order of their runs, and the blocks looked up, as groupRun makes them.
+  work.blocks.clear();
+  work.touchedIndex.clear();
+  work.touched.clear();
+  std::vector<std::uint32_t>& groupOfRun = work.runGroups;
+  groupOfRun.assign(runCount, BlockKeyTable::kAbsent);
+  for (std::size_t r = 0; r < runCount; ++r) {
+    if (acceptableRuns[r] == 0) {
+      continue;
+    }
+    const CellKey block = runBlock(runs[r]);
+    bool inserted = false;
+    const auto g = work.blocks.findOrInsert(block, static_cast<std::uint32_t>(groups.size()), inserted);
+    if (!inserted) {
+      return false;  // the block's measurements in two runs: one thread takes them in order
+    }
+    if (readsExisting) {
+      work.touchedIndex.findOrInsert(block, static_cast<std::uint32_t>(work.touched.size()), inserted);
+      if (inserted) {
+        work.touched.push_back({block, blocksOfRuns[r], {}});
+      }
+    }
+    groups.push_back({block, colourOf(block), 0, 0, 0, nullptr, nullptr});
+    groupOfRun[r] = g;
+  }
+  // The runs shared out by measurements; each thread's accepted measurements start where its runs do.
+  const auto firstRunFrom = [&](std::size_t i) {
+    return static_cast<std::size_t>(std::lower_bound(runs.begin(), runs.end() - 1, i) - runs.begin());
+  };
+  threads.run([&](std::size_t p) {
+    RunPart& part = parts[p];
+    part.counts = {};
+    const std::size_t r0 = firstRunFrom(split.begin(p));
+    const std::size_t r1 = p + 1 == split.parts ? runCount : firstRunFrom(split.begin(p + 1));
+    part.from = runs[r0];
+    std::size_t next = part.from;
+    for (std::size_t r = r0; r < r1; ++r) {
+      if (prioritisesOccupied() && r + kRunMarksAhead < r1) {
+        if (const Block* ahead = blocksOfRuns[r + kRunMarksAhead]; ahead != nullptr) {
+          for (std::size_t line = 0; line < ahead->marks().size(); line += 64) {
+            __builtin_prefetch(ahead->marks().data() + line, 1);
+          }
+        }
+      }
+      const std::uint32_t g = groupOfRun[r];
+      if (g == BlockKeyTable::kAbsent) {
+        part.counts.rejected += runs[r + 1] - runs[r];
+        continue;
+      }
+      Group& group = groups[g];
+      group = makeGroup(group.block, blocksOfRuns[r]);
+      acceptRun(batch, runs[r], runs[r + 1], g, group, next, part.counts);
+    }
+    part.kept = next - part.from;
+  });
+  std::size_t accepted = 0;
+  for (const RunPart& part : parts) {
+    if (part.from != accepted) {
+      std::copy_n(work.codes.begin() + static_cast<std::ptrdiff_t>(part.from), part.kept,
+                  work.codes.begin() + static_cast<std::ptrdiff_t>(accepted));
+      std::copy_n(work.groupOf.begin() + static_cast<std::ptrdiff_t>(part.from), part.kept,
+                  work.groupOf.begin() + static_cast<std::ptrdiff_t>(accepted));
+    }
+    accepted += part.kept;
+    stats.rejected += part.counts.rejected;
+    stats.heldBack += part.counts.heldBack;
+  }
+  work.groupOf.resize(accepted);
+  work.codes.resize(accepted);
+  work.groupsInRuns = true;
+  return true;
+}
+
+// 2. The deterministic order: colour, block key, position in the block (then y). Groups are sorted (by
+//    colour alone, stably, when they came in key order, as a scan's do), the measurements placed by group,
+//    then each group's few codes sorted.
 std::vector<BandedOgf::Group> BandedOgf::orderGroups(std::vector<Group>& groups) {
   Batch& work = scratch_;
   std::vector<std::uint32_t> order(groups.size());
-  for (std::uint32_t g = 0; g < order.size(); ++g) {
-    order[g] = g;
+  bool keyOrder = true;
+  for (std::size_t g = 1; g < groups.size() && keyOrder; ++g) {
+    keyOrder = groups[g - 1].block < groups[g].block;
   }
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return groups[a].colour != groups[b].colour ? groups[a].colour < groups[b].colour
-                                                : groups[a].block < groups[b].block;
-  });
+  if (keyOrder) {
+    std::array<std::size_t, 9> first{};  // where each colour starts in `order`
+    for (const Group& g : groups) {
+      ++first[g.colour + 1];
+    }
+    for (std::size_t c = 1; c < first.size(); ++c) {
+      first[c] += first[c - 1];
+    }
+    for (std::uint32_t g = 0; g < groups.size(); ++g) {
+      order[first[groups[g].colour]++] = g;
+    }
+  } else {
+    for (std::uint32_t g = 0; g < order.size(); ++g) {
+      order[g] = g;
+    }
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return groups[a].colour != groups[b].colour ? groups[a].colour < groups[b].colour
+                                                  : groups[a].block < groups[b].block;
+    });
+  }
   std::vector<Group> sorted(groups.size());
   std::size_t placed = 0;
   for (std::uint32_t r = 0; r < order.size(); ++r) {
     Group& g = groups[order[r]];
     const std::size_t count = g.end;
     g.begin = placed;
-    g.end = placed;  // the cursor while placing
+    g.end = placed + count;
     placed += count;
+    sorted[r] = g;
   }
   work.sorted.resize(placed);
-  for (std::size_t i = 0; i < work.codes.size(); ++i) {
-    work.sorted[groups[work.groupOf[i]].end++] = work.codes[i];
+  const auto sortGroupCodes = [&](std::size_t r0, std::size_t r1) {
+    for (std::size_t r = r0; r < r1; ++r) {
+      sortCodes(std::span<std::uint16_t>(work.sorted).subspan(sorted[r].begin, sorted[r].end - sorted[r].begin));
+    }
+  };
+  if (!work.groupsInRuns) {
+    // Scattered: each measurement to its group's cursor, in the order of the batch.
+    std::vector<std::size_t> cursor(groups.size());
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      cursor[g] = groups[g].begin;
+    }
+    for (std::size_t i = 0; i < work.codes.size(); ++i) {
+      work.sorted[cursor[work.groupOf[i]]++] = work.codes[i];
+    }
+    sortGroupCodes(0, sorted.size());
+    return sorted;
   }
-  for (std::uint32_t r = 0; r < order.size(); ++r) {
-    sorted[r] = groups[order[r]];
-    sortCodes(
-        std::span<std::uint16_t>(work.sorted).subspan(sorted[r].begin, sorted[r].end - sorted[r].begin));
+  // Each group's measurements are consecutive, groups in the order they were made: copied a group at a
+  // time, the threads taking shares of the groups where there are enough measurements.
+  std::vector<std::size_t>& from = work.groupFrom;
+  from.resize(groups.size());
+  std::size_t source = 0;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    from[g] = source;
+    source += groups[g].end - groups[g].begin;
   }
+  const auto placeGroups = [&](std::size_t r0, std::size_t r1) {
+    for (std::size_t r = r0; r < r1; ++r) {
+      std::copy_n(work.codes.begin() + static_cast<std::ptrdiff_t>(from[order[r]]), sorted[r].end - sorted[r].begin,
+                  work.sorted.begin() + static_cast<std::ptrdiff_t>(sorted[r].begin));
+    }
+    sortGroupCodes(r0, r1);
+  };
+  WorkerPool* threads = placed >= kParallelDropMin ? pool() : nullptr;
+  if (threads == nullptr) {
+    placeGroups(0, sorted.size());
+    return sorted;
+  }
+  const EvenSplit split{sorted.size(), threads->threads()};
+  threads->run([&](std::size_t p) { placeGroups(split.begin(p), split.begin(p + 1)); });
   return sorted;
 }
 
@@ -638,13 +858,11 @@ void BandedOgf::applyColourInParallel(std::span<const Group> sorted, std::size_t
     }
     partial[w] = counted;
   };
-  {
-    std::vector<std::jthread> pool;
-    for (std::size_t w = 1; w < partial.size(); ++w) {
-      pool.emplace_back(run, w);
+  pool()->run([&](std::size_t w) {
+    if (w < partial.size()) {
+      run(w);
     }
-    run(0);
-  }
+  });
   for (const UpdateStats& p : partial) {
     stats.applied += p.applied;
     stats.skipped += p.skipped;
@@ -844,52 +1062,85 @@ void BandedOgf::dropClampedFree(std::span<Group> groups, UpdateStats& stats) {
   // z = −μ/√(1+s) > c tested as μ² > c²(1+s) with μ < 0, a relative 1e-9 to spare so that rounding in
   // either form cannot drop a measurement applyMeasurement's z would keep (μ² of a float is exact in double).
   const double bound = freeClampZ_ * freeClampZ_ * (1.0 + 1e-9);
-  const std::size_t n = work.codes.size();
-  std::size_t kept = 0;
-  std::size_t dropped = 0;
-  std::uint32_t dropGroup = n > 0 ? work.groupOf[0] : 0;  // the group of the run being read, and its drops
-  std::size_t droppedInGroup = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    // The mean and code of the measurement kDropAhead places on: the blocks are too many to stay in cache.
-    if (i + kDropAhead < n) {
-      const float* ahead = groups[work.groupOf[i + kDropAhead]].data;
-      if (ahead != nullptr) {
-        const std::size_t local = work.codes[i + kDropAhead] >> 1;
-        __builtin_prefetch(ahead + local);
-        __builtin_prefetch(reinterpret_cast<const std::uint16_t*>(ahead + storage_.cellsPerBlock()) + local);
+  // Measurements [begin, end) tested, those kept moved to the front of the range in order, and the drops
+  // of each group counted in `part`: the ranges of the threads are disjoint, and a group may span two.
+  const auto dropRange = [&](std::size_t begin, std::size_t end, DropPart& part) {
+    part.groupDrops.clear();
+    part.dropped = 0;
+    std::size_t kept = begin;
+    std::uint32_t dropGroup = begin < end ? work.groupOf[begin] : 0;  // the group being read, and its drops
+    std::uint32_t droppedInGroup = 0;
+    for (std::size_t i = begin; i < end; ++i) {
+      // The mean and code of the measurement kDropAhead places on: the blocks are too many to stay in cache.
+      if (i + kDropAhead < end) {
+        const float* ahead = groups[work.groupOf[i + kDropAhead]].data;
+        if (ahead != nullptr) {
+          const std::size_t local = work.codes[i + kDropAhead] >> 1;
+          __builtin_prefetch(ahead + local);
+          __builtin_prefetch(reinterpret_cast<const std::uint16_t*>(ahead + storage_.cellsPerBlock()) + local);
+        }
       }
+      const std::uint16_t code = work.codes[i];
+      const std::uint32_t g = work.groupOf[i];
+      const float* data = groups[g].data;  // null for a new block: its cells are at the prior, z = 0
+      const std::size_t local = code >> 1;
+      // Without a branch on the outcome, which a scan's measurements leave unpredictable (about half go).
+      unsigned drop = 0;
+      if (data != nullptr) {
+        const float ratio =
+            decodeVarianceRatio(reinterpret_cast<const std::uint16_t*>(data + storage_.cellsPerBlock())[local]);
+        const auto mean = static_cast<double>(data[local]);
+        drop = static_cast<unsigned>((code & 1U) == 0) &
+               static_cast<unsigned>(((reach[g][local >> 6] >> (local & 63U)) & 1U) == 0) &
+               static_cast<unsigned>(ratio >= floorRatio) & static_cast<unsigned>(mean < 0.0) &
+               static_cast<unsigned>(mean * mean > bound * (1.0 + static_cast<double>(priorVariance_ * ratio)));
+      }
+      if (g != dropGroup) {
+        if (droppedInGroup != 0) {
+          part.groupDrops.emplace_back(dropGroup, droppedInGroup);
+        }
+        dropGroup = g;
+        droppedInGroup = 0;
+      }
+      droppedInGroup += drop;
+      part.dropped += drop;
+      work.codes[kept] = code;
+      work.groupOf[kept] = g;
+      kept += 1U - drop;
     }
-    const std::uint16_t code = work.codes[i];
-    const std::uint32_t g = work.groupOf[i];
-    const float* data = groups[g].data;  // null for a new block: its cells are at the prior, z = 0
-    const std::size_t local = code >> 1;
-    // Without a branch on the outcome, which a scan's measurements leave unpredictable (about half go).
-    unsigned drop = 0;
-    if (data != nullptr) {
-      const float ratio =
-          decodeVarianceRatio(reinterpret_cast<const std::uint16_t*>(data + storage_.cellsPerBlock())[local]);
-      const auto mean = static_cast<double>(data[local]);
-      drop = static_cast<unsigned>((code & 1U) == 0) &
-             static_cast<unsigned>(((reach[g][local >> 6] >> (local & 63U)) & 1U) == 0) &
-             static_cast<unsigned>(ratio >= floorRatio) & static_cast<unsigned>(mean < 0.0) &
-             static_cast<unsigned>(mean * mean > bound * (1.0 + static_cast<double>(priorVariance_ * ratio)));
+    if (droppedInGroup != 0) {
+      part.groupDrops.emplace_back(dropGroup, droppedInGroup);
     }
-    if (g != dropGroup) {
-      groups[dropGroup].end -= droppedInGroup;
-      dropGroup = g;
-      droppedInGroup = 0;
-    }
-    droppedInGroup += drop;
-    dropped += drop;
-    work.codes[kept] = code;
-    work.groupOf[kept] = g;
-    kept += 1U - drop;
+    part.kept = kept - begin;
+  };
+  const std::size_t n = work.codes.size();
+  // Shared among the threads where there are enough measurements to pay for waking them.
+  WorkerPool* threads = n >= kParallelDropMin ? pool() : nullptr;
+  const EvenSplit split{n, threads != nullptr ? threads->threads() : 1};
+  std::vector<DropPart>& parts = work.dropParts;
+  parts.resize(split.parts);
+  if (threads != nullptr) {
+    threads->run([&](std::size_t p) { dropRange(split.begin(p), split.begin(p + 1), parts[p]); });
+  } else {
+    dropRange(0, n, parts[0]);
   }
-  if (n > 0) {
-    groups[dropGroup].end -= droppedInGroup;
+  std::size_t kept = 0;
+  for (std::size_t p = 0; p < split.parts; ++p) {
+    const DropPart& part = parts[p];
+    const std::size_t from = split.begin(p);
+    if (from != kept) {  // the ranges' kept measurements closed up, in order
+      std::copy_n(work.codes.begin() + static_cast<std::ptrdiff_t>(from), part.kept,
+                  work.codes.begin() + static_cast<std::ptrdiff_t>(kept));
+      std::copy_n(work.groupOf.begin() + static_cast<std::ptrdiff_t>(from), part.kept,
+                  work.groupOf.begin() + static_cast<std::ptrdiff_t>(kept));
+    }
+    kept += part.kept;
+    for (const auto& [g, dropped] : part.groupDrops) {
+      groups[g].end -= dropped;
+    }
+    stats.skipped += part.dropped;
+    stats.skippedEarly += part.dropped;
   }
-  stats.skipped += dropped;
-  stats.skippedEarly += dropped;
   work.codes.resize(kept);
   work.groupOf.resize(kept);
 }

@@ -195,6 +195,128 @@ TEST(BandedDeterminism, ChangeSinkReportsExactlyTheChangesOfA2DMapWithTheWidestS
   }
 }
 
+// A scan-sized batch in the order a scan's measurement set gives (block by block, cells in key order
+// within a block): `count` distinct cells of a 64 × 64 × 16 region shifted by `shift` cells along x, walls
+// every seventh x and on the floor, and from scan 4 on other cells moving in and out; `rejected` of the
+// measurements have y = 0.
+std::vector<Measurement> scanSizedBatch(unsigned scan, std::size_t count, std::size_t rejected, int shift) {
+  std::mt19937 rng(1000 + scan);
+  std::set<CellKey> cells;
+  while (cells.size() < count) {
+    cells.insert(CellKey{static_cast<int>(rng() % 64U) - 32 + shift, static_cast<int>(rng() % 64U) - 32,
+                         static_cast<int>(rng() % 16U) - 8});
+  }
+  std::vector<Measurement> batch;
+  for (const CellKey& k : cells) {
+    const bool wall = k.x % 7 == 0 || k.z == -8 || (scan >= 4 && (k.x + k.y + static_cast<int>(scan)) % 5 == 0);
+    batch.push_back({k, static_cast<std::int8_t>(wall ? 1 : -1)});
+  }
+  for (std::size_t i = 0; i < rejected; ++i) {
+    batch[(1 + i * 7919U) % batch.size()].y = 0;
+  }
+  std::sort(batch.begin(), batch.end(), [](const Measurement& a, const Measurement& b) {
+    const CellKey ba = blockKeyOf(a.key);
+    const CellKey bb = blockKeyOf(b.key);
+    return ba == bb ? a.key < b.key : ba < bb;
+  });
+  return batch;
+}
+
+enum class BatchShape { kScan, kBlockInTwoRuns, kShuffled };
+
+// Twelve scan-sized batches through a filter on `threads` threads: the map's checksum, the statistics and
+// the reported changes after each.
+struct ScanTrace {
+  std::vector<std::uint64_t> checksums;
+  std::vector<UpdateStats> stats;
+  std::vector<std::vector<CellChange>> changes;
+};
+
+ScanTrace traceScans(FilterConfig config, int threads, BatchShape shape) {
+  config.threads = threads;
+  auto ogf = BandedOgf::create(config);
+  EXPECT_TRUE(ogf.ok());
+  ScanTrace trace;
+  std::mt19937 rng(7);
+  for (unsigned scan = 0; scan < 12; ++scan) {
+    std::vector<Measurement> batch = scanSizedBatch(scan % 6, 30000, scan == 2 ? 5000 : 40, static_cast<int>(scan % 3));
+    if (shape == BatchShape::kBlockInTwoRuns) {
+      std::rotate(batch.begin(), batch.begin() + 1, batch.end());  // the first block's first cell comes last
+    } else if (shape == BatchShape::kShuffled) {
+      std::shuffle(batch.begin(), batch.end(), rng);
+    }
+    RecordingSink sink;
+    trace.stats.push_back(ogf->update(batch, &sink));
+    trace.checksums.push_back(ogf->checksum());
+    trace.changes.push_back(std::move(sink.changes));
+  }
+  return trace;
+}
+
+void expectSameTrace(const ScanTrace& a, const ScanTrace& b, int threads) {
+  ASSERT_EQ(a.checksums.size(), b.checksums.size());
+  for (std::size_t scan = 0; scan < a.checksums.size(); ++scan) {
+    SCOPED_TRACE(testing::Message() << "threads " << threads << ", scan " << scan);
+    EXPECT_EQ(a.checksums[scan], b.checksums[scan]);
+    EXPECT_EQ(a.stats[scan].applied, b.stats[scan].applied);
+    EXPECT_EQ(a.stats[scan].skipped, b.stats[scan].skipped);
+    EXPECT_EQ(a.stats[scan].skippedEarly, b.stats[scan].skippedEarly);
+    EXPECT_EQ(a.stats[scan].rejected, b.stats[scan].rejected);
+    EXPECT_EQ(a.stats[scan].heldBack, b.stats[scan].heldBack);
+    EXPECT_EQ(a.stats[scan].blocksAllocated, b.stats[scan].blocksAllocated);
+    ASSERT_EQ(a.changes[scan].size(), b.changes[scan].size());
+    for (std::size_t i = 0; i < a.changes[scan].size(); ++i) {
+      ASSERT_EQ(a.changes[scan][i].key, b.changes[scan][i].key) << "change " << i;
+      ASSERT_EQ(a.changes[scan][i].mean, b.changes[scan][i].mean) << "change " << i;
+    }
+  }
+}
+
+// Batches as large as a scan's are grouped, thinned of clamped free measurements, ordered and reported by
+// all the threads, not only updated by them: every figure must still be one thread's.
+void expectScanSizedBatchesAlikeOnAnyThreads(CovarianceStorage storage, BatchShape shape) {
+  FilterConfig config;
+  config.covariance = storage;
+  const ScanTrace one = traceScans(config, 1, shape);
+  std::size_t early = 0;
+  std::size_t heldBack = 0;
+  for (const UpdateStats& s : one.stats) {
+    early += s.skippedEarly;
+    heldBack += s.heldBack;
+  }
+  EXPECT_GT(heldBack, 1000U);  // the occupied priority held free measurements back
+  EXPECT_EQ(one.stats[2].rejected, 5000U);
+  if (storage == CovarianceStorage::kCompact) {
+    EXPECT_GT(early, 10000U);  // clamped free measurements dropped before ordering
+  }
+  for (const int threads : {2, 3}) {
+    expectSameTrace(one, traceScans(config, threads, shape), threads);
+  }
+}
+
+TEST(BandedDeterminism, ScanSizedBatchesGiveOneThreadsMapCountsAndChangesOnTwoAndThree) {
+  expectScanSizedBatchesAlikeOnAnyThreads(CovarianceStorage::kCompact, BatchShape::kScan);
+}
+
+TEST(BandedDeterminism, ScanSizedBatchesGiveOneThreadsMapCountsAndChangesInBandedStorage) {
+  expectScanSizedBatchesAlikeOnAnyThreads(CovarianceStorage::kBanded, BatchShape::kScan);
+}
+
+TEST(BandedDeterminism, ScanSizedBatchesWithABlockInTwoRunsGiveOneThreadsMap) {
+  expectScanSizedBatchesAlikeOnAnyThreads(CovarianceStorage::kCompact, BatchShape::kBlockInTwoRuns);
+}
+
+TEST(BandedDeterminism, ShuffledScanSizedBatchesGiveOneThreadsMap) {
+  expectScanSizedBatchesAlikeOnAnyThreads(CovarianceStorage::kCompact, BatchShape::kShuffled);
+}
+
+// The same scans in their order and shuffled make the same map.
+TEST(BandedDeterminism, ScanSizedBatchesGiveTheSameMapInAnyOrder) {
+  FilterConfig config;
+  config.covariance = CovarianceStorage::kCompact;
+  EXPECT_EQ(traceScans(config, 2, BatchShape::kScan).checksums, traceScans(config, 1, BatchShape::kShuffled).checksums);
+}
+
 TEST(BandedDeterminism, RejectsBadMeasurementsAndCountsThem) {
   FilterConfig config;
   config.dimensions = 2;

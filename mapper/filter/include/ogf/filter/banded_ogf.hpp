@@ -6,7 +6,9 @@
 //
 // Determinism: a batch is applied in a fixed order (colour of its block in a 2×2×2 checkerboard, block key,
 // position in the block). Blocks of one colour are more than 2R apart, touch disjoint state and run in parallel; the map
-// is bit-identical for any thread count.
+// is bit-identical for any thread count. The stages that prepare a scan-sized batch (grouping it by block,
+// dropping the clamped free measurements, placing it in order) share their work among the threads too,
+// each thread on its own part, the parts joined in order.
 #pragma once
 
 #include <ogf/core/cell_key.hpp>
@@ -15,7 +17,9 @@
 #include <bit>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "ogf/filter/band_kernel.hpp"
@@ -31,6 +35,7 @@
 #include "ogf/filter/result.hpp"
 #include "ogf/filter/stencil.hpp"
 #include "ogf/filter/variance_code.hpp"
+#include "ogf/filter/worker_pool.hpp"
 
 namespace ogf::filter {
 
@@ -186,6 +191,23 @@ class BandedOgf {
     std::uint32_t layer = 0;
     std::uint64_t cells = 0;  // bit per position in the layer
   };
+  // A thread's share of dropClampedFree: how many of its range it kept, and the drops per group.
+  struct DropPart {
+    std::size_t kept = 0;
+    std::size_t dropped = 0;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> groupDrops;
+  };
+  // A thread's share of groupInParallel: the runs that start in its part of the batch, their blocks as
+  // found in the map and whether they hold a measurement to accept; then where its accepted measurements
+  // start, how many it kept and what it counted.
+  struct RunPart {
+    std::vector<std::size_t> starts;
+    std::vector<Block*> blocks;
+    std::vector<std::uint8_t> acceptable;
+    std::size_t from = 0;
+    std::size_t kept = 0;
+    UpdateStats counts;
+  };
   // Reused from batch to batch: the batch's blocks, per measurement its group and code (position << 1 | y),
   // the codes in the order of application, per group the data of its 3×3×3 neighbourhood of blocks; every
   // block looked up, numbered (the map's table is searched once per block and batch, not once per group
@@ -210,6 +232,15 @@ class BandedOgf {
     std::vector<std::array<std::uint64_t, 8>> occupiedReach;  // dropClampedFree's per-group cells
     std::vector<std::array<std::uint64_t, 3>> alongX;  // a group's layers dilated along x, per set of dx
     std::vector<std::uint32_t> around;
+    std::vector<DropPart> dropParts;
+    std::vector<RunPart> runParts;  // groupInParallel's, per thread, and per run its block and group
+    std::vector<Block*> runBlocks;
+    std::vector<std::uint8_t> runAcceptable;
+    std::vector<std::uint32_t> runGroups;
+    // Whether each group's measurements are consecutive in groupOf and codes, the groups in the order they
+    // were made (a batch whose blocks came in one run each), and then where each group's start.
+    bool groupsInRuns = false;
+    std::vector<std::size_t> groupFrom;
   };
   // Removes from the batch (counted as skipped) the free measurements that applyMeasurement would skip
   // whatever the order: z above the free clamp before the batch, and no occupied measurement of the batch
@@ -246,6 +277,9 @@ class BandedOgf {
   static_assert(kRunMarksAhead < kRunHeaderAhead && kRunHeaderAhead < kRunSlotAhead);
   static constexpr std::size_t kMinRunForPrefetch = 8;  // measurements per run, on average
   static constexpr std::size_t kDropAhead = 96;
+  // Measurements in a batch for groupByBlock and dropClampedFree to share out among the threads.
+  static constexpr std::size_t kParallelGroupMin = 16384;
+  static constexpr std::size_t kParallelDropMin = 16384;
   // obtainNeighbourhoods': table slots, then look-ups and headers, this many groups ahead.
   static constexpr std::size_t kGroupSlotAhead = 16;
   static constexpr std::size_t kGroupLookAhead = 6;
@@ -261,6 +295,12 @@ class BandedOgf {
   void findRuns(std::span<const Measurement> batch);
   void prefetchRunsAhead(std::span<const Measurement> batch, std::size_t r,
                          std::array<const Block*, kRunHeaderAhead>& foundAhead) const;
+  bool acceptable(const Measurement& m) const;
+  void acceptRun(std::span<const Measurement> batch, std::size_t i, std::size_t end, std::uint32_t g,
+                 Group& group, std::size_t& next, UpdateStats& stats);
+  Group makeGroup(const CellKey& block, Block* existing) const;
+  bool groupInParallel(std::span<const Measurement> batch, std::vector<Group>& groups, UpdateStats& stats,
+                       WorkerPool& threads);
   void groupRun(std::span<const Measurement> batch, std::size_t r, std::vector<Group>& groups,
                 std::size_t& accepted, UpdateStats& stats);
   std::vector<Group> orderGroups(std::vector<Group>& groups);
@@ -313,6 +353,9 @@ class BandedOgf {
   bool skipsClampedEarly_ = true;
   Batch scratch_;
   std::vector<float*> ring_;  // applyRun's records on the calling thread
+  // config_.threads threads (null while that is 1), started at the first update that shares its work.
+  WorkerPool* pool();
+  std::unique_ptr<WorkerPool> pool_;
 };
 
 }  // namespace ogf::filter
