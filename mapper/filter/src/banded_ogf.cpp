@@ -887,26 +887,51 @@ struct BandedOgf::ChangeChunk {
   std::size_t n = 0;
 };
 
-// 6. Reports the cells whose class or quantised probability changed.
+// 6. Reports the cells whose class or quantised probability changed. In compact storage with threads, each
+//    takes a share of the touched layers: the calling thread reports the first share to the sink as it
+//    goes, the others keep theirs, which follow in order.
 void BandedOgf::reportChanges(ChangeSink& sink) {
-  ChangeChunk chunk;
-  if (compact()) {
-    collectLayerChanges(chunk, sink);
-  } else {
+  if (!compact()) {
+    ChangeChunk chunk;
     collectCellChanges(chunk, sink);
+    flushChanges(chunk, sink);
+    return;
   }
-  flushChanges(chunk, sink);
+  const std::size_t layers = scratch_.touchedLayers.size();
+  WorkerPool* threads = layers >= kParallelLayersMin ? pool() : nullptr;
+  if (threads == nullptr) {
+    ChangeChunk chunk;
+    collectLayerChanges(chunk, sink, 0, layers);
+    flushChanges(chunk, sink);
+    return;
+  }
+  const EvenSplit split{layers, threads->threads()};
+  std::vector<ChangeBuffer>& kept = scratch_.keptChanges;
+  kept.resize(split.parts);
+  threads->run([&](std::size_t p) {
+    ChangeSink& to = p == 0 ? sink : static_cast<ChangeSink&>(kept[p]);
+    kept[p].changes.clear();
+    ChangeChunk chunk;
+    collectLayerChanges(chunk, to, split.begin(p), split.begin(p + 1));
+    flushChanges(chunk, to);
+  });
+  for (std::size_t p = 1; p < split.parts; ++p) {
+    sink.cellsChanged(kept[p].changes);
+  }
 }
 
-// Compact storage, a layer at a time: the cells whose mean or code differ from the copy, found in vectors,
-// then only those read.
-void BandedOgf::collectLayerChanges(ChangeChunk& chunk, ChangeSink& sink) {
+// Compact storage, a layer at a time (touched layers [e0, e1)): the cells whose mean or code differ from
+// the copy, found in vectors, then only those read.
+void BandedOgf::collectLayerChanges(ChangeChunk& chunk, ChangeSink& sink, std::size_t e0, std::size_t e1) const {
   const Batch& work = scratch_;
   const std::size_t cellsPerBlock = storage_.cellsPerBlock();
   const std::vector<TouchedLayer>& layers = work.touchedLayers;
-  for (std::size_t e = 0; e < layers.size(); ++e) {
-    if (e + 1 < layers.size() && layers[e + 1].touched != layers[e].touched) {
-      prefetchTouchedLayers(work, e + 1);
+  if (e0 < e1) {
+    prefetchTouchedLayers(work, e0, e1);
+  }
+  for (std::size_t e = e0; e < e1; ++e) {
+    if (e + 1 < e1 && layers[e + 1].touched != layers[e].touched) {
+      prefetchTouchedLayers(work, e + 1, e1);
     }
     const TouchedLayer& layer = layers[e];
     const float* data = work.touched[layer.touched].block->data();
@@ -984,8 +1009,9 @@ void BandedOgf::flushChanges(ChangeChunk& chunk, ChangeSink& sink) const {
   chunk.n = 0;
 }
 
-void BandedOgf::copyTouchedLayers(Batch& work) const {
-  // The touched layers in block key order, then their means and codes copied before the updates.
+void BandedOgf::copyTouchedLayers(Batch& work) {
+  // The touched layers in block key order, then their means and codes copied before the updates (by the
+  // threads, a share of the layers each, where there are enough).
   std::vector<TouchedLayer>& layers = work.touchedLayers;
   layers.clear();
   for (const std::uint32_t t : work.touchedOrder) {
@@ -999,27 +1025,39 @@ void BandedOgf::copyTouchedLayers(Batch& work) const {
   work.layerMeansBefore.resize(layers.size() * kLayerCells);
   work.layerCodesBefore.resize(layers.size() * kLayerCells);
   const std::size_t cellsPerBlock = storage_.cellsPerBlock();
-  for (std::size_t e = 0; e < layers.size(); ++e) {
-    if (e + 1 < layers.size() && layers[e + 1].touched != layers[e].touched) {
-      prefetchTouchedLayers(work, e + 1);
+  const auto copyLayers = [&](std::size_t e0, std::size_t e1) {
+    if (e0 < e1) {
+      prefetchTouchedLayers(work, e0, e1);
     }
-    const float* data = work.touched[layers[e].touched].block->data();
-    const auto* codes = reinterpret_cast<const std::uint16_t*>(data + cellsPerBlock);
-    std::memcpy(work.layerMeansBefore.data() + e * kLayerCells, data + layers[e].layer * kLayerCells,
-                kLayerCells * sizeof(float));
-    std::memcpy(work.layerCodesBefore.data() + e * kLayerCells, codes + layers[e].layer * kLayerCells,
-                kLayerCells * sizeof(std::uint16_t));
+    for (std::size_t e = e0; e < e1; ++e) {
+      if (e + 1 < e1 && layers[e + 1].touched != layers[e].touched) {
+        prefetchTouchedLayers(work, e + 1, e1);
+      }
+      const float* data = work.touched[layers[e].touched].block->data();
+      const auto* codes = reinterpret_cast<const std::uint16_t*>(data + cellsPerBlock);
+      std::memcpy(work.layerMeansBefore.data() + e * kLayerCells, data + layers[e].layer * kLayerCells,
+                  kLayerCells * sizeof(float));
+      std::memcpy(work.layerCodesBefore.data() + e * kLayerCells, codes + layers[e].layer * kLayerCells,
+                  kLayerCells * sizeof(std::uint16_t));
+    }
+  };
+  WorkerPool* threads = layers.size() >= kParallelLayersMin ? pool() : nullptr;
+  if (threads == nullptr) {
+    copyLayers(0, layers.size());
+    return;
   }
+  const EvenSplit split{layers.size(), threads->threads()};
+  threads->run([&](std::size_t p) { copyLayers(split.begin(p), split.begin(p + 1)); });
 }
 
-void BandedOgf::prefetchTouchedLayers(const Batch& work, std::size_t e) const {
-  // The touched layers of the block whose first touched layer is e: a layer's 64 means take four cache
-  // lines, their variance codes two.
+void BandedOgf::prefetchTouchedLayers(const Batch& work, std::size_t e, std::size_t end) const {
+  // The touched layers of the block whose first touched layer is e (up to `end`): a layer's 64 means take
+  // four cache lines, their variance codes two.
   const std::vector<TouchedLayer>& layers = work.touchedLayers;
   const std::uint32_t t = layers[e].touched;
   const float* data = work.touched[t].block->data();
   const auto* codes = reinterpret_cast<const std::uint16_t*>(data + storage_.cellsPerBlock());
-  for (; e < layers.size() && layers[e].touched == t; ++e) {
+  for (; e < end && layers[e].touched == t; ++e) {
     const std::size_t first = layers[e].layer * kLayerCells;
     for (std::size_t line = 0; line < 4; ++line) {
       __builtin_prefetch(data + first + line * 16);
@@ -1066,7 +1104,7 @@ void BandedOgf::dropClampedFree(std::span<Group> groups, UpdateStats& stats) {
   // of each group counted in `part`: the ranges of the threads are disjoint, and a group may span two.
   const auto dropRange = [&](std::size_t begin, std::size_t end, DropPart& part) {
     part.groupDrops.clear();
-    part.dropped = 0;
+    std::size_t dropped = 0;  // on the thread's stack until the end, as `kept`
     std::size_t kept = begin;
     std::uint32_t dropGroup = begin < end ? work.groupOf[begin] : 0;  // the group being read, and its drops
     std::uint32_t droppedInGroup = 0;
@@ -1103,7 +1141,7 @@ void BandedOgf::dropClampedFree(std::span<Group> groups, UpdateStats& stats) {
         droppedInGroup = 0;
       }
       droppedInGroup += drop;
-      part.dropped += drop;
+      dropped += drop;
       work.codes[kept] = code;
       work.groupOf[kept] = g;
       kept += 1U - drop;
@@ -1112,6 +1150,7 @@ void BandedOgf::dropClampedFree(std::span<Group> groups, UpdateStats& stats) {
       part.groupDrops.emplace_back(dropGroup, droppedInGroup);
     }
     part.kept = kept - begin;
+    part.dropped = dropped;
   };
   const std::size_t n = work.codes.size();
   // Shared among the threads where there are enough measurements to pay for waking them.

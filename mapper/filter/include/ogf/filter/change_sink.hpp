@@ -20,7 +20,8 @@ struct CellChange {
 class ChangeSink {
  public:
   virtual ~ChangeSink() = default;
-  // Called once per changed cell, in the map's deterministic cell order, after the batch.
+  // Called once per changed cell, in the map's deterministic cell order, after the batch, on the thread that
+  // called update() (whatever the filter's threads).
   virtual void cellChanged(const CellChange& change) = 0;
   // The filter reports the changed cells a few hundred at a time through this, in the same order; by
   // default one cellChanged each. A sink that collects many cells overrides it: one virtual call a run.
