@@ -80,6 +80,8 @@ fi
 if [ "$quick" = 0 ]; then
   echo "== ogf-bench-octomap --scans $scans --resolutions 0.2 --deltas" >&2
   "$bin/ogf-bench-octomap" --scans "$scans" --resolutions 0.2 --deltas >"$work/octomap_deltas.txt"
+  echo "== ogf-bench-octomap --scans $scans --resolutions 0.1 --no-octomap --threads 2" >&2
+  "$bin/ogf-bench-octomap" --scans "$scans" --resolutions 0.1 --no-octomap --threads 2 >"$work/octomap_threads.txt"
 fi
 # Columns of a row: res, mapper, mean ms, p50 ms, p99 ms, x 10 Hz, memory MB, cells.
 octo() { awk -v r="$2" -v m="$3" -v c="$4" '$1 == r && $2 == m { print $c; exit }' "$1"; }
@@ -141,6 +143,9 @@ if [ "$quick" = 0 ]; then
   dpub=$(sed -n 's/.* \([0-9]*\) cells published per scan.*/\1/p' "$work/octomap_deltas.txt" | head -1)
   dstream=$(sed -n 's/.*delta stream \([0-9.]*\) ms per scan.*/\1/p' "$work/octomap_deltas.txt" | head -1)
   echo "| same: the delta stream beside it (the published map and the messages, as ogf-mapper keeps them): ms per scan / cells published per scan | $dstream / $dpub | scan period 100 ms | |"
+  tm=$(octo "$work/octomap_threads.txt" 0.10 OGF 3); tp50=$(octo "$work/octomap_threads.txt" 0.10 OGF 4)
+  om=$(octo "$o" 0.10 OGF 3); op50=$(octo "$o" 0.10 OGF 4)
+  echo "| street scans at 0.1 m on 2 filter threads (wall time): ms per scan, mean / p50 | $tm / $tp50 | 1 thread $om / $op50 | $(ratio "$om" "$tm")× / $(ratio "$op50" "$tp50")× one thread's speed |"
 fi
 f=$work/filter.csv
 for y in -1 1; do
