@@ -1,5 +1,7 @@
 #include "ogf/filter/worker_pool.hpp"
 
+#include <exception>
+
 namespace ogf::filter {
 
 WorkerPool::WorkerPool(int threads) {
@@ -33,10 +35,19 @@ void WorkerPool::run(const std::function<void(std::size_t)>& share) {
     ++generation_;
   }
   wake_.notify_all();
-  share(0);
+  // The workers hold `share` until they return: wait for them even when the calling thread's share throws.
+  std::exception_ptr thrown;
+  try {
+    share(0);
+  } catch (...) {
+    thrown = std::current_exception();
+  }
   std::unique_lock lock(mutex_);
   done_.wait(lock, [&] { return running_ == 0; });
   share_ = nullptr;
+  if (thrown) {
+    std::rethrow_exception(thrown);
+  }
 }
 
 void WorkerPool::work(std::size_t w) {

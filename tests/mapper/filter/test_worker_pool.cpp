@@ -5,6 +5,7 @@
 #include <chrono>
 #include <mutex>
 #include <set>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -47,6 +48,23 @@ TEST(WorkerPool, ARunReturnsOnlyWhenEveryShareHasFinished) {
     });
     ASSERT_EQ(finished.load(), 3 * (run + 1));
   }
+}
+
+TEST(WorkerPool, AnExceptionOfTheCallingThreadsShareComesAfterTheWorkersFinish) {
+  WorkerPool pool(2);
+  std::atomic<bool> workerDone{false};
+  EXPECT_THROW(pool.run([&](std::size_t w) {
+    if (w == 0) {
+      throw std::runtime_error("share 0");
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    workerDone = true;
+  }),
+               std::runtime_error);
+  EXPECT_TRUE(workerDone.load());
+  std::atomic<int> calls{0};
+  pool.run([&](std::size_t) { calls.fetch_add(1); });  // the pool still works
+  EXPECT_EQ(calls.load(), 2);
 }
 
 TEST(EvenSplit, PartsCoverTheRangeInOrderWithSizesWithinOne) {

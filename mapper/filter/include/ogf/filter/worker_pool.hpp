@@ -24,7 +24,8 @@ class WorkerPool {
 
   std::size_t threads() const { return workers_.size() + 1; }
   // Calls share(w) for every w in [0, threads()), w = 0 on the calling thread, and returns when all have
-  // returned. `share` must not throw. Not reentrant: one run at a time.
+  // returned. A worker's share must not throw (that ends the process, as in any thread); an exception from
+  // share 0 is thrown on once the workers are done. Not reentrant: one run at a time.
   void run(const std::function<void(std::size_t)>& share);
 
  private:
