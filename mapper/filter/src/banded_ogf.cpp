@@ -397,7 +397,7 @@ std::vector<BandedOgf::Group> BandedOgf::groupByBlock(std::span<const Measuremen
   work.groupOf.resize(batch.size());
   work.codes.resize(batch.size());
   std::vector<Group> groups;
-  if (WorkerPool* threads = batch.size() >= kParallelGroupMin ? pool() : nullptr; threads != nullptr) {
+  if (WorkerPool* threads = batch.size() >= kParallelBatchMin ? pool() : nullptr; threads != nullptr) {
     if (groupInParallel(batch, groups, stats, *threads)) {
       return groups;
     }
@@ -633,7 +633,7 @@ std::vector<BandedOgf::Group> BandedOgf::orderGroups(std::vector<Group>& groups)
     }
     sortGroupCodes(r0, r1);
   };
-  WorkerPool* threads = placed >= kParallelDropMin ? pool() : nullptr;
+  WorkerPool* threads = placed >= kParallelBatchMin ? pool() : nullptr;
   if (threads == nullptr) {
     placeGroups(0, sorted.size());
     return sorted;
@@ -1154,7 +1154,7 @@ void BandedOgf::dropClampedFree(std::span<Group> groups, UpdateStats& stats) {
   };
   const std::size_t n = work.codes.size();
   // Shared among the threads where there are enough measurements to pay for waking them.
-  WorkerPool* threads = n >= kParallelDropMin ? pool() : nullptr;
+  WorkerPool* threads = n >= kParallelBatchMin ? pool() : nullptr;
   const EvenSplit split{n, threads != nullptr ? threads->threads() : 1};
   std::vector<DropPart>& parts = work.dropParts;
   parts.resize(split.parts);

@@ -249,7 +249,7 @@ class BandedOgf {
     std::vector<std::uint8_t> runAcceptable;
     std::vector<std::uint32_t> runGroups;
     // Whether each group's measurements are consecutive in groupOf and codes, the groups in the order they
-    // were made (a batch whose blocks came in one run each), and then where each group's start.
+    // were made (a batch whose blocks came in one run each), and where each group's measurements start.
     bool groupsInRuns = false;
     std::vector<std::size_t> groupFrom;
     std::vector<ChangeBuffer> keptChanges;  // reportChanges': per thread after the first, its changes
@@ -289,9 +289,8 @@ class BandedOgf {
   static_assert(kRunMarksAhead < kRunHeaderAhead && kRunHeaderAhead < kRunSlotAhead);
   static constexpr std::size_t kMinRunForPrefetch = 8;  // measurements per run, on average
   static constexpr std::size_t kDropAhead = 96;
-  // Measurements in a batch for groupByBlock and dropClampedFree to share out among the threads.
-  static constexpr std::size_t kParallelGroupMin = 16384;
-  static constexpr std::size_t kParallelDropMin = 16384;
+  // Measurements in a batch for groupByBlock, dropClampedFree and orderGroups to share out among the threads.
+  static constexpr std::size_t kParallelBatchMin = 16384;
   static constexpr std::size_t kParallelLayersMin = 1024;  // touched layers, for the change detection
   // obtainNeighbourhoods': table slots, then look-ups and headers, this many groups ahead.
   static constexpr std::size_t kGroupSlotAhead = 16;
