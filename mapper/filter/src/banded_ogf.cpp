@@ -543,12 +543,7 @@ bool BandedOgf::groupInParallel(std::span<const Measurement> batch, std::vector<
   });
   std::size_t accepted = 0;
   for (const RunPart& part : parts) {
-    if (part.from != accepted) {
-      std::copy_n(work.codes.begin() + static_cast<std::ptrdiff_t>(part.from), part.kept,
-                  work.codes.begin() + static_cast<std::ptrdiff_t>(accepted));
-      std::copy_n(work.groupOf.begin() + static_cast<std::ptrdiff_t>(part.from), part.kept,
-                  work.groupOf.begin() + static_cast<std::ptrdiff_t>(accepted));
-    }
+    closeUp(part.from, part.kept, accepted);
     accepted += part.kept;
     stats.rejected += part.counts.rejected;
     stats.heldBack += part.counts.heldBack;
@@ -557,6 +552,19 @@ bool BandedOgf::groupInParallel(std::span<const Measurement> batch, std::vector<
   work.codes.resize(accepted);
   work.groupsInRuns = true;
   return true;
+}
+
+// Moves `count` measurements (their codes and groups) from `from` down to `to` (≤ from), where a thread's
+// share of a stage left them, so the shares follow one another.
+void BandedOgf::closeUp(std::size_t from, std::size_t count, std::size_t to) {
+  Batch& work = scratch_;
+  if (from == to) {
+    return;
+  }
+  std::copy_n(work.codes.begin() + static_cast<std::ptrdiff_t>(from), count,
+              work.codes.begin() + static_cast<std::ptrdiff_t>(to));
+  std::copy_n(work.groupOf.begin() + static_cast<std::ptrdiff_t>(from), count,
+              work.groupOf.begin() + static_cast<std::ptrdiff_t>(to));
 }
 
 // 2. The deterministic order: colour, block key, position in the block (then y). Groups are sorted (by
@@ -899,22 +907,21 @@ void BandedOgf::reportChanges(ChangeSink& sink) {
   }
   const std::size_t layers = scratch_.touchedLayers.size();
   WorkerPool* threads = layers >= kParallelLayersMin ? pool() : nullptr;
-  if (threads == nullptr) {
-    ChangeChunk chunk;
-    collectLayerChanges(chunk, sink, 0, layers);
-    flushChanges(chunk, sink);
-    return;
-  }
-  const EvenSplit split{layers, threads->threads()};
+  const EvenSplit split{layers, threads != nullptr ? threads->threads() : 1};
   std::vector<ChangeBuffer>& kept = scratch_.keptChanges;
   kept.resize(split.parts);
-  threads->run([&](std::size_t p) {
+  const auto report = [&](std::size_t p) {
     ChangeSink& to = p == 0 ? sink : static_cast<ChangeSink&>(kept[p]);
     kept[p].changes.clear();
     ChangeChunk chunk;
     collectLayerChanges(chunk, to, split.begin(p), split.begin(p + 1));
     flushChanges(chunk, to);
-  });
+  };
+  if (threads == nullptr) {
+    report(0);
+    return;
+  }
+  threads->run(report);
   for (std::size_t p = 1; p < split.parts; ++p) {
     sink.cellsChanged(kept[p].changes);
   }
@@ -1166,13 +1173,7 @@ void BandedOgf::dropClampedFree(std::span<Group> groups, UpdateStats& stats) {
   std::size_t kept = 0;
   for (std::size_t p = 0; p < split.parts; ++p) {
     const DropPart& part = parts[p];
-    const std::size_t from = split.begin(p);
-    if (from != kept) {  // the ranges' kept measurements closed up, in order
-      std::copy_n(work.codes.begin() + static_cast<std::ptrdiff_t>(from), part.kept,
-                  work.codes.begin() + static_cast<std::ptrdiff_t>(kept));
-      std::copy_n(work.groupOf.begin() + static_cast<std::ptrdiff_t>(from), part.kept,
-                  work.groupOf.begin() + static_cast<std::ptrdiff_t>(kept));
-    }
+    closeUp(split.begin(p), part.kept, kept);  // the ranges' kept measurements, in order
     kept += part.kept;
     for (const auto& [g, dropped] : part.groupDrops) {
       groups[g].end -= dropped;

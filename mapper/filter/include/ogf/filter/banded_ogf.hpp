@@ -313,6 +313,7 @@ class BandedOgf {
   Group makeGroup(const CellKey& block, Block* existing) const;
   bool groupInParallel(std::span<const Measurement> batch, std::vector<Group>& groups, UpdateStats& stats,
                        WorkerPool& threads);
+  void closeUp(std::size_t from, std::size_t count, std::size_t to);
   void groupRun(std::span<const Measurement> batch, std::size_t r, std::vector<Group>& groups,
                 std::size_t& accepted, UpdateStats& stats);
   std::vector<Group> orderGroups(std::vector<Group>& groups);
