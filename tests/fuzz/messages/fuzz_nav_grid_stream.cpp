@@ -37,7 +37,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         lo_y = std::min<std::int64_t>(lo_y, m.tile_y[t]);
         hi_y = std::max<std::int64_t>(hi_y, m.tile_y[t]);
       }
-      if (hi_x - lo_x < kSpan && hi_y - lo_y < kSpan) {
+      // No tile yet (the bounds still at their extremes, whose difference would overflow): nothing to span.
+      const bool noTile = hi_x < lo_x;
+      if (noTile || (hi_x - lo_x < kSpan && hi_y - lo_y < kSpan)) {
         const auto grid = receiver.grid();
         if (grid.knownColumns() != receiver.knownColumns() || grid.checksum() != receiver.checksum()) std::abort();
       }
