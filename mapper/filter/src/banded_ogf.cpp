@@ -191,6 +191,7 @@ std::size_t BandedOgf::floatsPerBlockOf(int dimensions, CovarianceStorage storag
 }
 
 void BandedOgf::initialiseBlock(Block& block) {
+  block.clearMarks();
   if (compact()) {
     const std::size_t cells = block.cells();
     std::fill_n(block.data(), cells, 0.0F);
@@ -229,14 +230,20 @@ std::uint32_t BandedOgf::lookUp(const CellKey& blockKey) {
   return t;
 }
 
-Block& BandedOgf::obtainBlock(const CellKey& blockKey, std::size_t& allocated) {
-  bool fresh = false;
-  Block& block = storage_.obtain(blockKey, fresh);
-  if (fresh) {
-    initialiseBlock(block);
-    ++allocated;
+void BandedOgf::initialiseBlocks(std::span<Block* const> blocks) {
+  const auto initialise = [&](std::size_t b0, std::size_t b1) {
+    for (std::size_t b = b0; b < b1; ++b) {
+      initialiseBlock(*blocks[b]);
+    }
+  };
+  WorkerPool* threads = blocks.size() >= kParallelBlocksMin ? pool() : nullptr;
+  if (threads == nullptr) {
+    initialise(0, blocks.size());
+    return;
   }
-  return block;
+  // In allocation order, so each thread writes its own run of the arena's pages.
+  const EvenSplit split{blocks.size(), threads->threads()};
+  threads->run([&](std::size_t p) { initialise(split.begin(p), split.begin(p + 1)); });
 }
 
 inline bool BandedOgf::holdBackFree(std::uint8_t& mark) const {
@@ -651,13 +658,35 @@ std::vector<BandedOgf::Group> BandedOgf::orderGroups(std::vector<Group>& groups)
   return sorted;
 }
 
-// 3. Every block the batch touches, allocated up front (serially, in order); each group's neighbourhood of
-//    block data kept for applyColours, the blocks' numbers for recordChangeableCells, and the occupied
-//    measurements marked (OccupiedPriority::kMap).
+// 3. Every block the batch touches, allocated up front (serially, in order; the new ones then initialised
+//    on all threads); each group's neighbourhood of block data kept for applyColours, the blocks' numbers
+//    for recordChangeableCells, and the occupied measurements marked (OccupiedPriority::kMap).
 void BandedOgf::obtainNeighbourhoods(std::span<const Group> sorted, UpdateStats& stats) {
   Batch& work = scratch_;
   work.neighbourhoods.assign(sorted.size() * 27, nullptr);
   work.groupTouched.resize(sorted.size() * 27);
+  work.freshBlocks.clear();
+  work.freshOwnGroups.clear();
+  const auto ownCodes = [&](const Group& g) {
+    return std::span<const std::uint16_t>(work.sorted).subspan(g.begin, g.end - g.begin);
+  };
+  try {
+    findNeighbourhoods(sorted);
+  } catch (...) {
+    initialiseBlocks(work.freshBlocks);  // none left unwritten in the map
+    throw;
+  }
+  initialiseBlocks(work.freshBlocks);
+  stats.blocksAllocated += work.freshBlocks.size();
+  for (const std::uint32_t r : work.freshOwnGroups) {
+    markOccupied(*work.touched[work.groupTouched[r * 27 + kOwnBlock]].block, ownCodes(sorted[r]));
+  }
+}
+
+// obtainNeighbourhoods' pass over the groups: their blocks looked up, or allocated unwritten (listed in
+// Batch::freshBlocks), and the occupied measurements of the groups whose block is not new marked.
+void BandedOgf::findNeighbourhoods(std::span<const Group> sorted) {
+  Batch& work = scratch_;
   // The neighbourhoods ahead: the table slots of their blocks asked of the CPU kGroupSlotAhead groups
   // early, the blocks looked up (and numbered) kGroupLookAhead groups early and their headers asked for,
   // as each is marked written below. A scan's blocks are far more than the cache holds.
@@ -700,7 +729,10 @@ void BandedOgf::obtainNeighbourhoods(std::span<const Group> sorted, UpdateStats&
         TouchedBlock& touched = work.touched[t];
         if (!touched.written) {
           if (touched.block == nullptr) {
-            touched.block = &obtainBlock(key, stats.blocksAllocated);
+            touched.block = &storage_.obtainUnwritten(key, touched.fresh);
+            if (touched.fresh) {
+              work.freshBlocks.push_back(touched.block);
+            }
           } else {
             touched.block->changed();  // about to be written (as BlockStorage::obtain marks it)
           }
@@ -709,7 +741,11 @@ void BandedOgf::obtainNeighbourhoods(std::span<const Group> sorted, UpdateStats&
         Block& block = *touched.block;
         work.neighbourhoods[r * 27 + d] = block.data();
         if (d == kOwnBlock && occupiedPriority) {
-          markOccupied(block, std::span<const std::uint16_t>(work.sorted).subspan(g.begin, g.end - g.begin));
+          if (touched.fresh) {
+            work.freshOwnGroups.push_back(static_cast<std::uint32_t>(r));
+          } else {
+            markOccupied(block, std::span<const std::uint16_t>(work.sorted).subspan(g.begin, g.end - g.begin));
+          }
         }
       }
     }

@@ -5,10 +5,12 @@
 
 namespace ogf::filter {
 
-Block::Block(std::size_t cells, std::size_t floats, BlockArena& arena)
-    : cells_(cells), size_(floats), data_(static_cast<float*>(arena.allocate()), Release{&arena}) {
-  std::fill(marks().begin(), marks().end(), std::uint8_t{0});
+Block::Block(std::size_t cells, std::size_t floats, BlockArena& arena) : Block(cells, floats, arena, Unwritten{}) {
+  clearMarks();
 }
+
+Block::Block(std::size_t cells, std::size_t floats, BlockArena& arena, Unwritten)
+    : cells_(cells), size_(floats), data_(static_cast<float*>(arena.allocate()), Release{&arena}) {}
 
 BlockStorage::BlockStorage(int dimensions, std::size_t floatsPerBlock)
     : dimensions_(dimensions),
@@ -20,6 +22,14 @@ Block& BlockStorage::obtain(const CellKey& blockKey, bool& fresh) {
   Block& block = blocks_.findOrInsert(
       blockKey, [&] { return std::make_unique<Block>(cellsPerBlock_, floatsPerBlock_, *arena_); }, fresh);
   block.changed();  // handed out for writing
+  return block;
+}
+
+Block& BlockStorage::obtainUnwritten(const CellKey& blockKey, bool& fresh) {
+  Block& block = blocks_.findOrInsert(
+      blockKey, [&] { return std::make_unique<Block>(cellsPerBlock_, floatsPerBlock_, *arena_, Block::Unwritten{}); },
+      fresh);
+  block.changed();
   return block;
 }
 

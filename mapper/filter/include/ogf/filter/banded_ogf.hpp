@@ -170,20 +170,24 @@ class BandedOgf {
     return compact() ? priorVariance_ * decodeVarianceRatio(static_cast<std::uint16_t>(stored))
                      : std::bit_cast<float>(stored);
   }
-  Block& obtainBlock(const CellKey& blockKey, std::size_t& allocated);
   // The number of `blockKey` in scratch_.touched, looked up in the map the first time in a batch.
   std::uint32_t lookUp(const CellKey& blockKey);
   // restoreBlock's checks of a block about to be restored with `values` floats (of `expected`) and marks.
   Status checkRestorable(const CellKey& blockKey, std::size_t values, std::size_t expected,
                          std::size_t marks) const;
   std::uint64_t blockHash(const CellKey& key, const Block& block) const;
+  // A new block's values (the prior) and marks (cleared).
   void initialiseBlock(Block& block);
+  // New blocks, on all filter threads when there are many (kParallelBlocksMin): the first write to a fresh
+  // page is a fault, most of what allocating a first scan's blocks costs.
+  void initialiseBlocks(std::span<Block* const> blocks);
   // A block the batch looks up: its key, the block (null while it does not exist) and, with a change sink,
   // which of its cells the updates can change (bit per position).
   struct TouchedBlock {
     CellKey key;
     Block* block = nullptr;
     bool written = false;  // obtained for the updates (BlockStorage::obtain: allocated, hash forgotten)
+    bool fresh = false;    // allocated by the batch, initialised after all its blocks are (initialiseBlocks)
     std::array<std::uint64_t, 8> cells{};
   };
   // A z layer of a touched block with cells the updates can change (compact storage's change detection).
@@ -253,6 +257,10 @@ class BandedOgf {
     bool groupsInRuns = false;
     std::vector<std::size_t> groupFrom;
     std::vector<ChangeBuffer> keptChanges;  // reportChanges': per thread after the first, its changes
+    // obtainNeighbourhoods': the blocks it allocated, and the groups whose own block is one of them (their
+    // occupied measurements are marked once the block is initialised).
+    std::vector<Block*> freshBlocks;
+    std::vector<std::uint32_t> freshOwnGroups;
   };
   // Removes from the batch (counted as skipped) the free measurements that applyMeasurement would skip
   // whatever the order: z above the free clamp before the batch, and no occupied measurement of the batch
@@ -292,6 +300,7 @@ class BandedOgf {
   // Measurements in a batch for groupByBlock, dropClampedFree and orderGroups to share out among the threads.
   static constexpr std::size_t kParallelBatchMin = 16384;
   static constexpr std::size_t kParallelLayersMin = 1024;  // touched layers, for the change detection
+  static constexpr std::size_t kParallelBlocksMin = 256;   // new blocks, for their initialisation
   // obtainNeighbourhoods': table slots, then look-ups and headers, this many groups ahead.
   static constexpr std::size_t kGroupSlotAhead = 16;
   static constexpr std::size_t kGroupLookAhead = 6;
@@ -318,6 +327,7 @@ class BandedOgf {
                 std::size_t& accepted, UpdateStats& stats);
   std::vector<Group> orderGroups(std::vector<Group>& groups);
   void obtainNeighbourhoods(std::span<const Group> sorted, UpdateStats& stats);
+  void findNeighbourhoods(std::span<const Group> sorted);
   void recordChangeableCells(std::span<const Group> sorted);
   void markStencilReach(const Group& g, const std::uint32_t* touchedOfGroup,
                         std::array<std::array<std::uint64_t, 8>, 27>& reached);

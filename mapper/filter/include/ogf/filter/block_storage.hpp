@@ -5,6 +5,7 @@
 
 #include <ogf/core/cell_key.hpp>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -34,6 +35,11 @@ class Block {
   // returned when the block goes), left uninitialised: the owner writes every one (the prior, or a
   // restored block). The marks start at 0.
   Block(std::size_t cells, std::size_t floats, BlockArena& arena);
+  // As above, but the marks are left as the slot holds them too: the owner clears them (clearMarks) with
+  // the values, before anyone reads the block.
+  struct Unwritten {};
+  Block(std::size_t cells, std::size_t floats, BlockArena& arena, Unwritten);
+  void clearMarks() { std::fill(marks().begin(), marks().end(), std::uint8_t{0}); }
   std::size_t cells() const { return cells_; }
   // Banded layout: cell-major; cell l at l·(2 + F): [mean, variance, slot 0, ..., slot F-1]. Compact
   // layout: the cells' means, then their variance codes (variance_code.hpp) two to a float.
@@ -101,6 +107,9 @@ class BlockStorage {
   void prefetch(const CellKey& blockKey) const { blocks_.prefetch(blockKey); }
   // The block, allocated (and `fresh` set) when missing. Not thread-safe.
   Block& obtain(const CellKey& blockKey, bool& fresh);
+  // As obtain, but a fresh block is left unwritten (Block::Unwritten): its values and marks are the
+  // caller's to write, before anything reads the block. Not thread-safe.
+  Block& obtainUnwritten(const CellKey& blockKey, bool& fresh);
   std::size_t size() const { return blocks_.size(); }
   // Keys of all blocks, sorted: the deterministic order of iteration and files.
   std::vector<CellKey> sortedKeys() const;
