@@ -17,6 +17,7 @@
 #include <boost/beast/websocket.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -259,6 +260,13 @@ TEST(ViewLimits, MalformedNavMessagesAreCountedAndTheViewKeepsServingTheGrid) {
   EXPECT_NE(view.log().find("OGF_NAV_GRID"), std::string::npos) << "no log line names the channel\n" << view.log();
 }
 
+// The keyframe requests on OGF_NAV_REQUEST, by the update each names as the last applied.
+struct NavRequests {
+  explicit NavRequests(lcm::LCM& lcm) { lcm.subscribe("OGF_NAV_REQUEST", &NavRequests::on, this); }
+  void on(const lcm::ReceiveBuffer*, const std::string&, const ogf::map_request_t* m) { last_seq.push_back(m->last_seq); }
+  std::vector<std::int64_t> last_seq;
+};
+
 // A lost update of the navigation grid is a gap: the view asks for a keyframe on OGF_NAV_REQUEST, naming
 // the last update it applied, and the keyframe makes its grid equal to the mapper's again.
 TEST(ViewLimits, AGapInTheNavGridMakesTheViewAskForAKeyframeAndTheKeyframeRepairsIt) {
@@ -266,11 +274,7 @@ TEST(ViewLimits, AGapInTheNavGridMakesTheViewAskForAKeyframeAndTheKeyframeRepair
   const std::string bus = ogf::testing::loopbackUdpmUrl(35);
   lcm::LCM lcm(bus);
   ASSERT_TRUE(lcm.good());
-  struct Requests {
-    std::vector<std::int64_t> last_seq;
-    void on(const lcm::ReceiveBuffer*, const std::string&, const ogf::map_request_t* m) { last_seq.push_back(m->last_seq); }
-  } requests;
-  lcm.subscribe("OGF_NAV_REQUEST", &Requests::on, &requests);
+  NavRequests requests(lcm);
   ViewProcess view({"--lcm-url", bus, "--port", "0", "--rate", "10"}, "nav-gap");
   const std::uint16_t port = view.port();
   ASSERT_NE(port, 0);
@@ -303,6 +307,37 @@ TEST(ViewLimits, AGapInTheNavGridMakesTheViewAskForAKeyframeAndTheKeyframeRepair
   EXPECT_TRUE(asked) << "no keyframe request naming update 0 after the gap\n" << view.log();
   EXPECT_TRUE(gridAt(2, room.keyframe(4))) << view.log();
   EXPECT_NE(view.log().find("gap in the navigation grid"), std::string::npos) << view.log();
+}
+
+// A mapper with nav off publishes no navigation grid: the view's keyframe requests on OGF_NAV_REQUEST
+// thin out (every 2, 4, 8 s with --keyframe-retry 2, not every 2 s), and the first grid message heard makes
+// it ask at once.
+TEST(ViewLimits, ASilentNavGridIsAskedForLessOftenAndTheFirstMessageHeardIsAnsweredAtOnce) {
+  if (auto why = ogf::testing::ensureLoopbackMulticast()) GTEST_SKIP() << *why;
+  const std::string bus = ogf::testing::loopbackUdpmUrl(36);
+  lcm::LCM lcm(bus);
+  ASSERT_TRUE(lcm.good());
+  NavRequests requests(lcm);
+  ViewProcess view({"--lcm-url", bus, "--port", "0", "--rate", "10", "--keyframe-retry", "2"}, "nav-silent");
+  ASSERT_NE(view.port(), 0);
+  // At 0, 2 and 6 s while nothing is heard (every 2 s would make four by 7 s).
+  const auto start = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() - start < std::chrono::seconds(7)) lcm.handleTimeout(100);
+  EXPECT_GE(requests.last_seq.size(), 1u) << view.log();
+  EXPECT_LE(requests.last_seq.size(), 3u) << view.log();
+  // An update of a grid the view has no keyframe of: the next request by the doubling would come at 14 s;
+  // this one comes as soon as the update is heard (published again now and then: a datagram may be lost).
+  ogf::testing::NavRoom room;
+  (void)room.keyframe(1);
+  const auto update = room.addObstacle(2, 4, 2, 4, 2);
+  const std::size_t before = requests.last_seq.size();
+  for (int i = 0; i < 40 && requests.last_seq.size() == before; ++i) {
+    if (i % 5 == 0) ogf::testing::publishAll(lcm, "OGF_NAV_GRID", update);
+    lcm.handleTimeout(100);
+  }
+  EXPECT_GT(requests.last_seq.size(), before) << "no keyframe request within 4 s of the first grid message heard\n"
+                                    << view.log();
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(14)) << view.log();
 }
 
 TEST(ViewLimits, ClientsBeyondTheMaximumAreRefusedWhileTheOthersKeepTheirFeed) {

@@ -46,6 +46,7 @@
 #include "ogf/transport/subscriber.hpp"
 #include "ogf/view/access_token.hpp"
 #include "ogf/view/feed_state.hpp"
+#include "ogf/view/keyframe_retry.hpp"
 #include "ogf/view/occupied_slots.hpp"
 #include "ogf/view/view_address.hpp"
 #include "ogf/view/view_server.hpp"
@@ -118,7 +119,9 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--max-boxes", o.max_boxes,
                  "Most boxes drawn: beyond, a box stands for 2x2x2 cells (4x4x4, ...), the level of detail")
       ->check(CLI::Range(std::size_t{1000}, std::size_t{50000000}))->capture_default_str();
-  app.add_option("--keyframe-retry", o.keyframe_retry_s, "Seconds between keyframe requests while one is needed")
+  app.add_option("--keyframe-retry", o.keyframe_retry_s,
+                 "Seconds between keyframe requests while one is needed (doubling up to 30 s while the stream "
+                 "is not heard on the bus)")
       ->check(ogf::cli::positive())->capture_default_str();
   app.add_option("--three-dir", o.three_dir,
                  "Where three.js is installed (Debian's libjs-three): three.min.js and "
@@ -260,12 +263,14 @@ struct PoseSubscription {
 };
 
 // The bus: the delta stream into the feed's receiver and the navigation grid into its own (for each, a
-// keyframe asked for at start and after every gap, and again every --keyframe-retry while one is needed),
-// the two status channels into the figures, the poses into the trails.
+// keyframe asked for at start and after every gap, and again every --keyframe-retry while one is needed;
+// less often while the stream is not heard, as the grid of a mapper with nav off: KeyframeRetry), the two
+// status channels into the figures, the poses into the trails.
 class BusFeed {
  public:
   BusFeed(const Options& o, ogf::view::FeedState& feed)
-      : o_(o), feed_(feed), raw_poses_{&feed.figures().trail(false)}, corrected_poses_{&feed.figures().trail(true)} {}
+      : o_(o), feed_(feed), raw_poses_{&feed.figures().trail(false)}, corrected_poses_{&feed.figures().trail(true)},
+        retry_(retryOf(o)), nav_retry_(retryOf(o)) {}
 
   Stop join(boost::asio::io_context& io) {
     const std::string resolved = ogf::transport::withReceiveBuffer(ogf::transport::resolveLcmUrl(o_.url));
@@ -291,12 +296,9 @@ class BusFeed {
   void tick() {
     if (!lcm_) return;
     auto& receiver = feed_.receiver();
-    if (receiver.needsKeyframe() &&
-        std::chrono::steady_clock::now() - last_request_ > std::chrono::duration<double>(o_.keyframe_retry_s))
-      requestKeyframe();
-    if (feed_.navReceiver().needsKeyframe() &&
-        std::chrono::steady_clock::now() - last_nav_request_ > std::chrono::duration<double>(o_.keyframe_retry_s))
-      requestNavKeyframe();
+    const auto now = std::chrono::steady_clock::now();
+    if (receiver.needsKeyframe() && retry_.due(now)) requestKeyframe();
+    if (feed_.navReceiver().needsKeyframe() && nav_retry_.due(now)) requestNavKeyframe();
     auto& slots = feed_.slots();
     if (slots.occupied() > o_.max_boxes) {
       const auto cells = receiver.map().sortedCells();
@@ -307,10 +309,16 @@ class BusFeed {
   }
 
  private:
+  static ogf::view::KeyframeRetry retryOf(const Options& o) {
+    using Clock = ogf::view::KeyframeRetry::Clock;
+    return {std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.keyframe_retry_s)),
+            std::chrono::seconds(30)};
+  }
+
   void requestKeyframe() {
     const ogf::map_request_t req = ogf::delta::keyframeRequest(feed_.receiver(), requester_);
     lcm_->publish(o_.request_channel, &req);
-    last_request_ = std::chrono::steady_clock::now();
+    retry_.asked(std::chrono::steady_clock::now());
   }
 
   void requestNavKeyframe() {
@@ -320,7 +328,7 @@ class BusFeed {
     req.requester = requester_;
     req.last_seq = feed_.navReceiver().appliedSeq();
     lcm_->publish(o_.nav_request_channel, &req);
-    last_nav_request_ = std::chrono::steady_clock::now();
+    nav_retry_.asked(std::chrono::steady_clock::now());
   }
 
   void onNavGrid(const ogf::nav_grid_t& m, const std::string& channel, std::size_t size) {
@@ -338,6 +346,7 @@ class BusFeed {
       spdlog::debug("navigation keyframe applied: map {} seq {} known columns {}", receiver.mapId().value_or(-1),
                     receiver.appliedSeq(), receiver.knownColumns());
     }
+    nav_retry_.heard();  // the first message makes a request due at the next tick
     if (receiver.needsKeyframe() && !needed_before) requestNavKeyframe();
   }
 
@@ -357,6 +366,7 @@ class BusFeed {
                    receiver.mapId().value_or(-1), receiver.appliedSeq(), receiver.map().size(),
                    slots.occupiedCells(), slots.occupied(), slots.lod());
     }
+    retry_.heard();  // the first message makes a request due at the next tick
     if (receiver.needsKeyframe() && !needed_before) requestKeyframe();
   }
 
@@ -399,8 +409,8 @@ class BusFeed {
   std::unique_ptr<ogf::transport::LcmAsioBridge> bridge_;
   PoseSubscription raw_poses_;
   PoseSubscription corrected_poses_;
-  std::chrono::steady_clock::time_point last_request_{};
-  std::chrono::steady_clock::time_point last_nav_request_{};
+  ogf::view::KeyframeRetry retry_;
+  ogf::view::KeyframeRetry nav_retry_;
   const std::string requester_ = ogf::delta::requesterName() + ":ogf-view";
   std::uint64_t keyframes_seen_ = 0;
   ogf::transport::LogRateLimiter malformed_log_;
