@@ -152,14 +152,16 @@ void defineLiveClients(py::module_& m) {
       .def(
           "grid",
           [](NavFollower& f) {
-            navigation::NavGrid grid;
+            std::optional<Result<navigation::NavGrid>> grid;
             {
               py::gil_scoped_release unlocked;
               grid = f.withReceiver([](const navigation::NavReceiver& r) { return r.grid(); });
             }
-            return NavGridView::of(std::move(grid));
+            if (!*grid) raiseValueError((*grid).error().message);
+            return NavGridView::of(std::move(**grid));
           },
-          "The grid rebuilt so far, as an ogf.NavGrid (empty, width 0, before the first keyframe).")
+          "The grid rebuilt so far, as an ogf.NavGrid (empty, width 0, before the first keyframe). ValueError "
+          "when its known columns are too far apart for one dense grid (more than 2^28 columns).")
       .def_property_readonly(
           "checksum",
           [](NavFollower& f) { return f.withReceiver([](const navigation::NavReceiver& r) { return r.checksum(); }); },

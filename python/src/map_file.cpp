@@ -101,12 +101,16 @@ NavGridView project(const MapFile& f, const navigation::NavBand& band) {
       for (const auto& c : f.cells.cells)
         projection->update(navigation::CellState{c.key, c.probability, c.cell_class, c.variance});
       projection->refresh();
-      grid = projection->grid();
+      if (auto dense = projection->grid()) {
+        grid = std::move(*dense);
+      } else {
+        error = f.path + ": " + dense.error().message;
+      }
     } else {
-      error = projection.error().message;
+      error = f.path + ": projection band: " + projection.error().message;
     }
   }
-  if (!grid) raiseValueError(f.path + ": projection band: " + error);
+  if (!grid) raiseValueError(error);
   return NavGridView::of(std::move(*grid));
 }
 

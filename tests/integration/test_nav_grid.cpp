@@ -71,7 +71,9 @@ class GridListener {
   }
   ogf::navigation::NavGrid grid() const {
     std::lock_guard lk(mu_);
-    return receiver_.grid();
+    auto grid = receiver_.grid();
+    EXPECT_TRUE(grid) << grid.error().message;
+    return grid ? std::move(*grid) : ogf::navigation::NavGrid{};
   }
   bool consistentAt(std::int64_t seq) const {
     std::lock_guard lk(mu_);

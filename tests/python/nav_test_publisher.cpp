@@ -3,8 +3,10 @@
 // `batches` updates (changed tiles only), 0.2 s apart, and every map_request_t on OGF_NAV_REQUEST is
 // answered with a keyframe. After the last update it prints one line,
 //   published seq <n> checksum <hex> known_columns <n> width <n> height <n>
-// then keeps answering requests until `seconds` have passed since it started.
-// Usage: ogf_test_nav_publisher LCM_URL MAP_FILE SECONDS [BATCHES]; exit 2 on bad usage or input.
+// (width and height 0 when the grid is too wide for a dense rectangle), then keeps answering requests
+// until `seconds` have passed since it started. MAP_FILE `far-apart` publishes instead two occupied columns
+// 2 000 000 columns apart along x and 400 along y, as a forged or damaged stream could place them.
+// Usage: ogf_test_nav_publisher LCM_URL MAP_FILE|far-apart SECONDS [BATCHES]; exit 2 on bad usage or input.
 #include <lcm/lcm-cpp.hpp>
 
 #include <ogf/map_request_t.hpp>
@@ -44,12 +46,17 @@ int main(int argc, char** argv) {
   const std::string url = argv[1];
   const double seconds = std::atof(argv[3]);
   const int batches = argc > 4 ? std::max(1, std::atoi(argv[4])) : 4;
-  auto loaded = ogf::map_formats::loadOgfMap(argv[2]);
-  if (!loaded) {
-    std::fprintf(stderr, "%s\n", loaded.error().message.c_str());
-    return 2;
+  ogf::map_formats::MapCells cells;
+  if (std::string(argv[2]) == "far-apart") {
+    cells.cells = {{{-1000000, -200, 3}, 0.9, 1, 0.01f}, {{1000000, 200, 3}, 0.9, 1, 0.01f}};
+  } else {
+    auto loaded = ogf::map_formats::loadOgfMap(argv[2]);
+    if (!loaded) {
+      std::fprintf(stderr, "%s\n", loaded.error().message.c_str());
+      return 2;
+    }
+    cells = ogf::map_formats::collectCells(loaded->map);
   }
-  const auto cells = ogf::map_formats::collectCells(loaded->map);
   auto projection = ogf::navigation::NavProjection::create(cells.resolution, ogf::navigation::NavBand{});
   if (!projection) {
     std::fprintf(stderr, "%s\n", projection.error().message.c_str());
@@ -86,9 +93,10 @@ int main(int argc, char** argv) {
     publish(lcm, stream.update(nowUtime(), *projection, tiles));
     handleFor(0.2);
   }
+  const auto grid = projection->grid();
   std::printf("published seq %lld checksum %016llx known_columns %zu width %d height %d\n",
               static_cast<long long>(stream.seq()), static_cast<unsigned long long>(projection->checksum()),
-              projection->knownColumns(), projection->grid().width, projection->grid().height);
+              projection->knownColumns(), grid ? grid->width : 0, grid ? grid->height : 0);
   std::fflush(stdout);
   while (std::chrono::steady_clock::now() - start < std::chrono::duration<double>(seconds)) lcm.handleTimeout(50);
   std::fprintf(stderr, "keyframe requests answered: %d\n", requests);

@@ -127,23 +127,31 @@ def test_map_client_follows_a_real_mapper_to_its_checksum(sim_lab, loopback_bus,
         assert float(variance) == pytest.approx(q["variance"], abs=1e-4)
 
 
-def test_nav_client_follows_a_nav_grid_publisher_to_its_checksum(lab_map, loopback_bus, tmp_path):
-    url = loopback_bus(2)
-    client = ogf.NavClient(url)
-    assert client.needs_keyframe and client.seq == -1 and client.grid().width == 0
-    publisher = subprocess.Popen([str(TEST_BIN_DIR / "ogf_test_nav_publisher"), url, str(lab_map["map"]), "30", "5"],
+def follow_nav_publisher(client, url, source, seconds, batches):
+    """Runs ogf_test_nav_publisher on `source` (a map file or "far-apart") until `client` is consistent at
+    its last update; returns the match of its line (seq, checksum, known columns, width, height)."""
+    publisher = subprocess.Popen([str(TEST_BIN_DIR / "ogf_test_nav_publisher"), url, source, seconds, batches],
                                  stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         line = publisher.stdout.readline()
         m = re.match(r"published seq (\d+) checksum ([0-9a-f]+) known_columns (\d+) width (\d+) height (\d+)", line)
         assert m, f"publisher said: {line!r} {publisher.stderr.read() if publisher.poll() is not None else ''}"
-        seq, checksum, known = int(m.group(1)), int(m.group(2), 16), int(m.group(3))
+        seq = int(m.group(1))
         deadline = time.monotonic() + 20
         while time.monotonic() < deadline and not (client.consistent and client.seq == seq):
             client.wait_consistent(1.0)
         assert client.consistent and client.seq == seq, f"seq {client.seq} of {seq}, gaps {client.gaps}"
     finally:
         stop(publisher)
+    return m
+
+
+def test_nav_client_follows_a_nav_grid_publisher_to_its_checksum(lab_map, loopback_bus, tmp_path):
+    url = loopback_bus(2)
+    client = ogf.NavClient(url)
+    assert client.needs_keyframe and client.seq == -1 and client.grid().width == 0
+    m = follow_nav_publisher(client, url, str(lab_map["map"]), "30", "5")
+    checksum, known = int(m.group(2), 16), int(m.group(3))
     assert client.checksum == checksum == client.server_checksum
     assert client.known_columns == known > 100
     grid = client.grid()
@@ -153,3 +161,16 @@ def test_nav_client_follows_a_nav_grid_publisher_to_its_checksum(lab_map, loopba
     np.testing.assert_array_equal(grid.cost, expected.cost)
     np.testing.assert_array_equal(grid.column_class, expected.column_class)
     assert grid.resolution == expected.resolution and grid.max_height == expected.max_height
+
+
+def test_nav_client_refuses_a_dense_grid_of_columns_too_far_apart(loopback_bus):
+    """Two known columns 2 000 000 columns apart (as a forged or damaged stream can place them): the client
+    follows them, and grid() raises ValueError saying how far they spread instead of allocating the
+    rectangle (8 * 10^8 columns)."""
+    url = loopback_bus(4)
+    client = ogf.NavClient(url)
+    m = follow_nav_publisher(client, url, "far-apart", "20", "1")
+    assert (m.group(4), m.group(5)) == ("0", "0")  # no dense grid on the publisher's side either
+    assert client.known_columns == 2
+    with pytest.raises(ValueError, match=r"span 2000001 × 401 columns"):
+        client.grid()

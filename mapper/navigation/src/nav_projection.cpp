@@ -176,6 +176,6 @@ void NavProjection::tileValues(const TileKey& key, std::span<std::int8_t> cost,
   }
 }
 
-NavGrid NavProjection::grid() const { return denseGrid(resolution_, band_, *this); }
+Result<NavGrid> NavProjection::grid() const { return denseGrid(resolution_, band_, *this); }
 
 }  // namespace ogf::navigation

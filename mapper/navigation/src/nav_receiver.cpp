@@ -114,7 +114,7 @@ NavColumn NavReceiver::column(const ColumnKey& key) const {
   return {it->second.cost[slot], it->second.column_class[slot]};
 }
 
-NavGrid NavReceiver::grid() const { return denseGrid(meta_.resolution, meta_.band, *this); }
+Result<NavGrid> NavReceiver::grid() const { return denseGrid(meta_.resolution, meta_.band, *this); }
 
 std::vector<TileKey> NavReceiver::knownTiles() const {
   std::vector<TileKey> out;

@@ -4,8 +4,9 @@
 // ogf-map-client --nav does. Nothing may crash, overflow or read out of bounds whatever the parts, sequence
 // numbers, map ids, tiles and values claim; and the receiver's bookkeeping must hold after every message:
 // an applied update moves the sequence forward, and the known columns and checksum it keeps per change are
-// those of the grid it holds, counted afresh (while every tile seen lies within 64 × 64 tiles: grid() is a
-// dense rectangle over the known columns, and tiles far apart would make it as large as they claim).
+// those of the grid it holds, counted afresh (while the tiles it holds lie within 64 × 64 tiles: grid() is
+// a dense rectangle over the known columns); held tiles so far apart that the rectangle would be larger
+// than a dense grid may be must make grid() a resource error, not an allocation.
 #include <ogf/nav_grid_t.hpp>
 
 #include <cstddef>
@@ -19,7 +20,9 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   ogf::navigation::NavReceiver receiver(16);
   constexpr std::int64_t kSpan = 64;
-  std::int64_t lo_x = INT64_MAX, lo_y = INT64_MAX, hi_x = INT64_MIN, hi_y = INT64_MIN;
+  // The fewest columns a dense rectangle over tiles `d` apart holds along that axis: a column at the near
+  // edge of each of the two outermost tiles.
+  const auto fewestColumns = [](std::int64_t d) { return d == 0 ? 1 : (d - 1) * ogf::navigation::kTileSize + 2; };
   std::size_t at = 0;
   while (size - at >= 2) {
     const std::size_t n = (std::size_t{data[at]} << 8) | data[at + 1];
@@ -31,17 +34,21 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       const auto outcome = receiver.accept(m);
       if (outcome == ogf::navigation::NavReceiver::Outcome::kApplied && receiver.appliedSeq() <= before) std::abort();
       if (!receiver.needsKeyframe() && receiver.appliedSeq() < 0) std::abort();
-      for (std::size_t t = 0; t < m.tile_x.size() && t < m.tile_y.size(); ++t) {
-        lo_x = std::min<std::int64_t>(lo_x, m.tile_x[t]);
-        hi_x = std::max<std::int64_t>(hi_x, m.tile_x[t]);
-        lo_y = std::min<std::int64_t>(lo_y, m.tile_y[t]);
-        hi_y = std::max<std::int64_t>(hi_y, m.tile_y[t]);
+      std::int64_t lo_x = 0, lo_y = 0, hi_x = 0, hi_y = 0;
+      const auto held = receiver.knownTiles();
+      for (std::size_t t = 0; t < held.size(); ++t) {
+        lo_x = t == 0 ? held[t].x : std::min<std::int64_t>(lo_x, held[t].x);
+        hi_x = t == 0 ? held[t].x : std::max<std::int64_t>(hi_x, held[t].x);
+        lo_y = t == 0 ? held[t].y : std::min<std::int64_t>(lo_y, held[t].y);
+        hi_y = t == 0 ? held[t].y : std::max<std::int64_t>(hi_y, held[t].y);
       }
-      // No tile yet (the bounds still at their extremes, whose difference would overflow): nothing to span.
-      const bool noTile = hi_x < lo_x;
-      if (noTile || (hi_x - lo_x < kSpan && hi_y - lo_y < kSpan)) {
+      if (hi_x - lo_x < kSpan && hi_y - lo_y < kSpan) {
         const auto grid = receiver.grid();
-        if (grid.knownColumns() != receiver.knownColumns() || grid.checksum() != receiver.checksum()) std::abort();
+        if (!grid || grid->knownColumns() != receiver.knownColumns() || grid->checksum() != receiver.checksum())
+          std::abort();
+      } else if (fewestColumns(hi_x - lo_x) > ogf::navigation::kMaxDenseColumns / fewestColumns(hi_y - lo_y)) {
+        const auto grid = receiver.grid();
+        if (grid || grid.error().kind != ogf::ErrorKind::resource) std::abort();
       }
       (void)receiver.consistent();
     }

@@ -79,7 +79,9 @@ TEST(NavProjection, TheGridIsTheRectangleOfKnownColumnsRowZeroSouth) {
   p.update(wallCell({-2, 5, 3}));
   p.update(wallCell({4, 9, 3}));
   p.refresh();
-  const auto g = p.grid();
+  const auto dense = p.grid();
+  ASSERT_TRUE(dense) << dense.error().message;
+  const NavGrid& g = *dense;
   EXPECT_EQ(g.origin, (ColumnKey{-2, 5}));
   EXPECT_EQ(g.width, 7);
   EXPECT_EQ(g.height, 5);
@@ -92,8 +94,38 @@ TEST(NavProjection, TheGridIsTheRectangleOfKnownColumnsRowZeroSouth) {
   EXPECT_EQ(g.knownColumns(), 2u);
   EXPECT_EQ(g.checksum(), p.checksum());
   p.clear();
-  EXPECT_EQ(p.grid().width, 0);
+  ASSERT_TRUE(p.grid());
+  EXPECT_EQ(p.grid()->width, 0);
   EXPECT_EQ(p.checksum(), 0u);
+}
+
+// Known columns too far apart for one dense rectangle (more than kMaxDenseColumns): a resource error that
+// says how far they spread, not an allocation; the projection keeps working and a grid small again is given.
+TEST(NavProjection, ColumnsTooFarApartForADenseGridAreAResourceErrorNotAnAllocation) {
+  auto p = make();
+  p.update(wallCell({-70000, 0, 3}));
+  p.update(wallCell({70000, 5000, 3}));
+  p.refresh();
+  EXPECT_EQ(p.knownColumns(), 2u);
+  const auto far = p.grid();
+  ASSERT_FALSE(far);
+  EXPECT_EQ(far.error().kind, ogf::ErrorKind::resource);
+  EXPECT_NE(far.error().message.find("140001 × 5001 columns"), std::string::npos) << far.error().message;
+  // One column over the bound (2^14 + 1 by 2^14), then a wide grid well within it (4096 by 4096).
+  p.clear();
+  p.update(wallCell({0, 0, 3}));
+  p.update(wallCell({16384, 16383, 3}));
+  p.refresh();
+  EXPECT_FALSE(p.grid());
+  p.clear();
+  p.update(wallCell({0, 0, 3}));
+  p.update(wallCell({4095, 4095, 3}));
+  p.refresh();
+  const auto wide = p.grid();
+  ASSERT_TRUE(wide) << wide.error().message;
+  EXPECT_EQ(wide->width, 4096);
+  EXPECT_EQ(wide->knownColumns(), 2u);
+  EXPECT_EQ(wide->checksum(), p.checksum());
 }
 
 // The checksum kept per change equals the one computed over the whole grid, whatever the order of changes.
@@ -106,8 +138,10 @@ TEST(NavProjection, TheRunningChecksumEqualsTheGridsAfterRandomUpdates) {
     for (int i = 0; i < 500; ++i)
       p.update({{xy(rng), xy(rng), z(rng)}, prob(rng), static_cast<std::int8_t>(cls(rng)), 0.2f});
     p.refresh();
-    ASSERT_EQ(p.checksum(), p.grid().checksum()) << round;
-    ASSERT_EQ(p.knownColumns(), p.grid().knownColumns()) << round;
+    const auto g = p.grid();
+    ASSERT_TRUE(g) << round;
+    ASSERT_EQ(p.checksum(), g->checksum()) << round;
+    ASSERT_EQ(p.knownColumns(), g->knownColumns()) << round;
   }
   EXPECT_GT(p.knownColumns(), 100u);
 }

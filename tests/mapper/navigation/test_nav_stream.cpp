@@ -44,8 +44,11 @@ TEST_F(NavStreamTest, AKeyframeThenUpdatesRebuildTheGridToTheMappersChecksum) {
   EXPECT_EQ(receiver_.appliedSeq(), 10);
   EXPECT_TRUE(receiver_.consistent());
   EXPECT_EQ(receiver_.checksum(), projection_.checksum());
-  const auto mine = projection_.grid();
-  const auto theirs = receiver_.grid();
+  const auto mineOr = projection_.grid();
+  const auto theirsOr = receiver_.grid();
+  ASSERT_TRUE(mineOr && theirsOr);
+  const NavGrid& mine = *mineOr;
+  const NavGrid& theirs = *theirsOr;
   EXPECT_EQ(theirs.origin, mine.origin);
   EXPECT_EQ(theirs.width, mine.width);
   EXPECT_EQ(theirs.cost, mine.cost);

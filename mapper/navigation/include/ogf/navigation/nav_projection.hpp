@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -40,11 +41,15 @@ TileKey tileOf(const ColumnKey& column);
 // The column at `slot` of `tile`, its values' row-major place from the tile's south-west column.
 ColumnKey columnAt(const TileKey& tile, std::size_t slot);
 
+// The most columns a dense grid holds: 2^28, 512 MB of costs and classes, a square of 1.6 km at 0.1 m.
+inline constexpr std::int64_t kMaxDenseColumns = std::int64_t{1} << 28;
+
 // The dense rectangle over the known columns of `tiles` (anything with knownTiles() and
 // tileValues(tile, cost, class): NavProjection, NavReceiver), row 0 the southernmost; width 0 when no column
-// is known.
+// is known. A resource error when the rectangle would hold more than kMaxDenseColumns (known columns far
+// apart, as a forged or damaged message can place them): such a grid is followed tile by tile.
 template <class Tiles>
-NavGrid denseGrid(double resolution, const NavBand& band, const Tiles& tiles);
+Result<NavGrid> denseGrid(double resolution, const NavBand& band, const Tiles& tiles);
 
 // A 3-D cell's state as the projection reads it.
 struct CellState {
@@ -80,8 +85,9 @@ class NavProjection {
   // The kTileSize² values of a tile, row-major from its south-west column (nav_grid_t's layout): cost and
   // class spans must hold kTileSize² values.
   void tileValues(const TileKey& tile, std::span<std::int8_t> cost, std::span<std::int8_t> column_class) const;
-  // The dense rectangle over every known column (empty grid, width 0, when none is).
-  NavGrid grid() const;
+  // The dense rectangle over every known column (empty grid, width 0, when none is); denseGrid's error when
+  // it would be too large.
+  Result<NavGrid> grid() const;
 
   std::uint64_t checksum() const { return checksum_; }
   std::size_t knownColumns() const { return known_columns_; }
@@ -115,7 +121,7 @@ class NavProjection {
 };
 
 template <class Tiles>
-NavGrid denseGrid(double resolution, const NavBand& band, const Tiles& tiles) {
+Result<NavGrid> denseGrid(double resolution, const NavBand& band, const Tiles& tiles) {
   NavGrid g;
   g.resolution = resolution;
   g.band = band;
@@ -137,10 +143,18 @@ NavGrid denseGrid(double resolution, const NavBand& band, const Tiles& tiles) {
     any = true;
   });
   if (!any) return g;
+  // In 64 bits: columns far apart span more than an int32.
+  const std::int64_t width = std::int64_t{hi.x} - lo.x + 1;
+  const std::int64_t height = std::int64_t{hi.y} - lo.y + 1;
+  if (width > kMaxDenseColumns / height) {
+    return Error::resource("the known columns of the navigation grid span " + std::to_string(width) + " × " +
+                           std::to_string(height) + " columns, more than a dense grid holds (" +
+                           std::to_string(kMaxDenseColumns) + "); follow it tile by tile");
+  }
   g.origin = lo;
-  g.width = hi.x - lo.x + 1;
-  g.height = hi.y - lo.y + 1;
-  const auto n = static_cast<std::size_t>(g.width) * static_cast<std::size_t>(g.height);
+  g.width = static_cast<std::int32_t>(width);
+  g.height = static_cast<std::int32_t>(height);
+  const auto n = static_cast<std::size_t>(width * height);
   g.cost.assign(n, kUnknownCost);
   g.column_class.assign(n, kClassUnknown);
   forKnown([&](const ColumnKey& c, std::int8_t v, std::int8_t cls) {

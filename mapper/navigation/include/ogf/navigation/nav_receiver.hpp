@@ -34,9 +34,10 @@ class NavReceiver {
   std::int64_t appliedSeq() const { return sequence_.appliedSeq(); }
   std::optional<std::int64_t> mapId() const { return sequence_.mapId(); }
 
-  // The grid rebuilt so far (resolution and band from the last update applied).
+  // The grid rebuilt so far (resolution and band from the last update applied): the column, and the dense
+  // rectangle (denseGrid's error when the known columns are too far apart for one).
   NavColumn column(const ColumnKey& key) const;
-  NavGrid grid() const;
+  Result<NavGrid> grid() const;
   // The tiles holding at least one known column, sorted, and a tile's kTileSize² values row-major from its
   // south-west column (unknown for a tile not held), as NavProjection gives them: a viewer follows the grid
   // tile by tile without building the dense rectangle, whose size tiles far apart would make unbounded.
