@@ -9,13 +9,12 @@
 
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 #include <regex>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "support/file_text.hpp"
 #include "support/child_process.hpp"
 #include "support/multicast.hpp"
 #include "support/test_directory.hpp"
@@ -28,13 +27,6 @@ namespace fs = std::filesystem;
 const std::string kBin = OGF_BIN_DIR;
 const fs::path kLcmTypes = OGF_LCMTYPES_DIR;
 
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 // The struct names of the ogf message set that travel on a channel of their own: those no other type holds
 // as a member (source_status_t only travels inside mapper_status_t).
 std::set<std::string> channelTypes() {
@@ -43,7 +35,7 @@ std::set<std::string> channelTypes() {
   const std::regex struct_re(R"(struct\s+(\w+))");
   for (const auto& entry : fs::directory_iterator(kLcmTypes)) {
     if (entry.path().extension() != ".lcm") continue;
-    const std::string text = readFile(entry.path());
+    const std::string text = ogf::testing::fileText(entry.path());
     all += text;
     for (std::sregex_iterator it(text.begin(), text.end(), struct_re), end; it != end; ++it) declared.insert((*it)[1]);
   }

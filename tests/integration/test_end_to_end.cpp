@@ -32,6 +32,7 @@
 #include <sstream>
 #include <thread>
 
+#include "support/file_text.hpp"
 #include "support/child_process.hpp"
 #include "support/daemon_process.hpp"
 #include "support/lcm_thread.hpp"
@@ -112,13 +113,6 @@ std::string field(const std::string& text, const std::string& key) {
   return {};
 }
 
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 // The exit status of a program run to its end (-1000 when it did not end within `limit`).
 int runToEnd(const std::vector<std::string>& argv, const fs::path& log, std::chrono::seconds limit) {
   return ogf::testing::runAndCapture(argv, log.string(), limit).rc;
@@ -139,7 +133,7 @@ class EndToEnd : public ::testing::Test {
                         (root_ / "sim").string(), "--start-utime", std::to_string(now_us), "--log-level", "warn"},
                        root_ / "sim.log", 120s);
     // The mapper must know where the sensor sits on the body (sim.yaml's sensor_to_body).
-    const std::string sim_yaml = readFile(root_ / "sim" / "sim.yaml");
+    const std::string sim_yaml = ogf::testing::fileText(root_ / "sim" / "sim.yaml");
     std::smatch m;
     if (std::regex_search(sim_yaml, m, std::regex(R"(sensor_to_body: \{xyz: (\[[^\]]*\]), quaternion_wxyz: (\[[^\]]*\])\})")))
       // A queue deep enough for the 3 s world's 4x burst: with the default 10 scans, the mapper on this
@@ -157,7 +151,7 @@ class EndToEnd : public ::testing::Test {
 
   void SetUp() override {
     if (auto why = ensureLoopbackMulticast()) GTEST_SKIP() << "udpm on loopback unavailable: " << *why;
-    ASSERT_EQ(sim_rc_, 0) << readFile(root_ / "sim.log");
+    ASSERT_EQ(sim_rc_, 0) << ogf::testing::fileText(root_ / "sim.log");
     ASSERT_TRUE(fs::exists(root_ / "mapper.yaml")) << "no sensor_to_body in sim.yaml";
   }
 
@@ -195,7 +189,7 @@ class EndToEnd : public ::testing::Test {
                   "--data-port", data_port, "--position-port", position_port, "--speed", std::to_string(speed),
                   "--odometry", (root_ / "sim" / "odometry.csv").string(), "--lcm-url", url, "--start-delay", "1"},
                  dir / "replay.log", 120s);
-    ASSERT_EQ(replay_rc, 0) << readFile(dir / "replay.log");
+    ASSERT_EQ(replay_rc, 0) << ogf::testing::fileText(dir / "replay.log");
     std::this_thread::sleep_for(300ms);
     // SIGTERM: the driver publishes the scan in progress and a last status.
     ASSERT_TRUE(driver.stop());
@@ -223,7 +217,7 @@ class EndToEnd : public ::testing::Test {
     const int eval_rc = runToEnd({kBin + "/ogf-eval", "--map", (dir / "state" / "snapshot.ogfs").string(), "--truth",
                                   (root_ / "sim").string(), "--no-octomap", "--log-level", "warn"},
                                  dir / "eval.log", 120s);
-    run.eval_table = readFile(dir / "eval.log");
+    run.eval_table = ogf::testing::fileText(dir / "eval.log");
     ASSERT_EQ(eval_rc, 0) << run.eval_table;
   }
 

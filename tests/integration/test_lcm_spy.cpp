@@ -23,6 +23,7 @@
 #include <sstream>
 #include <thread>
 
+#include "support/file_text.hpp"
 #include "support/child_process.hpp"
 #include "support/daemon_process.hpp"
 #include "support/message_counter.hpp"
@@ -40,13 +41,6 @@ using Mapper = ogf::testing::DaemonProcess<ogf::mapper_status_t>;
 const std::string kBin = OGF_BIN_DIR;
 const std::string kScripts = OGF_SCRIPTS_DIR;
 const std::string kJavaDir = OGF_JAVA_DIR;
-
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 bool onPath(const std::string& program) {
   const char* path = std::getenv("PATH");
@@ -97,7 +91,7 @@ TEST(LcmSpy, SeesEveryChannelOfTheDaemonsAtItsTrueRate) {
                      (dir / "sim.log").string());
     ASSERT_EQ(sim.wait(120s), 0) << sim.log();
   }
-  const std::string sim_yaml = readFile(dir / "sim" / "sim.yaml");
+  const std::string sim_yaml = ogf::testing::fileText(dir / "sim" / "sim.yaml");
   std::smatch m;
   ASSERT_TRUE(std::regex_search(sim_yaml, m,
                                 std::regex(R"(sensor_to_body: \{xyz: (\[[^\]]*\]), quaternion_wxyz: (\[[^\]]*\])\})")))
