@@ -667,9 +667,6 @@ void BandedOgf::obtainNeighbourhoods(std::span<const Group> sorted, UpdateStats&
   work.groupTouched.resize(sorted.size() * 27);
   work.freshBlocks.clear();
   work.freshOwnGroups.clear();
-  const auto ownCodes = [&](const Group& g) {
-    return std::span<const std::uint16_t>(work.sorted).subspan(g.begin, g.end - g.begin);
-  };
   try {
     findNeighbourhoods(sorted);
   } catch (...) {
@@ -679,8 +676,12 @@ void BandedOgf::obtainNeighbourhoods(std::span<const Group> sorted, UpdateStats&
   initialiseBlocks(work.freshBlocks);
   stats.blocksAllocated += work.freshBlocks.size();
   for (const std::uint32_t r : work.freshOwnGroups) {
-    markOccupied(*work.touched[work.groupTouched[r * 27 + kOwnBlock]].block, ownCodes(sorted[r]));
+    markOccupied(*work.touched[work.groupTouched[r * 27 + kOwnBlock]].block, codesOf(sorted[r]));
   }
+}
+
+std::span<const std::uint16_t> BandedOgf::codesOf(const Group& g) const {
+  return std::span<const std::uint16_t>(scratch_.sorted).subspan(g.begin, g.end - g.begin);
 }
 
 // obtainNeighbourhoods' pass over the groups: their blocks looked up, or allocated unwritten (listed in
@@ -744,7 +745,7 @@ void BandedOgf::findNeighbourhoods(std::span<const Group> sorted) {
           if (touched.fresh) {
             work.freshOwnGroups.push_back(static_cast<std::uint32_t>(r));
           } else {
-            markOccupied(block, std::span<const std::uint16_t>(work.sorted).subspan(g.begin, g.end - g.begin));
+            markOccupied(block, codesOf(g));
           }
         }
       }

@@ -19,9 +19,8 @@ BlockStorage::BlockStorage(int dimensions, std::size_t floatsPerBlock)
       arena_(std::make_unique<BlockArena>(floatsPerBlock * sizeof(float) + cellsPerBlock_)) {}
 
 Block& BlockStorage::obtain(const CellKey& blockKey, bool& fresh) {
-  Block& block = blocks_.findOrInsert(
-      blockKey, [&] { return std::make_unique<Block>(cellsPerBlock_, floatsPerBlock_, *arena_); }, fresh);
-  block.changed();  // handed out for writing
+  Block& block = obtainUnwritten(blockKey, fresh);
+  if (fresh) block.clearMarks();
   return block;
 }
 
@@ -29,7 +28,7 @@ Block& BlockStorage::obtainUnwritten(const CellKey& blockKey, bool& fresh) {
   Block& block = blocks_.findOrInsert(
       blockKey, [&] { return std::make_unique<Block>(cellsPerBlock_, floatsPerBlock_, *arena_, Block::Unwritten{}); },
       fresh);
-  block.changed();
+  block.changed();  // handed out for writing
   return block;
 }
 

@@ -287,6 +287,8 @@ class BandedOgf {
   // Starts loading the touched layers of the block whose first touched layer is work.touchedLayers[e].
   void prefetchTouchedLayers(const Batch& work, std::size_t e, std::size_t end) const;
   static void markOccupied(Block& block, std::span<const std::uint16_t> codes);
+  // A group's codes in the order of application (Batch::sorted).
+  std::span<const std::uint16_t> codesOf(const Group& g) const;
   static constexpr unsigned kOwnBlock = 13;  // (0, 0, 0) in the 3×3×3 neighbourhood's numbering
   static constexpr std::size_t kPrefetchAhead = 4;
   // prefetchRunsAhead asks for the table slot, the header and the marks of the block this many runs ahead;
