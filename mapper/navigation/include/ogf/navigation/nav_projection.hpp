@@ -148,8 +148,8 @@ Result<NavGrid> denseGrid(double resolution, const NavBand& band, const Tiles& t
   const std::int64_t height = std::int64_t{hi.y} - lo.y + 1;
   if (width > kMaxDenseColumns / height) {
     return Error::resource("the known columns of the navigation grid span " + std::to_string(width) + " × " +
-                           std::to_string(height) + " columns, more than a dense grid holds (" +
-                           std::to_string(kMaxDenseColumns) + "); follow it tile by tile");
+                           std::to_string(height) + " columns, more than one dense grid holds (" +
+                           std::to_string(kMaxDenseColumns) + ")");
   }
   g.origin = lo;
   g.width = static_cast<std::int32_t>(width);
