@@ -45,8 +45,7 @@ void MapPublisher::stop() { keyframe_sender_.reset(); }
 void MapPublisher::grant() {
   deltas_.setRule({options_.deltas.probability_step, options_.deltas.variance_step});
   if (options_.deltas.max_bytes_per_s > 0) {
-    const double waiting_bytes = static_cast<double>(options_.deltas.max_bytes_per_s) * options_.deltas.max_wait_s;
-    deltas_.limitWaiting(deltas_.cellsWithin(static_cast<std::int64_t>(std::min(waiting_bytes, 1e15))));
+    deltas_.limitWaitingTo(static_cast<double>(options_.deltas.max_bytes_per_s), options_.deltas.max_wait_s);
   }
   std::lock_guard lk(budget_mu_);
   channel_budget_.refill(steadyUtime());

@@ -216,6 +216,11 @@ std::int64_t DeltaStream::bytesOf(std::span<const ogf::map_delta_t> messages) {
   return bytes;
 }
 
+void DeltaStream::limitWaitingTo(double bytes_per_s, double seconds) {
+  const double bytes = std::min(bytes_per_s * seconds, 1e15);  // within int64 whatever the configuration
+  limitWaiting(cellsWithin(static_cast<std::int64_t>(bytes)));
+}
+
 std::size_t DeltaStream::cellsWithin(std::int64_t bytes) const {
   const auto per = static_cast<std::size_t>(config_.max_cells_per_message);
   const std::int64_t full = partBytes(per);

@@ -193,7 +193,7 @@ OgfResult runOgf(const std::vector<RayScan>& scans, ogf::pipeline::MapperConfig 
                                  ogf::delta::PublishingRule{delta_step, 0.0});
   // The waiting cells ogf-mapper allows: deltas.max_wait_s of its rate (the budget at 10 Hz).
   if (delta_bytes_per_scan > 0) {
-    stream.limitWaiting(stream.cellsWithin(static_cast<std::int64_t>(static_cast<double>(delta_bytes_per_scan) * 10.0 * delta_max_wait_s)));
+    stream.limitWaitingTo(static_cast<double>(delta_bytes_per_scan) * 10.0, delta_max_wait_s);
   }
   for (const RayScan& s : scans) {
     // The rays relative to the origin, placed back with a pure translation (outside the timing, as

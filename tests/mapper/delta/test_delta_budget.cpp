@@ -166,6 +166,19 @@ TEST(DeltaBudget, WaitingCellsStopAtTheCapacityAndTheRestMarkTheirSlabsStale) {
   EXPECT_EQ(s.stale().size(), 26u);
 }
 
+// The waiting cells ogf-mapper allows: what max_wait_s seconds of max_bytes_per_s carry, in whole messages
+// and a last partial one; a configuration's product beyond int64 is capped, not wrapped.
+TEST(DeltaBudget, TheWaitingCellsAreWhatSecondsOfTheRateCarry) {
+  DeltaStream s({0.2, 1, 50}, PublishingRule{0.02, 0.0});
+  s.limitWaitingTo(2'000'000.0, 1.5);
+  EXPECT_EQ(s.deferred().capacity(), s.cellsWithin(3'000'000));
+  EXPECT_GT(s.deferred().capacity(), 100'000u);
+  s.limitWaitingTo(1e300, 1e300);
+  EXPECT_EQ(s.deferred().capacity(), s.cellsWithin(std::int64_t{1'000'000'000'000'000}));
+  s.limitWaitingTo(100.0, 0.0);
+  EXPECT_EQ(s.deferred().capacity(), 0u);
+}
+
 TEST(DeltaBudget, ClassChangeTakesTheOldestWaitingProbabilityMovesPlaceWhenFull) {
   DeltaStream s({0.2, 1, 50}, PublishingRule{0.02, 0.0});
   std::vector<PublishedCell> first;

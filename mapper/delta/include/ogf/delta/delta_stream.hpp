@@ -82,6 +82,9 @@ class DeltaStream {
   // The most cells that may wait; a change worth sending beyond it marks its slab stale instead (a waiting
   // probability move makes way for a class change, its own slab marked). Unbounded unless set.
   void limitWaiting(std::size_t cells) { deferred_.setCapacity(cells); }
+  // limitWaiting to the cells `seconds` of a `bytes_per_s` budget carry (ogf-mapper: deltas.max_wait_s of
+  // deltas.max_bytes_per_s).
+  void limitWaitingTo(double bytes_per_s, double seconds);
   // Slabs whose changes found the waiting set full.
   const StaleSlabs& stale() const { return stale_; }
   // Changes that went to a stale slab (UpdateFigures::overflowed), since the stream began.
