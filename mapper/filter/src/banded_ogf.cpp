@@ -219,6 +219,17 @@ WorkerPool* BandedOgf::pool() {
   return pool_.get();
 }
 
+template <class Body>
+void BandedOgf::shareOut(std::size_t n, bool worthSharing, Body&& body) {
+  WorkerPool* threads = worthSharing ? pool() : nullptr;
+  if (threads == nullptr) {
+    body(std::size_t{0}, n);
+    return;
+  }
+  const EvenSplit split{n, threads->threads()};
+  threads->run([&](std::size_t p) { body(split.begin(p), split.begin(p + 1)); });
+}
+
 std::uint32_t BandedOgf::lookUp(const CellKey& blockKey) {
   Batch& work = scratch_;
   bool inserted = false;
@@ -236,14 +247,8 @@ void BandedOgf::initialiseBlocks(std::span<Block* const> blocks) {
       initialiseBlock(*blocks[b]);
     }
   };
-  WorkerPool* threads = blocks.size() >= kParallelBlocksMin ? pool() : nullptr;
-  if (threads == nullptr) {
-    initialise(0, blocks.size());
-    return;
-  }
   // In allocation order, so each thread writes its own run of the arena's pages.
-  const EvenSplit split{blocks.size(), threads->threads()};
-  threads->run([&](std::size_t p) { initialise(split.begin(p), split.begin(p + 1)); });
+  shareOut(blocks.size(), blocks.size() >= kParallelBlocksMin, initialise);
 }
 
 inline bool BandedOgf::holdBackFree(std::uint8_t& mark) const {
@@ -648,13 +653,7 @@ std::vector<BandedOgf::Group> BandedOgf::orderGroups(std::vector<Group>& groups)
     }
     sortGroupCodes(r0, r1);
   };
-  WorkerPool* threads = placed >= kParallelBatchMin ? pool() : nullptr;
-  if (threads == nullptr) {
-    placeGroups(0, sorted.size());
-    return sorted;
-  }
-  const EvenSplit split{sorted.size(), threads->threads()};
-  threads->run([&](std::size_t p) { placeGroups(split.begin(p), split.begin(p + 1)); });
+  shareOut(sorted.size(), placed >= kParallelBatchMin, placeGroups);
   return sorted;
 }
 
@@ -1085,13 +1084,7 @@ void BandedOgf::copyTouchedLayers(Batch& work) {
                   kLayerCells * sizeof(std::uint16_t));
     }
   };
-  WorkerPool* threads = layers.size() >= kParallelLayersMin ? pool() : nullptr;
-  if (threads == nullptr) {
-    copyLayers(0, layers.size());
-    return;
-  }
-  const EvenSplit split{layers.size(), threads->threads()};
-  threads->run([&](std::size_t p) { copyLayers(split.begin(p), split.begin(p + 1)); });
+  shareOut(layers.size(), layers.size() >= kParallelLayersMin, copyLayers);
 }
 
 void BandedOgf::prefetchTouchedLayers(const Batch& work, std::size_t e, std::size_t end) const {

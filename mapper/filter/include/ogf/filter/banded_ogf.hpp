@@ -380,6 +380,10 @@ class BandedOgf {
   std::vector<float*> ring_;  // applyRun's records on the calling thread
   // config_.threads threads (null while that is 1), started at the first update that shares its work.
   WorkerPool* pool();
+  // body(begin, end) over [0, n): on the calling thread alone unless `worthSharing` (and threads above 1),
+  // else in even shares on all filter threads, share 0 on the calling one.
+  template <class Body>
+  void shareOut(std::size_t n, bool worthSharing, Body&& body);
   std::unique_ptr<WorkerPool> pool_;
 };
 
