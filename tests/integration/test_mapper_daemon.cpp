@@ -32,6 +32,7 @@
 #include <utility>
 #include <vector>
 
+#include "support/file_text.hpp"
 #include "support/child_process.hpp"
 #include "support/daemon_process.hpp"
 #include "support/message_log.hpp"
@@ -207,8 +208,7 @@ TEST_F(MapperDaemonTest, CellsOverTheDeltaBudgetWaitAndTheClientEndsWithTheMappe
 TEST_F(MapperDaemonTest, ClientRebuildsTheDaemonsMapWhileRegionsArePagedOutAndIn) {
   std::ofstream(dir_ / "mapper.yaml", std::ios::app) << "page_out_distance_m: 1.0\n";
   clientRebuildsTheDaemonsMap(dir_, 36, 300, {"--state-dir", (dir_ / "state").string()});
-  std::ifstream in(dir_ / "mapper.log");
-  const std::string log((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string log = ogf::testing::fileText(dir_ / "mapper.log");
   EXPECT_NE(log.find("within the scans' reach"), std::string::npos) << "regions should churn: " << log;
   EXPECT_EQ(log.find("are lost"), std::string::npos) << log;
 }

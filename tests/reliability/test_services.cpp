@@ -26,6 +26,7 @@
 #include "integration/scan_feeder.hpp"
 #include "ogf/mapper_daemon/command_auth.hpp"
 #include "programs.hpp"
+#include "support/file_text.hpp"
 #include "support/child_process.hpp"
 #include "support/daemon_process.hpp"
 #include "support/lcm_thread.hpp"
@@ -125,10 +126,7 @@ class ServicesTest : public ::testing::Test {
   int queries_ = 0;
 };
 
-std::string fileText(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using ogf::testing::fileText;
 
 // Attacks 1 and 2: absolute paths, '..', a symbolic link, an existing file and the state files as export
 // names are refused, nothing is written outside the export directory, and a restart restores the whole map.

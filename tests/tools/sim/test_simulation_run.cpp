@@ -8,14 +8,12 @@
 #include "ogf/sim/pose_files.hpp"
 #include "ogf/sim/simulation.hpp"
 #include "sim_test_paths.hpp"
+#include "support/file_text.hpp"
 
 namespace ogf::sim {
 namespace {
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using ogf::testing::fileText;
 
 class SimulationRun : public ::testing::Test {
  protected:
@@ -52,13 +50,13 @@ TEST_F(SimulationRun, SameSeedWritesIdenticalFiles) {
   ASSERT_TRUE(run("b").ok());
   for (const char* f : kOutputs) {
     ASSERT_TRUE(std::filesystem::exists(base_ / "a" / f)) << f;
-    EXPECT_EQ(slurp(base_ / "a" / f), slurp(base_ / "b" / f)) << f;
+    EXPECT_EQ(fileText(base_ / "a" / f), fileText(base_ / "b" / f)) << f;
   }
   config_.sensor.seed = 2;
   ASSERT_TRUE(run("c").ok());
-  EXPECT_NE(slurp(base_ / "a" / "capture.pcap"), slurp(base_ / "c" / "capture.pcap"));
-  EXPECT_NE(slurp(base_ / "a" / "odometry.csv"), slurp(base_ / "c" / "odometry.csv"));
-  EXPECT_EQ(slurp(base_ / "a" / "trajectory_true.csv"), slurp(base_ / "c" / "trajectory_true.csv"));
+  EXPECT_NE(fileText(base_ / "a" / "capture.pcap"), fileText(base_ / "c" / "capture.pcap"));
+  EXPECT_NE(fileText(base_ / "a" / "odometry.csv"), fileText(base_ / "c" / "odometry.csv"));
+  EXPECT_EQ(fileText(base_ / "a" / "trajectory_true.csv"), fileText(base_ / "c" / "trajectory_true.csv"));
 }
 
 TEST_F(SimulationRun, PosesCoverTheCaptureOnItsClock) {
