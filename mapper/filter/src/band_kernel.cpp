@@ -130,21 +130,25 @@ template <std::size_t Cells>
   }
 }
 
-void compactBandKernelDefault(float* const* records, BandUpdate update, const BandTables& tables) {
-  compactBody<25>(records, update, tables);
+// The two stencils of 3-D maps in compact storage: the √2 ball (19 cells, the default there) and the √2 ball
+// with the six axial cells at distance 2 (25 cells, the banded default).
+template <std::size_t Cells>
+void compactBandKernelFixed(float* const* records, BandUpdate update, const BandTables& tables) {
+  compactBody<Cells>(records, update, tables);
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
-// The same arithmetic on cells 0–23 in three 8-wide vectors and cell 24 alone: IEEE operations without
-// contraction (this file is built with -ffp-contract=off), in compactBody's order, so the same floats as
-// the baseline's, bit for bit. The ratios go from the codes into vector registers directly: decoded one by
-// one into memory, as the compiler does compactBody, each 8-wide load of them waited for eight narrower
-// stores to drain (a failed store-to-load forward).
-__attribute__((target("avx2"))) void compactBandKernelDefaultAvx2(float* const* records, BandUpdate update,
-                                                                 const BandTables& tables) {
-  constexpr std::size_t kCells = 25;
-  constexpr std::size_t kLast = 24;  // the cell after the three vectors
-  const auto code = [&](std::size_t s) { return reinterpret_cast<std::uint16_t*>(records[kCells + s]); };
+// The same arithmetic on the first 8·⌊Cells/8⌋ cells in 8-wide vectors and the rest one by one: IEEE
+// operations without contraction (this file is built with -ffp-contract=off), in compactBody's order, so the
+// same floats as the baseline's, bit for bit. The ratios go from the codes into vector registers directly:
+// decoded one by one into memory, as the compiler does compactBody, each 8-wide load of them waited for eight
+// narrower stores to drain (a failed store-to-load forward).
+template <std::size_t Cells>
+__attribute__((target("avx2"))) void compactBandKernelAvx2(float* const* records, BandUpdate update,
+                                                          const BandTables& tables) {
+  constexpr std::size_t kVectors = Cells / 8;
+  constexpr std::size_t kVectorCells = 8 * kVectors;  // the cells after them go one by one
+  const auto code = [&](std::size_t s) { return reinterpret_cast<std::uint16_t*>(records[Cells + s]); };
   const float prior = tables.priorVariance;
   const float floor = update.varianceFloor / prior;
   const float selfRatio =
@@ -159,9 +163,9 @@ __attribute__((target("avx2"))) void compactBandKernelDefaultAvx2(float* const* 
   const __m256 smallest = _mm256_set1_ps(kSmallestVarianceRatio);  // encodeVarianceRatio's bounds
   const __m256 two = _mm256_set1_ps(2.0F);
   const __m256i largest = _mm256_set1_epi32(0xFFFF);
-  alignas(32) std::array<float, 24> columns;        // NOLINT: written below before it is read
-  alignas(32) std::array<std::uint32_t, 24> codes;  // NOLINT: written below before it is read
-  for (std::size_t v = 0; v < 3; ++v) {
+  alignas(32) std::array<float, kVectorCells> columns;        // NOLINT: written below before it is read
+  alignas(32) std::array<std::uint32_t, kVectorCells> codes;  // NOLINT: written below before it is read
+  for (std::size_t v = 0; v < kVectors; ++v) {
     const std::size_t s = 8 * v;
     const __m256i stored = _mm256_setr_epi32(*code(s), *code(s + 1), *code(s + 2), *code(s + 3), *code(s + 4),
                                              *code(s + 5), *code(s + 6), *code(s + 7));
@@ -188,15 +192,23 @@ __attribute__((target("avx2"))) void compactBandKernelDefaultAvx2(float* const* 
     _mm256_store_ps(columns.data() + s, column);
     _mm256_store_si256(reinterpret_cast<__m256i*>(codes.data() + s), encoded);
   }
-  for (std::size_t s = 0; s < kLast; ++s) {
+  // The rest read the codes before the vectors' are stored: no stencil cell is another's record.
+  std::array<float, Cells - kVectorCells> restColumns;        // NOLINT: written below before it is read
+  std::array<std::uint16_t, Cells - kVectorCells> restCodes;  // NOLINT: written below before it is read
+  for (std::size_t s = kVectorCells; s < Cells; ++s) {
+    const float ratio = decodeVarianceRatio(*code(s));
+    const float column = s == tables.self ? prior * selfRatio : tables.correlation[s] * (ratio * selfRatio);
+    restColumns[s - kVectorCells] = column;
+    restCodes[s - kVectorCells] = encodeVarianceRatio(std::max(ratio - update.shrink * column * (column / prior), floor));
+  }
+  for (std::size_t s = 0; s < kVectorCells; ++s) {
     *records[s] += update.gain * columns[s];
     *code(s) = static_cast<std::uint16_t>(codes[s]);
   }
-  const float ratio = decodeVarianceRatio(*code(kLast));
-  const float column =
-      kLast == tables.self ? prior * selfRatio : tables.correlation[kLast] * (ratio * selfRatio);
-  *records[kLast] += update.gain * column;
-  *code(kLast) = encodeVarianceRatio(std::max(ratio - update.shrink * column * (column / prior), floor));
+  for (std::size_t s = kVectorCells; s < Cells; ++s) {
+    *records[s] += update.gain * restColumns[s - kVectorCells];
+    *code(s) = restCodes[s - kVectorCells];
+  }
 }
 #endif
 
@@ -207,16 +219,17 @@ void compactBandKernel(float* const* records, BandUpdate update, const BandTable
 }
 
 BandKernel compactBandKernelFor(const BandTables& tables, bool avx2) {
-  if (tables.cells != 25) {
-    return &compactBandKernel;
-  }
-#if defined(__x86_64__) && defined(__GNUC__)
-  if (avx2) {
-    return &compactBandKernelDefaultAvx2;
-  }
-#endif
   static_cast<void>(avx2);
-  return &compactBandKernelDefault;
+  switch (tables.cells) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    case 19: return avx2 ? &compactBandKernelAvx2<19> : &compactBandKernelFixed<19>;
+    case 25: return avx2 ? &compactBandKernelAvx2<25> : &compactBandKernelFixed<25>;
+#else
+    case 19: return &compactBandKernelFixed<19>;
+    case 25: return &compactBandKernelFixed<25>;
+#endif
+    default: return &compactBandKernel;
+  }
 }
 
 namespace {

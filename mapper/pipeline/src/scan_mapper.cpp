@@ -114,6 +114,8 @@ Status ScanMapper::restoreFilter(std::span<const std::uint8_t> map_bytes, const 
   if (differs(*got.kernelAmplitude, *want.kernelAmplitude))
     return mismatch("kernel amplitude", *got.kernelAmplitude, *want.kernelAmplitude);
   if (differs(*got.stencilRadius, *want.stencilRadius)) return mismatch("stencil radius", *got.stencilRadius, *want.stencilRadius);
+  if (got.stencilManhattanRadius != want.stencilManhattanRadius)
+    return mismatch("stencil Manhattan radius", got.stencilManhattanRadius, want.stencilManhattanRadius);
   // The thresholds, clamps and skip tolerance are the configuration's, not those saved with the map (an
   // older file, or a changed configuration).
   if (auto st = loaded->adoptPolicy(want); !st) return st.error().within(source);

@@ -50,7 +50,8 @@ void reportMeasurements(benchmark::State& state, std::size_t skipped) {
 }
 
 // R² > 0: a ball of that radius, banded storage; 0: the default stencil, banded; -1: the default stencil,
-// compact storage (what the mapping programs use).
+// compact storage (what the mapping programs use); -2: the √2 ball in compact storage (Manhattan radius 0,
+// the lean stencil of docs/mapping.md).
 FilterConfig configFor(int radiusSquared, int threads) {
   FilterConfig config;  // 3-D, 0.2 m cells, σ = 0.1 m
   config.threads = threads;
@@ -61,10 +62,13 @@ FilterConfig configFor(int radiusSquared, int threads) {
     config.stencilRadius = std::sqrt(static_cast<double>(radiusSquared));
     config.stencilManhattanRadius = 0;
   }
+  if (radiusSquared == -2) {
+    config.stencilManhattanRadius = 0;
+  }
   return config;
 }
 
-// Args: R² (0 = the default stencil, -1 the same in compact storage), y, threads.
+// Args: R² (0 = the default stencil, -1 the same in compact storage, -2 the lean stencil), y, threads.
 void BM_FirstMeasurement(benchmark::State& state) {
   const auto y = static_cast<std::int8_t>(state.range(1));
   const FilterConfig config = configFor(static_cast<int>(state.range(0)), static_cast<int>(state.range(2)));
@@ -126,7 +130,7 @@ void BM_RepeatedMeasurement(benchmark::State& state) {
 // time (the main thread's CPU time would leave out the worker's).
 void stencilsOnThreads(benchmark::internal::Benchmark* b, int threads) {
   b->ArgNames({"R2", "y", "threads"});
-  for (int r2 : {1, 2, 3, 4, 0, -1}) {
+  for (int r2 : {1, 2, 3, 4, 0, -1, -2}) {
     for (int y : {-1, 1}) {
       b->Args({r2, y, threads});
     }

@@ -111,6 +111,17 @@ TEST(ScanMapper, RestoredMapTakesTheConfiguredClampsAndThresholds) {
   const auto st = refused->restoreFilter(bytes, "saved");
   ASSERT_FALSE(st.ok());
   EXPECT_NE(st.error().message.find("resolution"), std::string::npos) << st.error().message;
+
+  // So is another stencil: the map would go on filtering with the one it was made with.
+  pipeline::MapperConfig ball = config();
+  ball.filter.stencilManhattanRadius = 0;
+  auto refusedStencil = pipeline::ScanMapper::create(ball);
+  ASSERT_TRUE(refusedStencil.ok());
+  const auto stencil = refusedStencil->restoreFilter(bytes, "saved");
+  ASSERT_FALSE(stencil.ok());
+  EXPECT_NE(stencil.error().message.find("saved: stencil Manhattan radius 2"), std::string::npos)
+      << stencil.error().message;
+  EXPECT_EQ(refusedStencil->filter().config().stencilManhattanRadius, 0);
 }
 
 // Every cell of the filter has in the stream's published map the probability and class the filter gives it.
