@@ -27,6 +27,7 @@
 #include "scan_feeder.hpp"
 #include "support/child_process.hpp"
 #include "support/daemon_process.hpp"
+#include "support/file_text.hpp"
 #include "support/multicast.hpp"
 #include "support/output_field.hpp"
 #include "support/test_directory.hpp"
@@ -339,6 +340,29 @@ TEST_F(MapperPoison, PagesThatCannotBeListedStartANewMapAndLeaveTheSavedOneAlone
   stopMapper();
   EXPECT_EQ(fs::file_size(dir_ / "state" / "snapshot.ogfs"), before) << "the saved map is never written over";
   EXPECT_NE(mapper_->log().find("pages"), std::string::npos) << mapper_->log();
+}
+
+// A snapshot made with another stencil does not fit the configuration: the mapper starts a new map in memory,
+// names both stencils, and never writes over the saved map.
+TEST_F(MapperPoison, ASnapshotOfAnotherStencilStartsANewMapAndLeavesTheSavedOneAlone) {
+  startMapper();
+  publish(drive(0, 5));
+  waitMapped(5);
+  stopMapper();
+  const std::string before = ogf::testing::fileText(dir_ / "state" / "snapshot.ogfs");
+  ASSERT_FALSE(before.empty());
+  std::ofstream(dir_ / "mapper.yaml", std::ios::app) << "filter:\n  stencil_manhattan_radius: 0\n";
+  startMapper();
+  const auto s = mapper_->latestStatus();
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->delta_seq, 0) << "a new map";
+  EXPECT_FALSE(s->persistence_ok);
+  EXPECT_NE(s->persistence_error.find("cannot be restored"), std::string::npos) << s->persistence_error;
+  resume(drive(5, 7), 5);
+  EXPECT_EQ(waitMapped(2).scans_mapped, 2) << "mapping goes on";
+  stopMapper();
+  EXPECT_EQ(ogf::testing::fileText(dir_ / "state" / "snapshot.ogfs"), before) << "the saved map is never written over";
+  EXPECT_NE(mapper_->log().find("stencil Manhattan radius 2"), std::string::npos) << mapper_->log();
 }
 
 // A snapshot that cannot be read (a directory in its place: EISDIR, which root meets too) is not damage:
