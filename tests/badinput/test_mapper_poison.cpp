@@ -149,6 +149,15 @@ class MapperPoison : public ::testing::Test {
   void stopMapper() {
     EXPECT_TRUE(mapper_->stop());
   }
+  // (Re)starts the mapper on a saved map it cannot restore: it starts a new map in memory and says so.
+  void startMapperOnAMapItCannotRestore() {
+    startMapper();
+    const auto s = mapper_->latestStatus();
+    ASSERT_TRUE(s);
+    EXPECT_EQ(s->delta_seq, 0) << "a new map";
+    EXPECT_FALSE(s->persistence_ok);
+    EXPECT_NE(s->persistence_error.find("cannot be restored"), std::string::npos) << s->persistence_error;
+  }
 
   fs::path dir_;
   std::string url_;
@@ -331,12 +340,7 @@ TEST_F(MapperPoison, PagesThatCannotBeListedStartANewMapAndLeaveTheSavedOneAlone
   fs::rename(dir_ / "state" / "pages", dir_ / "pages-kept");
   std::ofstream(dir_ / "state" / "pages") << "not a directory";
   const auto before = fs::file_size(dir_ / "state" / "snapshot.ogfs");
-  startMapper();
-  const auto s = mapper_->latestStatus();
-  ASSERT_TRUE(s);
-  EXPECT_EQ(s->delta_seq, 0) << "a new map";
-  EXPECT_FALSE(s->persistence_ok);
-  EXPECT_NE(s->persistence_error.find("cannot be restored"), std::string::npos) << s->persistence_error;
+  startMapperOnAMapItCannotRestore();
   stopMapper();
   EXPECT_EQ(fs::file_size(dir_ / "state" / "snapshot.ogfs"), before) << "the saved map is never written over";
   EXPECT_NE(mapper_->log().find("pages"), std::string::npos) << mapper_->log();
@@ -352,12 +356,7 @@ TEST_F(MapperPoison, ASnapshotOfAnotherStencilStartsANewMapAndLeavesTheSavedOneA
   const std::string before = ogf::testing::fileText(dir_ / "state" / "snapshot.ogfs");
   ASSERT_FALSE(before.empty());
   std::ofstream(dir_ / "mapper.yaml", std::ios::app) << "filter:\n  stencil_manhattan_radius: 0\n";
-  startMapper();
-  const auto s = mapper_->latestStatus();
-  ASSERT_TRUE(s);
-  EXPECT_EQ(s->delta_seq, 0) << "a new map";
-  EXPECT_FALSE(s->persistence_ok);
-  EXPECT_NE(s->persistence_error.find("cannot be restored"), std::string::npos) << s->persistence_error;
+  startMapperOnAMapItCannotRestore();
   resume(drive(5, 7), 5);
   EXPECT_EQ(waitMapped(2).scans_mapped, 2) << "mapping goes on";
   stopMapper();
