@@ -133,6 +133,7 @@ class LoadTest : public ::testing::Test {
     ogf::driver_status_t status{};
     std::int64_t scans_heard = 0;  // VELODYNE_SCAN messages this test received
     std::int64_t rss_start = 0, rss_peak = 0;
+    std::string log;  // the mapper's, after it stopped
   };
 
   // ogf-driver on loopback UDP fed by ogf-replay at `speed`; `stall` stops the driver (SIGSTOP) while the
@@ -212,6 +213,7 @@ class LoadTest : public ::testing::Test {
     double seconds = 0;  // from the first scan sent to the last one accounted for
     ogf::mapper_status_t status{};
     std::int64_t rss_start = 0, rss_peak = 0;
+    std::string log;  // the mapper's, after it stopped
   };
 
   // ogf-mapper (state directory, journal on) fed `scans` scans at `speed` x 10 scans/s on a steady clock:
@@ -251,6 +253,7 @@ class LoadTest : public ::testing::Test {
     run.rss_start = rss.firstBytes();
     run.rss_peak = rss.peakBytes();
     EXPECT_TRUE(mapper.stop(30s));
+    run.log = mapper.log();
   }
 
   static void printMapper(double speed, const MapperRun& r) {
@@ -275,6 +278,13 @@ class LoadTest : public ::testing::Test {
     EXPECT_EQ(r.sent, s.scans_mapped + s.scans_dropped_behind + s.scans_dropped_no_pose + s.scans_late +
                           s.scans_rejected + (r.sent - s.scans_in));
     EXPECT_TRUE(s.persistence_ok) << s.persistence_error;
+    // A mapper that drops scans for falling behind says so in its log, with the count and what helps.
+    if (s.scans_dropped_behind > 0) {
+      EXPECT_NE(r.log.find("falling behind: "), std::string::npos) << r.log;
+      EXPECT_NE(r.log.find("map.resolution"), std::string::npos) << r.log;
+    } else {
+      EXPECT_EQ(r.log.find("falling behind"), std::string::npos) << r.log;
+    }
     EXPECT_GT(r.rss_start, 0);
     EXPECT_LT(r.rss_peak, mapperRssBound(r.rss_start, s.memory_bytes));
   }

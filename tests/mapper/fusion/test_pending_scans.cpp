@@ -113,6 +113,22 @@ TEST(PendingScans, PopOldestTakesTheScansInArrivalOrderWithoutPoses) {
   EXPECT_EQ(pending.counts().scans_dropped_no_pose + pending.counts().scans_dropped_behind, 0);
 }
 
+// A sensor whose pose is fixed waits for no odometry: a scan pushed out of a full queue could have been
+// mapped, so the mapper was behind, by scans and by points alike.
+TEST(PendingScans, WithAFixedPoseAScanPushedOutIsDroppedBehindNotForWantOfAPose) {
+  PendingScans<int> pending(config(1.0, 3, 1000));
+  for (int i = 0; i < 10; ++i) ASSERT_EQ(pending.pushFixedPose(scan(1'000'000 + i * 100'000), i, 0), PushOutcome::kQueued);
+  EXPECT_EQ(pending.counts().scans_dropped_behind, 7);
+  EXPECT_EQ(pending.counts().scans_dropped_no_pose, 0);
+  EXPECT_EQ(pending.popOldest()->payload, 7);
+  ASSERT_EQ(pending.pushFixedPose(scan(2'000'000, 900), 10, 0), PushOutcome::kQueued);  // 200 + 900 > 1000
+  EXPECT_EQ(pending.counts().scans_dropped_behind, 8);
+  EXPECT_EQ(pending.pushFixedPose(scan(2'100'000, 1001), 11, 0), PushOutcome::kTooLarge);
+  EXPECT_EQ(pending.counts().scans_dropped_behind, 9);
+  EXPECT_EQ(pending.counts().scans_in, 12);
+  EXPECT_EQ(pending.pushFixedPose(scan(2'000'000), 12, 0), PushOutcome::kLate);
+}
+
 TEST(PendingScans, PointBoundDropsOldestScansUntilTheNewOneFits) {
   PendingScans<int> pending(config(1.0, 10, 1000));
   const PoseBuffer poses = posesUntil(0, 2'000'000);

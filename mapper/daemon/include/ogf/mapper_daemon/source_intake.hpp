@@ -135,6 +135,7 @@ class SourceIntake {
   std::unique_ptr<transport::Subscriber<ogf::lidar_scan_t>> scan_sub_;
   std::unique_ptr<transport::Subscriber<ogf::velodyne_packets_t>> packet_sub_;
   transport::LogRateLimiter bad_scan_log_, bad_time_log_;
+  transport::LogRateLimiter behind_log_{std::chrono::seconds(10)};  // a mapper behind stays behind a while
 };
 
 }  // namespace ogf::mapper_daemon

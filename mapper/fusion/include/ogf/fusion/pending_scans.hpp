@@ -6,7 +6,7 @@
 // dropped scan (it could have been mapped); a scan still waiting for its poses counts as dropped for want of
 // a pose, so missing odometry is never blamed on the queue. A scan leaves by popReady() once the PoseBuffer
 // covers its whole span, in arrival order, or by popOldest() when the pose is fixed (no odometry to wait
-// for); it is dropped when it has waited longer than max_pose_wait_s, when its span starts before the oldest
+// for: such scans come in by pushFixedPose(), and one pushed out is dropped behind); it is dropped when it has waited longer than max_pose_wait_s, when its span starts before the oldest
 // pose kept (it can never be covered), or when it spans a split of the trajectory (an odometry jump beyond
 // max_pose_jump: never interpolated across). Payload is whatever the daemon needs to map the scan later (a
 // shared_ptr to the decoded message, an index); it is moved in and out.
@@ -73,27 +73,13 @@ class PendingScans {
   // dropped_no_pose; across a split: dropped_pose_jump); a scan larger than max_pending_points alone is
   // dropped and counted as dropped_behind.
   PushOutcome push(const ScanSpan& span, Payload payload, const PoseBuffer& poses, std::int64_t now_utime) {
-    ++counts_.scans_in;
-    if (span.end_utime < span.begin_utime) {
-      ++counts_.scans_rejected;
-      return PushOutcome::kRejected;
-    }
-    if (last_begin_utime_ && span.begin_utime <= *last_begin_utime_) {
-      ++counts_.scans_late;
-      return PushOutcome::kLate;
-    }
-    last_begin_utime_ = span.begin_utime;
-    if (span.points > config_.max_pending_points) {
-      ++counts_.scans_dropped_behind;
-      return PushOutcome::kTooLarge;
-    }
-    while (!queue_.empty() &&
-           (queue_.size() >= config_.max_pending_scans || points_ + span.points > config_.max_pending_points)) {
-      dropFront(counterFor(poses.coverage(queue_.front().span.begin_utime, queue_.front().span.end_utime)));
-    }
-    points_ += span.points;
-    queue_.push_back(Entry{span, now_utime, std::move(payload)});
-    return PushOutcome::kQueued;
+    const auto coverage = [&](const ScanSpan& s) { return poses.coverage(s.begin_utime, s.end_utime); };
+    return pushCounting(span, std::move(payload), coverage, now_utime);
+  }
+  // The same for a sensor whose pose is fixed (taken by popOldest): no scan waits for a pose, so every scan
+  // dropped to make room is dropped for the mapper falling behind.
+  PushOutcome pushFixedPose(const ScanSpan& span, Payload payload, std::int64_t now_utime) {
+    return pushCounting(span, std::move(payload), [](const ScanSpan&) { return PoseCoverage::kCovered; }, now_utime);
   }
 
   // The oldest scan, when the poses cover its span; nothing while it still waits. Scans that can no longer
@@ -148,6 +134,32 @@ class PendingScans {
   const PendingScansCounts& counts() const { return counts_; }
 
  private:
+  // push(), with `coverage` telling what the poses say of a queued scan's span.
+  template <class Coverage>
+  PushOutcome pushCounting(const ScanSpan& span, Payload payload, Coverage coverage, std::int64_t now_utime) {
+    ++counts_.scans_in;
+    if (span.end_utime < span.begin_utime) {
+      ++counts_.scans_rejected;
+      return PushOutcome::kRejected;
+    }
+    if (last_begin_utime_ && span.begin_utime <= *last_begin_utime_) {
+      ++counts_.scans_late;
+      return PushOutcome::kLate;
+    }
+    last_begin_utime_ = span.begin_utime;
+    if (span.points > config_.max_pending_points) {
+      ++counts_.scans_dropped_behind;
+      return PushOutcome::kTooLarge;
+    }
+    while (!queue_.empty() &&
+           (queue_.size() >= config_.max_pending_scans || points_ + span.points > config_.max_pending_points)) {
+      dropFront(counterFor(coverage(queue_.front().span)));
+    }
+    points_ += span.points;
+    queue_.push_back(Entry{span, now_utime, std::move(payload)});
+    return PushOutcome::kQueued;
+  }
+
   std::int64_t& counterFor(PoseCoverage coverage) {
     switch (coverage) {
       case PoseCoverage::kCovered: return counts_.scans_dropped_behind;
