@@ -360,7 +360,8 @@ TEST_F(MapperPoison, ASnapshotOfAnotherStencilStartsANewMapAndLeavesTheSavedOneA
   resume(drive(5, 7), 5);
   EXPECT_EQ(waitMapped(2).scans_mapped, 2) << "mapping goes on";
   stopMapper();
-  EXPECT_EQ(ogf::testing::fileText(dir_ / "state" / "snapshot.ogfs"), before) << "the saved map is never written over";
+  EXPECT_EQ(ogf::testing::fileText(dir_ / "state" / "snapshot.ogfs"), before)
+      << "the saved map is never written over";
   EXPECT_NE(mapper_->log().find("stencil Manhattan radius 2"), std::string::npos) << mapper_->log();
 }
 

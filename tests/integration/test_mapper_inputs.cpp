@@ -8,7 +8,8 @@
 // - a pause of the sensor stream longer than fusion.max_time_ahead_s, then a stale partial scan dated
 //   before the pause, then the scans on the resumed clock: none is refused;
 // - a burst of costly scans into a small queue: the drops count as the mapper falling behind (also with a
-//   static pose) and one warning says so with the count and what helps; a scan too large for the queue is named;
+//   static pose) and one warning says so with the count and what helps; a scan too large for the queue
+//   is named;
 // - the map id the log says at a restart is the one map queries answer.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -221,29 +222,36 @@ TEST_F(MapperInputsTest, AMapperFallingBehindSaysSoInOneWarningAndAScanTooLargeF
     const auto scan = fixedSensorScan(i, t0 + i * 100'000, 15000);
     lcm.publish("VELODYNE_SCAN", &scan);
   }
-  const auto settled = [](const Status& s) { return s.scans_in > 0 && s.scans_mapped + s.scans_dropped_behind == s.scans_in; };
+  const auto settled = [](const Status& s) {
+    return s.scans_in > 0 && s.scans_mapped + s.scans_dropped_behind == s.scans_in;
+  };
   // Settled on every scan sent, or on those the bus delivered.
-  auto burst = mapper->waitForStatus([&](const Status& s) { return s.scans_in == kScans && settled(s); }, 20s);
+  auto burst =
+      mapper->waitForStatus([&](const Status& s) { return s.scans_in == kScans && settled(s); }, 20s);
   if (!burst) burst = mapper->waitForStatus(settled, 5s);
   ASSERT_TRUE(burst) << mapper->log();
-  EXPECT_GT(burst->scans_dropped_behind, 0) << "the burst is faster than mapping at 0.05 m: " << mapper->log();
+  EXPECT_GT(burst->scans_dropped_behind, 0)
+      << "the burst is faster than mapping at 0.05 m: " << mapper->log();
   EXPECT_EQ(burst->scans_dropped_no_pose + burst->scans_refused_time, 0);
 
   const auto large = fixedSensorScan(kScans, t0 + kScans * 100'000, 30000);
   lcm.publish("VELODYNE_SCAN", &large);
-  const auto after = mapper->waitForStatus(
-      [&](const Status& s) { return s.scans_in > burst->scans_in && settled(s); }, 30s);
+  const auto after =
+      mapper->waitForStatus([&](const Status& s) { return s.scans_in > burst->scans_in && settled(s); }, 30s);
   ASSERT_TRUE(after) << mapper->log();
   EXPECT_EQ(after->scans_dropped_behind, burst->scans_dropped_behind + 1);
   EXPECT_EQ(after->scans_mapped, burst->scans_mapped);
   EXPECT_TRUE(mapper->stop());
   const std::string log = mapper->log();
-  EXPECT_EQ(occurrences(log, "falling behind: "), 1U) << "one warning for the burst, within its 10 s: " << log;
-  EXPECT_TRUE(std::regex_search(log, std::regex("falling behind: .* \\([1-9][0-9]* so far, scans_dropped_behind; "
-                                                "fusion\\.max_pending_scans 1\\)")))
+  EXPECT_EQ(occurrences(log, "falling behind: "), 1U)
+      << "one warning for the burst, within its 10 s: " << log;
+  EXPECT_TRUE(
+      std::regex_search(log, std::regex("falling behind: .* \\([1-9][0-9]* so far, scans_dropped_behind; "
+                                        "fusion\\.max_pending_scans 1\\)")))
       << log;
   EXPECT_NE(log.find("filter.stencil_manhattan_radius: 0"), std::string::npos) << log;
-  EXPECT_NE(log.find("scan seq 40 has 30000 points, more than fusion.max_pending_points (20000)"), std::string::npos)
+  EXPECT_NE(log.find("scan seq 40 has 30000 points, more than fusion.max_pending_points (20000)"),
+            std::string::npos)
       << log;
 }
 

@@ -412,10 +412,11 @@ void declareFilter(std::vector<ConfigKey>& k) {
   k.push_back(derivedNumberKey("filter.stencil_radius", "cells", "R, the reach of the covariance stencil", kAll,
                                "√2 up to σ = cell / 2",
                                [](auto& o) -> auto& { return o.map.filter.stencilRadius; }));
-  k.push_back(integerKey("filter.stencil_manhattan_radius", "cells",
-                         "L: offsets of Manhattan length up to L are in the stencil too; 0: none (with compact storage, a "
-                         "faster and leaner map: [mapping.md](mapping.md#a-leaner-stencil-for-compact-storage))", kAll, 0, 64,
-                         [](auto& o) -> auto& { return o.map.filter.stencilManhattanRadius; }));
+  k.push_back(integerKey(
+      "filter.stencil_manhattan_radius", "cells",
+      "L: offsets of Manhattan length up to L are in the stencil too; 0: none (with compact storage, a "
+      "faster and leaner map: [mapping.md](mapping.md#a-leaner-stencil-for-compact-storage))",
+      kAll, 0, 64, [](auto& o) -> auto& { return o.map.filter.stencilManhattanRadius; }));
   k.push_back(derivedNumberKey("filter.taper_support", "cells", "support of the taper that keeps the prior definite",
                                kAll, "the longest certified", [](auto& o) -> auto& { return o.map.filter.taperSupport; }));
   k.push_back(numberKey("filter.occupied_threshold", "", "probability above which a cell is occupied (r_o, eq. 3)",

@@ -204,18 +204,20 @@ void SourceIntake::onScan(const ogf::lidar_scan_t& scan) {
       spdlog::warn("{}scan seq {} arrived after a newer one: dropped ({} more)", label_, scan.seq, *n);
   } else if (outcome == fusion::PushOutcome::kTooLarge) {
     if (auto n = bad_scan_log_.allow())
-      spdlog::warn("{}scan seq {} has {} points, more than fusion.max_pending_points ({}) can hold: dropped, "
-                   "scans_dropped_behind ({} more)",
-                   label_, scan.seq, scan.num_points, pending.max_pending_points, *n);
+      spdlog::warn(
+          "{}scan seq {} has {} points, more than fusion.max_pending_points ({}) can hold: dropped, "
+          "scans_dropped_behind ({} more)",
+          label_, scan.seq, scan.num_points, pending.max_pending_points, *n);
   } else if (pending_.counts().scans_dropped_behind > behind) {
     // The queue was full of scans the worker had not taken yet: mapping is slower than the scans come.
     if (auto n = behind_log_.allow())
-      spdlog::warn("{}falling behind: a scan takes longer to map than the sensor takes to make one, so the "
-                   "oldest waiting scans are dropped to make room ({} so far, scans_dropped_behind; "
-                   "fusion.max_pending_scans {}). A coarser map.resolution, more filter.threads or, in compact "
-                   "storage, filter.stencil_manhattan_radius: 0 make each scan cheaper (docs/performance.md, "
-                   "\"When ogf-mapper falls behind\") ({} more)",
-                   label_, pending_.counts().scans_dropped_behind, pending.max_pending_scans, *n);
+      spdlog::warn(
+          "{}falling behind: a scan takes longer to map than the sensor takes to make one, so the oldest "
+          "waiting scans are dropped to make room ({} so far, scans_dropped_behind; fusion.max_pending_scans "
+          "{}). A coarser map.resolution, more filter.threads or, in compact storage, "
+          "filter.stencil_manhattan_radius: 0 make each scan cheaper (docs/performance.md, \"When ogf-mapper "
+          "falls behind\") ({} more)",
+          label_, pending_.counts().scans_dropped_behind, pending.max_pending_scans, *n);
   }
   shared_.wake();
 }

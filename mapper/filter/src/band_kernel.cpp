@@ -130,8 +130,8 @@ template <std::size_t Cells>
   }
 }
 
-// The two stencils of 3-D maps in compact storage: the √2 ball (19 cells, the default there) and the √2 ball
-// with the six axial cells at distance 2 (25 cells, the banded default).
+// The two stencils of 3-D maps in compact storage with a kernel of their own: the default, the √2 ball with
+// the six axial cells at distance 2 (25 cells), and the √2 ball alone (19 cells, the lean stencil).
 template <std::size_t Cells>
 void compactBandKernelFixed(float* const* records, BandUpdate update, const BandTables& tables) {
   compactBody<Cells>(records, update, tables);
@@ -145,7 +145,7 @@ void compactBandKernelFixed(float* const* records, BandUpdate update, const Band
 // narrower stores to drain (a failed store-to-load forward).
 template <std::size_t Cells>
 __attribute__((target("avx2"))) void compactBandKernelAvx2(float* const* records, BandUpdate update,
-                                                          const BandTables& tables) {
+                                                           const BandTables& tables) {
   constexpr std::size_t kVectors = Cells / 8;
   constexpr std::size_t kVectorCells = 8 * kVectors;  // the cells after them go one by one
   const auto code = [&](std::size_t s) { return reinterpret_cast<std::uint16_t*>(records[Cells + s]); };
@@ -199,7 +199,8 @@ __attribute__((target("avx2"))) void compactBandKernelAvx2(float* const* records
     const float ratio = decodeVarianceRatio(*code(s));
     const float column = s == tables.self ? prior * selfRatio : tables.correlation[s] * (ratio * selfRatio);
     restColumns[s - kVectorCells] = column;
-    restCodes[s - kVectorCells] = encodeVarianceRatio(std::max(ratio - update.shrink * column * (column / prior), floor));
+    restCodes[s - kVectorCells] =
+        encodeVarianceRatio(std::max(ratio - update.shrink * column * (column / prior), floor));
   }
   for (std::size_t s = 0; s < kVectorCells; ++s) {
     *records[s] += update.gain * columns[s];

@@ -103,8 +103,8 @@ TEST(BandKernel, CompactKernelsEqualTheGenericOneBitForBit) {
   // The stencils with a kernel compiled for their size in compact storage, the √2 ball (19 cells) and the
   // ball with the six axial cells at distance 2 (25), in the baseline and (where this CPU has AVX2) in 8-wide
   // vectors with the cells past the last full vector one by one, against the one for any size.
-  for (const auto& [shape, size] : {std::pair{StencilShape{std::sqrt(2.0), 0}, 19U},
-                                    std::pair{StencilShape{std::sqrt(2.0), 2}, 25U}}) {
+  for (const auto& [shape, size] :
+       {std::pair{StencilShape{std::sqrt(2.0), 0}, 19U}, std::pair{StencilShape{std::sqrt(2.0), 2}, 25U}}) {
     BandTables tables(Stencil(3, shape), 3, CovarianceStorage::kCompact);
     ASSERT_EQ(tables.cells, size);
     std::mt19937 rng(11);
@@ -135,7 +135,8 @@ TEST(BandKernel, CompactKernelsEqualTheGenericOneBitForBit) {
         EXPECT_EQ(std::memcmp(a[d].data(), b[d].data(), a[d].size() * sizeof(float)), 0)
             << "block " << d << ", " << size << " cells, avx2 " << avx2;
       }
-      EXPECT_NE(std::memcmp(a[13].data(), randomCompactBlocks(9)[13].data(), a[13].size() * sizeof(float)), 0);
+      EXPECT_NE(std::memcmp(a[13].data(), randomCompactBlocks(9)[13].data(), a[13].size() * sizeof(float)),
+                0);
     }
   }
   // Another size takes the kernel for any size.

@@ -117,7 +117,9 @@ TEST(PendingScans, PopOldestTakesTheScansInArrivalOrderWithoutPoses) {
 // mapped, so the mapper was behind, by scans and by points alike.
 TEST(PendingScans, WithAFixedPoseAScanPushedOutIsDroppedBehindNotForWantOfAPose) {
   PendingScans<int> pending(config(1.0, 3, 1000));
-  for (int i = 0; i < 10; ++i) ASSERT_EQ(pending.pushFixedPose(scan(1'000'000 + i * 100'000), i, 0), PushOutcome::kQueued);
+  for (int i = 0; i < 10; ++i) {
+    ASSERT_EQ(pending.pushFixedPose(scan(1'000'000 + i * 100'000), i, 0), PushOutcome::kQueued);
+  }
   EXPECT_EQ(pending.counts().scans_dropped_behind, 7);
   EXPECT_EQ(pending.counts().scans_dropped_no_pose, 0);
   EXPECT_EQ(pending.popOldest()->payload, 7);

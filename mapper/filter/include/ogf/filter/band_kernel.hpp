@@ -104,9 +104,10 @@ void compactBandKernel(float* const* records, BandUpdate update, const BandTable
 // Whether this CPU (and OS) can run AVX2 + FMA code.
 bool cpuHasFma();
 
-// The same arithmetic with the cell count fixed at compile time for the stencils of 19 cells (the √2 ball,
-// compact storage's default) and 25 (the ball and the axial cells at distance 2), in 8-wide vectors when
-// `avx2` (the same floats: no fused operations), else compactBandKernel (which takes stencils of any size).
+// The same arithmetic with the cell count fixed at compile time for the stencils of 25 cells (the default:
+// the √2 ball and the axial cells at distance 2) and 19 (the √2 ball alone, the lean stencil of
+// docs/mapping.md), in 8-wide vectors when `avx2` (the same floats: no fused operations), else
+// compactBandKernel (which takes stencils of any size).
 BandKernel compactBandKernelFor(const BandTables& tables, bool avx2 = cpuHasFma());
 
 // The generic kernel: in the fused arithmetic when `fma` (and the build has it), else genericBandKernel.

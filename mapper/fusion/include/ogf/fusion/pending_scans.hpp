@@ -6,9 +6,10 @@
 // dropped scan (it could have been mapped); a scan still waiting for its poses counts as dropped for want of
 // a pose, so missing odometry is never blamed on the queue. A scan leaves by popReady() once the PoseBuffer
 // covers its whole span, in arrival order, or by popOldest() when the pose is fixed (no odometry to wait
-// for: such scans come in by pushFixedPose(), and one pushed out is dropped behind); it is dropped when it has waited longer than max_pose_wait_s, when its span starts before the oldest
-// pose kept (it can never be covered), or when it spans a split of the trajectory (an odometry jump beyond
-// max_pose_jump: never interpolated across). Payload is whatever the daemon needs to map the scan later (a
+// for: such scans come in by pushFixedPose(), and one pushed out is dropped behind); it is dropped when it
+// has waited longer than max_pose_wait_s, when its span starts before the oldest pose kept (it can never be
+// covered), or when it spans a split of the trajectory (an odometry jump beyond max_pose_jump: never
+// interpolated across). Payload is whatever the daemon needs to map the scan later (a
 // shared_ptr to the decoded message, an index); it is moved in and out.
 #pragma once
 
@@ -79,7 +80,8 @@ class PendingScans {
   // The same for a sensor whose pose is fixed (taken by popOldest): no scan waits for a pose, so every scan
   // dropped to make room is dropped for the mapper falling behind.
   PushOutcome pushFixedPose(const ScanSpan& span, Payload payload, std::int64_t now_utime) {
-    return pushCounting(span, std::move(payload), [](const ScanSpan&) { return PoseCoverage::kCovered; }, now_utime);
+    const auto coverage = [](const ScanSpan&) { return PoseCoverage::kCovered; };
+    return pushCounting(span, std::move(payload), coverage, now_utime);
   }
 
   // The oldest scan, when the poses cover its span; nothing while it still waits. Scans that can no longer
