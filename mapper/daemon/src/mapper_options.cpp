@@ -162,12 +162,17 @@ Status MapperOptions::validate() const {
     return Error::configuration("services.budget_ms_per_scan: must be > 0");
   if (const auto exports = services.exportDirFor(state_dir); !exports.empty() && !state_dir.empty()) {
     // Compared resolved (links, '..') and without a trailing '/', so no spelling of the state directory passes.
-    const auto resolved = [](const std::filesystem::path& p) {
-      std::string s = std::filesystem::weakly_canonical(p).lexically_normal().string();
+    // A path the system cannot resolve (a name longer than it allows, a loop of links) is an error naming it.
+    std::string unresolved;
+    const auto resolved = [&](const std::filesystem::path& p, const char* field) {
+      std::error_code ec;
+      std::string s = std::filesystem::weakly_canonical(p, ec).lexically_normal().string();
+      if (ec && unresolved.empty()) unresolved = std::string(field) + ": " + p.string() + ": " + ec.message();
       while (s.size() > 1 && s.back() == '/') s.pop_back();
       return std::filesystem::path(s);
     };
-    const auto a = resolved(exports), b = resolved(state_dir);
+    const auto b = resolved(state_dir, "state_dir"), a = resolved(exports, "services.export_dir");
+    if (!unresolved.empty()) return Error::configuration(unresolved);
     if (a == b || a == b / "pages")
       return Error::configuration("services.export_dir: " + exports.string() + " is the state directory's own; exports must never land among its files");
   }

@@ -166,5 +166,23 @@ TEST(ServicesSection, CommandsWithoutAKeyAndExportsIntoTheStateDirectoryAreRefus
   EXPECT_TRUE(o.validate().ok());
 }
 
+// A directory the system cannot resolve, here a name longer than a file name may be, is a configuration
+// error naming the key and the path, not an exception.
+TEST(ServicesSection, AStateOrExportDirectoryTheSystemCannotResolveIsAnErrorNamingIt) {
+  const std::string tooLong(300, 'x');
+  MapperOptions o;
+  o.state_dir = "/tmp/" + tooLong;
+  const auto state = o.validate();
+  ASSERT_FALSE(state.ok());
+  EXPECT_NE(state.error().message.find("state_dir: /tmp/" + tooLong + ": "), std::string::npos)
+      << state.error().message;
+  o.state_dir = "/var/lib/ogf";
+  o.services.export_dir = "/tmp/" + tooLong + "/exports";
+  const auto exports = o.validate();
+  ASSERT_FALSE(exports.ok());
+  EXPECT_NE(exports.error().message.find("services.export_dir: /tmp/" + tooLong), std::string::npos)
+      << exports.error().message;
+}
+
 }  // namespace
 }  // namespace ogf::mapper_daemon
