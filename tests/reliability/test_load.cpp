@@ -133,7 +133,6 @@ class LoadTest : public ::testing::Test {
     ogf::driver_status_t status{};
     std::int64_t scans_heard = 0;  // VELODYNE_SCAN messages this test received
     std::int64_t rss_start = 0, rss_peak = 0;
-    std::string log;  // the mapper's, after it stopped
   };
 
   // ogf-driver on loopback UDP fed by ogf-replay at `speed`; `stall` stops the driver (SIGSTOP) while the
