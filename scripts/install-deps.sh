@@ -10,12 +10,16 @@ PACKAGES=(
   liblcm-dev liblcm-bin liblcm-java default-jdk-headless default-jre libjchart2d-java
   # libraries the code uses
   zlib1g-dev libpcap-dev libsodium-dev libsqlite3-dev libeigen3-dev libboost-dev libspdlog-dev libyaml-cpp-dev libcli11-dev
+  # MCAP chunks: Zstandard and LZ4 frames
+  libzstd-dev liblz4-dev
   # ogf-view's page: three.js, served from /usr/share/javascript/three (Boost.Beast is in libboost-dev)
   libjs-three
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev liboctomap-dev
   # ogf-view's browser test: headless Chromium (WebGL on SwiftShader)
   chromium
+  # the MCAP and Foxglove tests run the reference libraries (npm packages pinned in tests/foxglove) on Node.js
+  nodejs
   # fuzzing (clang's libFuzzer runtime) and tooling used by the tests (wireshark-common: editcap writes
   # the pcapng copy of a real capture that the capture reader's pcapng test reads)
   clang libclang-rt-14-dev iproute2 unzip python3 wireshark-common
@@ -30,6 +34,8 @@ missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# Debian's npm, unless the installed nodejs brings its own (a nodejs package that bundles npm conflicts with it).
+command -v npm >/dev/null || missing+=(npm)
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install-deps: all ${#PACKAGES[@]} packages present"

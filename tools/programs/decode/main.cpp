@@ -48,7 +48,8 @@ void defineCommandLine(CLI::App& app, Options& o) {
                      "LCM log to decode: the raw packet batches ogf-driver published (--packets-channel)");
   auto* bag_opt =
       app.add_option("--rosbag2", o.rosbag2,
-                     "ROS 2 bag folder (or one .db3) to decode: its velodyne_msgs/msg/VelodyneScan "
+                     "ROS 2 bag folder (sqlite3 or MCAP), or one .db3 or .mcap file, to decode: its "
+                     "velodyne_msgs/msg/VelodyneScan "
                      "packets");
   pcap_opt->excludes(log_opt)->excludes(bag_opt);
   log_opt->excludes(bag_opt);

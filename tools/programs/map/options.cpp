@@ -12,7 +12,8 @@ const char* const kDescription =
     "  --pcap FILE [--calib FILE] (--odometry FILE | --static)   a Velodyne capture\n"
     "  --lcm-log FILE                                             lidar_scan_t and poses as lcm-logger "
     "records them\n"
-    "  --rosbag2 DIR                                              a ROS 2 bag (sqlite3): VelodyneScan "
+    "  --rosbag2 DIR                                              a ROS 2 bag (sqlite3 or MCAP): "
+    "VelodyneScan "
     "packets,\n"
     "                                                             poses from its Odometry or /tf\n"
     "  --pcd FILE...                                              PCL point clouds (rays from each "
@@ -63,7 +64,8 @@ void addInputOptions(CLI::App& app, map_io::MapRequest& r) {
   app.add_option("--pcd", r.pcd, "PCD files, one scan each");
   auto* bag_opt =
       app.add_option("--rosbag2", r.rosbag2,
-                     "ROS 2 bag folder (or one .db3): velodyne_msgs/msg/VelodyneScan packets, poses from "
+                     "ROS 2 bag folder (sqlite3 or MCAP), or one .db3 or .mcap file: "
+                     "velodyne_msgs/msg/VelodyneScan packets, poses from "
                      "nav_msgs/msg/Odometry or tf2_msgs/msg/TFMessage; --time defaults to host (ROS stamps)");
   app.add_option("--packets-topic", r.packets_topic,
                  "VelodyneScan topic of --rosbag2 (default: the only one)")

@@ -77,7 +77,8 @@ void addOptions(CLI::App& app, Options& o) {
                                  "LCM log whose raw packet batches (--packets-channel) are sent as the sensor sent "
                                  "them, paced by their host receive times");
   auto* bag_opt = app.add_option("--rosbag2", o.rosbag2,
-                                 "ROS 2 bag folder (or one .db3) whose velodyne_msgs/msg/VelodyneScan packets are sent "
+                                 "ROS 2 bag folder (sqlite3 or MCAP), or one .db3 or .mcap file, whose "
+                                 "velodyne_msgs/msg/VelodyneScan packets are sent "
                                  "to the data port, paced by their stamps");
   pcap_opt->excludes(log_opt)->excludes(bag_opt);
   log_opt->excludes(bag_opt);

@@ -45,25 +45,31 @@ Result<BagPacketCounts> readBagPackets(const Rosbag2Storage& bag, const std::str
                              t->serialization_format)};
   BagPacketCounts counts;
   std::int64_t seen = 0;
-  auto st = bag.forEachMessage({topic}, [&](const BagMessage& m) {
-    ++seen;
-    auto scan = decodeVelodyneScan(m.data);
-    if (!scan) {
-      ++counts.skipped;
-      if (counts.problems.size() < kMaxProblems)
-        counts.problems.push_back(fmt::format("{}: message {} on {}: {}; skipped", m.file->string(), m.id,
-                                              topic, scan.error().message));
-    } else {
-      ++counts.messages;
-      counts.gaps.add(m.timestamp_ns / 1000);
-      for (const VelodynePacketView& p : scan->packets) {
-        visit({p.stamp.utime(), p.data});
-        ++counts.packets;
-      }
-    }
-    if (progress && t->message_count > 0)
-      progress(static_cast<double>(seen) / static_cast<double>(t->message_count));
-  });
+  auto st = bag.forEachMessage(
+      {topic},
+      [&](const BagMessage& m) {
+        ++seen;
+        auto scan = decodeVelodyneScan(m.data);
+        if (!scan) {
+          ++counts.skipped;
+          if (counts.problems.size() < kMaxProblems)
+            counts.problems.push_back(fmt::format("{}: {} on {}: {}; skipped", m.file->string(), m.where(),
+                                                  topic, scan.error().message));
+        } else {
+          ++counts.messages;
+          counts.gaps.add(m.timestamp_ns / 1000);
+          for (const VelodynePacketView& p : scan->packets) {
+            visit({p.stamp.utime(), p.data});
+            ++counts.packets;
+          }
+        }
+        if (progress && t->message_count > 0)
+          progress(static_cast<double>(seen) / static_cast<double>(t->message_count));
+      },
+      [&](const std::string& damage) {
+        ++counts.damaged;
+        if (counts.problems.size() < kMaxProblems) counts.problems.push_back(damage);
+      });
   if (!st) return st.error();
   return counts;
 }

@@ -207,13 +207,20 @@ TEST(Rosbag2Storage, DamagedMetadataIsNamedWithItsLine) {
       << bag.error().message;
 }
 
-TEST(Rosbag2Storage, CompressedAndMcapBagsAreRefusedByName) {
+TEST(Rosbag2Storage, CompressedBagsAndOtherStoragePluginsAreRefusedByName) {
   Scratch scratch;
   std::ofstream(scratch.path() / "metadata.yaml")
+      << "rosbag2_bagfile_information:\n  storage_identifier: foo\n  relative_file_paths: [x.foo]\n";
+  auto other = Rosbag2Storage::open(scratch.path());
+  ASSERT_FALSE(other);
+  EXPECT_NE(other.error().message.find("'foo': only sqlite3 and mcap bags are read"), std::string::npos)
+      << other.error().message;
+  // An MCAP bag whose file is missing is named as such, not refused for its storage.
+  std::ofstream(scratch.path() / "metadata.yaml", std::ios::trunc)
       << "rosbag2_bagfile_information:\n  storage_identifier: mcap\n  relative_file_paths: [x.mcap]\n";
   auto mcap = Rosbag2Storage::open(scratch.path());
   ASSERT_FALSE(mcap);
-  EXPECT_NE(mcap.error().message.find("'mcap': only sqlite3 bags are read"), std::string::npos)
+  EXPECT_NE(mcap.error().message.find("x.mcap: listed in metadata.yaml but missing"), std::string::npos)
       << mcap.error().message;
   std::ofstream(scratch.path() / "metadata.yaml", std::ios::trunc)
       << "rosbag2_bagfile_information:\n  storage_identifier: sqlite3\n  compression_format: zstd\n"
@@ -268,9 +275,10 @@ TEST(Rosbag2Storage, TheFolderAboveSeveralBagsIsRefusedWithTheirNames) {
   ogf::testing::writeTestBag(scratch.path() / "run_a", kSampleTopics, {{}}, /*with_metadata=*/false);
   auto bag = Rosbag2Storage::open(scratch.path());
   ASSERT_FALSE(bag);
-  EXPECT_EQ(bag.error().message, scratch.path().string() +
-                                     ": no metadata.yaml and no .db3 file; 2 subfolders hold bags (run_a, run_b): "
-                                     "give one of them");
+  EXPECT_EQ(bag.error().message,
+            scratch.path().string() +
+                ": no metadata.yaml and no .db3 or .mcap file; 2 subfolders hold bags (run_a, "
+                "run_b): give one of them");
   fs::create_directories(scratch.path() / "empty");
   auto none = Rosbag2Storage::open(scratch.path() / "empty");
   ASSERT_FALSE(none);

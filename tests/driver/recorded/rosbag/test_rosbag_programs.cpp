@@ -11,27 +11,19 @@
 
 #include "bag_writer.hpp"
 #include "support/shared_data.hpp"
+#include "tools/map/map_summary.hpp"
 #include "tools/map/run_program.hpp"
 #include "tools/map/scratch_dir.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using ogf::testing::mapSummary;
 using ogf::testing::runProgram;
 
 constexpr const char* kBag = "data/real/nebula_vlp16_dual/1673400471837873222";
 constexpr const char* kDerivedPcap = "data/real/derived/nebula_vlp16_dual_1673400471837873222.DERIVED.pcap";
 constexpr const char* kCapture = "data/real/vlp-16-test-90deg-1-50-frames.pcap";
-
-// ogf-map's summary line without its wall time: "scans N measurements N cells N ... checksum X".
-std::string mapSummary(const std::string& stdout_text) {
-  std::smatch m;
-  static const std::regex re(
-      R"(scans (\d+) measurements (\d+) cells (\d+) seconds [0-9.]+ checksum ([0-9a-f]+))");
-  if (!std::regex_search(stdout_text, m, re)) return "";
-  return "scans " + m[1].str() + " measurements " + m[2].str() + " cells " + m[3].str() + " checksum " +
-         m[4].str();
-}
 
 long long mappedScans(const std::string& stdout_text) {
   std::smatch m;

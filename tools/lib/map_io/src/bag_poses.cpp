@@ -69,32 +69,39 @@ Result<BagPoses> readBagPoses(const rosbag::Rosbag2Storage& bag, const BagPoseSo
     ++out.skipped;
     if (out.problems.size() < kMaxProblems)
       out.problems.push_back(
-          fmt::format("{}: message {} on {}: {}; skipped", m.file->string(), m.id, source.topic, why));
+          fmt::format("{}: {} on {}: {}; skipped", m.file->string(), m.where(), source.topic, why));
   };
-  auto st = bag.forEachMessage({source.topic}, [&](const BagMessage& m) {
-    ++out.messages;
-    if (!is_tf) {
-      auto odo = decodeOdometry(m.data);
-      if (!odo) return skip(m, odo.error().message);
-      if (out.poses.empty()) {
-        out.parent_frame = odo->header.frame_id;
-        out.child_frame = odo->child_frame_id;
-      }
-      out.poses.push_back(poseOf(odo->header.stamp, odo->position, odo->orientation));
-      return;
-    }
-    auto tf = decodeTfMessage(m.data);
-    if (!tf) return skip(m, tf.error().message);
-    for (const TransformStampedMessage& x : tf->transforms) {
-      if (withoutSlash(x.child_frame_id) != out.child_frame) continue;
-      if (out.parent_frame.empty()) out.parent_frame = x.header.frame_id;
-      if (withoutSlash(x.header.frame_id) != withoutSlash(out.parent_frame)) {
-        skip(m, fmt::format("{} from {}, not from {}", out.child_frame, x.header.frame_id, out.parent_frame));
-        continue;
-      }
-      out.poses.push_back(poseOf(x.header.stamp, x.translation, x.rotation));
-    }
-  });
+  auto st = bag.forEachMessage(
+      {source.topic},
+      [&](const BagMessage& m) {
+        ++out.messages;
+        if (!is_tf) {
+          auto odo = decodeOdometry(m.data);
+          if (!odo) return skip(m, odo.error().message);
+          if (out.poses.empty()) {
+            out.parent_frame = odo->header.frame_id;
+            out.child_frame = odo->child_frame_id;
+          }
+          out.poses.push_back(poseOf(odo->header.stamp, odo->position, odo->orientation));
+          return;
+        }
+        auto tf = decodeTfMessage(m.data);
+        if (!tf) return skip(m, tf.error().message);
+        for (const TransformStampedMessage& x : tf->transforms) {
+          if (withoutSlash(x.child_frame_id) != out.child_frame) continue;
+          if (out.parent_frame.empty()) out.parent_frame = x.header.frame_id;
+          if (withoutSlash(x.header.frame_id) != withoutSlash(out.parent_frame)) {
+            skip(m, fmt::format("{} from {}, not from {}", out.child_frame, x.header.frame_id,
+                                out.parent_frame));
+            continue;
+          }
+          out.poses.push_back(poseOf(x.header.stamp, x.translation, x.rotation));
+        }
+      },
+      [&](const std::string& damage) {
+        ++out.skipped;
+        if (out.problems.size() < kMaxProblems) out.problems.push_back(damage);
+      });
   if (!st) return st.error();
   std::stable_sort(out.poses.begin(), out.poses.end(),
                    [](const fusion::Pose& a, const fusion::Pose& b) { return a.utime < b.utime; });

@@ -1,7 +1,8 @@
 // The raw Velodyne packets of a bag's velodyne_msgs/msg/VelodyneScan topic, one at a time in recorded
 // order, each with its VelodynePacket stamp as the host receive time: what a pcap of the same stream holds,
 // so they decode exactly as a capture does. A VelodyneScan does not carry position packets. Messages that
-// do not decode are skipped and described; silences between messages (one per revolution) are gaps.
+// do not decode, and damage the storage skips, are described; silences between messages (one per
+// revolution) are gaps.
 #pragma once
 
 #include <cstdint>
@@ -26,7 +27,8 @@ struct BagPacketCounts {
   std::int64_t messages = 0;          // VelodyneScan messages decoded
   std::int64_t packets = 0;           // handed to the visitor
   std::int64_t skipped = 0;           // messages that do not decode
-  std::vector<std::string> problems;  // the first few, naming file and row
+  std::int64_t damaged = 0;           // damage the storage skipped (MCAP: chunks that do not check, a cut)
+  std::vector<std::string> problems;  // the first few, naming file and row or byte offset
   log_io::StreamGaps gaps;            // of the messages, by bag timestamp
 };
 

@@ -29,7 +29,7 @@ struct BagPoses {
   std::string parent_frame;           // the frame the poses are in (odom, map, ...)
   std::string child_frame;            // the body frame
   std::int64_t messages = 0;          // messages read on the topic
-  std::int64_t skipped = 0;           // messages or transforms left out
+  std::int64_t skipped = 0;           // messages or transforms left out, and damage the storage skipped
   std::vector<std::string> problems;  // the first few
 };
 
