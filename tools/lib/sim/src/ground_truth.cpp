@@ -14,13 +14,6 @@
 namespace ogf::sim {
 namespace {
 
-// Upper faces of a cell move in by this fraction of the resolution (see classifyCell).
-constexpr double kHalfOpenShrink = 1e-9;
-// A solid's face within this fraction of the resolution below a cell's lower face counts as lying on it: a
-// wall given as centre 8.1 and size 0.2 starts at 7.999999999999999 in floating point, and its face belongs
-// to the cell [8.0, 8.2) it was meant to start, which must not be taken for the wall's inside.
-constexpr double kBoundarySnap = 1e-6;
-
 std::int32_t floorKey(double v, double r) { return static_cast<std::int32_t>(std::floor(v / r)); }
 
 }  // namespace
@@ -92,34 +85,26 @@ void sealOffUnreachableAir(GroundTruth& truth, const std::vector<Eigen::Vector3d
 
 }  // namespace
 
-// Calls visit(index, overlap) for every cell of `grid` the shape meets (only the cells of its bounding
-// box are tried; every cell for a half-space).
+// Calls visit(index, overlap) for every cell of `grid` the shape meets (only the cells of its key range are
+// tried; every cell for an unbounded shape).
 template <class Visit>
 void forEachCellMeeting(const Shape& shape, const GroundTruth& grid, Visit&& visit) {
-  const double r = grid.resolution;
   const CellKey lo = grid.min_key;
   const CellKey hi{lo.x + grid.size[0] - 1, lo.y + grid.size[1] - 1, lo.z + grid.size[2] - 1};
   const auto nx = static_cast<std::size_t>(grid.size[0]);
   const auto ny = static_cast<std::size_t>(grid.size[1]);
+  const CellClassifier classifier(shape, grid.resolution);
   CellKey from = lo;
   CellKey to = hi;
-  if (const auto b = boundsOf(shape)) {
-    from = {std::max(lo.x, floorKey(b->min.x(), r)), std::max(lo.y, floorKey(b->min.y(), r)),
-            std::max(lo.z, floorKey(b->min.z(), r))};
-    to = {std::min(hi.x, floorKey(b->max.x(), r)), std::min(hi.y, floorKey(b->max.y(), r)),
-          std::min(hi.z, floorKey(b->max.z(), r))};
+  if (const auto range = classifier.keyRange()) {
+    from = {std::max(lo.x, range->first.x), std::max(lo.y, range->first.y), std::max(lo.z, range->first.z)};
+    to = {std::min(hi.x, range->second.x), std::min(hi.y, range->second.y), std::min(hi.z, range->second.z)};
   }
   for (std::int32_t k = from.z; k <= to.z; ++k) {
     for (std::int32_t j = from.y; j <= to.y; ++j) {
       for (std::int32_t i = from.x; i <= to.x; ++i) {
-        const Eigen::Vector3d min{i * r, j * r, k * r};
-        const Eigen::Vector3d max = min + Eigen::Vector3d::Constant(r * (1.0 - kHalfOpenShrink));
-        CellOverlap o = classifyCell(shape, Aabb{min, max});
+        const CellOverlap o = classifier.classify(CellKey{i, j, k});
         if (o == CellOverlap::None) continue;
-        if (o == CellOverlap::Inside &&
-            classifyCell(shape, Aabb{min - Eigen::Vector3d::Constant(r * kBoundarySnap), max}) != CellOverlap::Inside) {
-          o = CellOverlap::Surface;
-        }
         visit(static_cast<std::size_t>(i - lo.x) +
                   nx * (static_cast<std::size_t>(j - lo.y) + ny * static_cast<std::size_t>(k - lo.z)),
               o);
