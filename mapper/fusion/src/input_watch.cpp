@@ -52,9 +52,11 @@ std::optional<InputWatch::Change> InputWatch::observe(std::int64_t utime) {
       next = InputState::kWaitingForScans;
   } else if (scans && poses) {
     next = InputState::kOk;
-  } else if (scans && silent(last_pose_, utime)) {
+  } else if (scans && silent(last_pose_, *last_scan_)) {
+    // The scans went on for silence_s after the last pose: not both inputs stopping a moment apart, as a
+    // replay that ends or a robot that shuts down stops them.
     next = InputState::kWaitingForPoses;
-  } else if (poses && silent(last_scan_, utime)) {
+  } else if (poses && silent(last_scan_, *last_pose_)) {
     next = InputState::kWaitingForScans;
   } else if (!scans && !poses) {
     next = InputState::kNone;
@@ -66,7 +68,7 @@ std::optional<InputWatch::Change> InputWatch::observe(std::int64_t utime) {
     announced_ = true;
     return change;
   }
-  if (!announced_ && utime - start_ > silence_us_) {
+  if (!announced_ && !scans && !poses && utime - start_ > silence_us_) {
     announced_ = true;
     return Change{state_, state_};
   }

@@ -55,6 +55,20 @@ TEST(InputWatch, PosesWithoutScansAreWaitingForScansAndBothStoppedIsNoInput) {
   EXPECT_EQ(w.state(), InputState::kNone);
 }
 
+TEST(InputWatch, BothStoppingAMomentApartIsNoInputNotAMissingPose) {
+  // A replay ends: the poses stop, the driver's last scan follows 0.8 s later.
+  InputWatch w(InputWatchConfig{}, kStart);
+  auto changes = run(w, kStart, kStart + 5 * kS, true, true);
+  ASSERT_EQ(changes.size(), 1U);
+  EXPECT_EQ(changes[0].state, InputState::kOk);
+  changes = run(w, kStart + 5 * kS, kStart + 5 * kS + 900'000, true, false);
+  const auto rest = run(w, kStart + 5 * kS + 900'000, kStart + 12 * kS, false, false);
+  changes.insert(changes.end(), rest.begin(), rest.end());
+  ASSERT_EQ(changes.size(), 1U);
+  EXPECT_EQ(changes[0].state, InputState::kNone);
+  EXPECT_EQ(changes[0].previous, InputState::kOk);
+}
+
 TEST(InputWatch, NothingAtAllIsReportedOnceWhenTheStartsGraceEnds) {
   InputWatch w(InputWatchConfig{}, kStart);
   const auto changes = run(w, kStart, kStart + 20 * kS, false, false);
