@@ -165,7 +165,7 @@ void logReport(const Options& o, const Scenario& scenario, const ogf::sim::Simul
                scenario.scene.world.name, scenario.scene.world.solids.size(), config.trajectory_label,
                report.path_length_m, ogf::sim::lidarModel(config.sensor.model).name, config.duration_s,
                config.sensor.rpm, o.return_mode);
-  spdlog::info("wrote {}: {} data + {} position packets, {} odometry poses ({}), truth {}x{}x{} at {} m "
+  spdlog::info("wrote {}: {} data + {} position packets, {} odometry poses (odometry error: {}), truth {}x{}x{} at {} m "
                "({} occupied) in {:.2f} s",
                o.out_dir, report.capture.data_packets, report.capture.position_packets, report.odometry_poses,
                o.odometry_error, report.truth.size[0], report.truth.size[1], report.truth.size[2],

@@ -135,7 +135,7 @@ std::optional<WallBand> WallBandFinder::band() const {
     }
     return n;
   };
-  std::string reason = storey->lo > lowest ? fmt::format("floor at {:.2f} m", metres(storey->lo))
+  std::string reason = storey->lo > lowest ? fmt::format("floor at {:.2f} m", metres(storey->lo - 1))
                                            : std::string("no floor below");
   if (storey->hi < highest) reason += fmt::format(", ceiling at {:.2f} m", metres(storey->hi + 1));
   if (storey->hi - storey->lo + 1 <= band_layers_)
