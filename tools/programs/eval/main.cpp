@@ -232,6 +232,12 @@ int evaluateStaticCapture(const Options& o, const Settings& s) {
                                fmt::format("{} leaves", full->octo.leafCount())})
                  .c_str(),
              stdout);
+  if (!o.octomap_out.empty()) {
+    if (const auto st = full->octo.write(o.octomap_out); !st) {
+      spdlog::error("--write-octomap: {}", st.error().message);
+      return kExitFailed;
+    }
+  }
   if (s.split) {
     const auto& split = *s.split;
     auto kept = ev::buildStaticMaps(*capture, s.built, [&](std::int64_t scan, std::size_t i) { return !split.heldOut(scan, i); });
@@ -473,7 +479,10 @@ bool writeOutputs(const Options& o, const ogf::sim::GroundTruth& truth, const Sc
     const auto cells = ogf::map_formats::collectCells(scored.map());
     if (!o.ply_out.empty()) report("--export-ply", ogf::map_formats::writeOccupiedPly(cells, o.ply_out));
     if (!o.png_dir.empty()) {
-      auto png = ogf::map_io::writeTopDownPngs(cells, {band.z_min, band.z_max}, o.png_dir);
+      // Over the truth's grid, as truth.png and the class and error pictures are.
+      const ogf::map_io::TopDownArea area{truth.min_key.x, truth.min_key.y, truth.min_key.x + truth.size[0] - 1,
+                                          truth.min_key.y + truth.size[1] - 1};
+      auto png = ogf::map_io::writeTopDownPngs(cells, {band.z_min, band.z_max}, o.png_dir, area);
       if (!png) report("--png", png.error());
     }
   }

@@ -47,10 +47,12 @@ std::optional<tools::WallBand> wallBand(const map_formats::MapCells& cells) {
 }
 
 Result<TopDownSize> writeTopDownPngs(const map_formats::MapCells& cells, const TopDownBand& band,
-                                     const std::filesystem::path& dir) {
+                                     const std::filesystem::path& dir, const std::optional<TopDownArea>& area) {
   const auto inBand = [&](const map_formats::CellRecord& c) {
     const double z = (c.key.z + 0.5) * cells.resolution;
-    return z >= band.z_min && z <= band.z_max;
+    const bool inside = !area || (c.key.x >= area->x0 && c.key.x <= area->x1 && c.key.y >= area->y0 &&
+                                  c.key.y <= area->y1);
+    return inside && z >= band.z_min && z <= band.z_max;
   };
   std::int32_t x0 = std::numeric_limits<std::int32_t>::max(), y0 = x0;
   std::int32_t x1 = std::numeric_limits<std::int32_t>::min(), y1 = x1;
@@ -61,6 +63,7 @@ Result<TopDownSize> writeTopDownPngs(const map_formats::MapCells& cells, const T
     y0 = std::min(y0, c.key.y);
     y1 = std::max(y1, c.key.y);
   }
+  if (area && x0 <= x1) std::tie(x0, y0, x1, y1) = std::tie(area->x0, area->y0, area->x1, area->y1);
   if (x0 > x1)
     return Error{
         fmt::format("--png: no allocated cell has its centre in z [{}, {}] m", band.z_min, band.z_max)};

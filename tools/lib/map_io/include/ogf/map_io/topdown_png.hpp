@@ -14,6 +14,7 @@
 // out. The programs log the band and why (floor and ceiling heights, wall columns).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <ogf/common/result.hpp>
 #include <ogf/tools/wall_band.hpp>
@@ -28,6 +29,12 @@ struct TopDownBand {
   double z_max = 1.0e9;
 };
 
+// The cell columns a picture covers, x0..x1 by y0..y1 inclusive (cell keys): a picture drawn beside others
+// of the same area (ogf-eval's, over the truth's grid) lines up with them pixel for pixel.
+struct TopDownArea {
+  std::int32_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
 struct TopDownSize {
   int width = 0;  // cell columns
   int height = 0;
@@ -36,9 +43,11 @@ struct TopDownSize {
 // The walls' band of the map (see above) with why it was chosen; nullopt when no cell is occupied.
 std::optional<tools::WallBand> wallBand(const map_formats::MapCells& cells);
 
-// Writes DIR/occupancy.png and DIR/entropy.png (creating DIR). Error when no cell lies in the band or the
-// map would exceed 16384 cells on a side.
+// Writes DIR/occupancy.png and DIR/entropy.png (creating DIR), over `area` when given (cells outside it are
+// left out), else over the columns the band's cells cover. Error when no cell lies in the band or the
+// picture would exceed 16384 cells on a side.
 Result<TopDownSize> writeTopDownPngs(const map_formats::MapCells& cells, const TopDownBand& band,
-                                     const std::filesystem::path& dir);
+                                     const std::filesystem::path& dir,
+                                     const std::optional<TopDownArea>& area = std::nullopt);
 
 }  // namespace ogf::map_io
