@@ -71,8 +71,10 @@ void SourceIntake::watchInputs(std::int64_t now) {
             label_, what, seconds(inputs_.silentFor(now)),
             staticPose() ? "ogf-driver publishes" : "ogf-driver and the odometry publish", bus);
       } else {
-        spdlog::warn("{}inputs: nothing {} for {:.1f} s: stopped, or no longer on this LCM bus ({})", label_, what,
-                     seconds(inputs_.silentFor(now)), bus);
+        // Both inputs stopping together is what an orderly stop looks like (a replay that ended, the robot
+        // shutting down); one stopping alone is the fault, warned of above.
+        spdlog::info("{}inputs: nothing {} for {:.1f} s: both stopped, or are no longer on this LCM bus ({})",
+                     label_, what, seconds(inputs_.silentFor(now)), bus);
       }
       break;
     }
