@@ -7,9 +7,14 @@
 # (or robot's) map alone is made offline with ogf-map, and ogf-eval scores the shared map against the truth
 # beside them: its coverage against their union's, its accuracy against the better one's.
 #   scripts/run-sources.sh (--rig NAME|FILE | --robots N) [--out DIR] [--speed X] [--duration S]
-#                          [--world PRESET|FILE] [--lcm-url URL] [--data-port P]
+#                          [--world PRESET|FILE] [--lcm-url URL] [--data-port P] [--hold-scans N]
+# --hold-scans N: the mapper keeps up to N scans waiting (fusion.max_pending_scans, and 30 000 points each)
+# where it would drop the oldest (default 10): a machine too busy to map at the sensor's rate then maps late
+# instead of dropping scans.
 # Sensor k's driver takes its data on port P + 2k (default 12368) and its position packets on P + 5940 + 2k.
-# Outputs (default out/): map.ogfs, accuracy.txt, alone/*.ogfm, mapper.yaml, logs/, sim/.
+# Outputs (default out/): those of every mode of run.sh (map.ogfs, map_occupied.ply, map.bt, png/,
+# accuracy.txt, nav/, logs/; scripts/run-common.sh, finish_run), and alone/*.ogfm, mapper.yaml, sim/. The last
+# line is "outputs: DIR".
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 source "$here/scripts/run-common.sh"
@@ -21,6 +26,7 @@ rig=
 robots=
 url="udpm://239.255.76.67:7689?ttl=0"
 data_port=12368
+hold_scans=
 while [ $# -gt 0 ]; do
   case "$1" in
     --rig) rig=$2; shift 2 ;;
@@ -31,7 +37,8 @@ while [ $# -gt 0 ]; do
     --world) world=$2; shift 2 ;;
     --lcm-url) url=$2; shift 2 ;;
     --data-port) data_port=$2; shift 2 ;;
-    -h|--help) sed -n '2,12p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --hold-scans) hold_scans=$2; shift 2 ;;
+    -h|--help) sed -n '2,15p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "run-sources.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -64,6 +71,9 @@ upper() { echo "$1" | tr '[:lower:]-' '[:upper:]_'; }
     echo "  - {name: $name, robot: $robot, scan_channel: VELODYNE_SCAN_$(upper "$name"), pose_channel: $pose,"
     echo "     extrinsic: $(sim_extrinsic "$out/sim/$name")}"
   done
+  if [ -n "$hold_scans" ]; then
+    printf 'fusion:\n  max_pending_scans: %s\n  max_pending_points: %s\n' "$hold_scans" "$((hold_scans * 30000))"
+  fi
 } > "$out/mapper.yaml"
 echo "== the mapper's sources ($out/mapper.yaml)"; cat "$out/mapper.yaml"
 
@@ -130,10 +140,12 @@ for name in "${folders[@]}"; do
 done
 
 echo "== scoring the shared map against the ground truth, beside each source alone"
+mkdir -p "$out/png"
 "$bin/ogf-eval" --map "$out/map.ogfs" --truth "$out/sim/${folders[0]}" --no-octomap "${alone[@]}" \
-  --log-level warn | tee "$out/accuracy.txt"
-echo
-echo "map:        $out/map.ogfs (every source); alone: $out/alone/*.ogfm"
-echo "accuracy:   $out/accuracy.txt"
+  --png "$out/png" --export-ply "$out/map_occupied.ply" --log-level warn | tee "$out/accuracy.txt"
+finish_run "$bin" "$out" "$out/map.ogfs"
+echo "alone:      $out/alone/*.ogfm (each source's map alone)"
+echo "sim:        $out/sim/ (each sensor's capture, odometry and ground truth)"
 echo "map clients consistent with the mapper: $consistent"
+echo "outputs:    $out"
 [ "$consistent" = yes ] && [ "$mapper_rc" -eq 0 ]

@@ -4,7 +4,7 @@
 #                  [--view-port PORT] [--view-wait S]
 #     simulates a VLP-16 on a robot in a known world (ogf-sim), starts ogf-mapper and ogf-driver as real
 #     processes on LCM udpm over loopback, follows the map and its 2-D grid with ogf-map-client and ogf-view (the map in a
-#     browser at http://127.0.0.1:PORT/, 8765; --view-wait S waits S seconds after printing the address
+#     browser at http://127.0.0.1:PORT/; --view-wait S waits S seconds after printing the address
 #     so a browser can be opened before the drive starts), replays the capture onto UDP
 #     and the odometry onto LCM with ogf-replay, stops the daemons with SIGTERM (the mapper writes its final
 #     snapshot), and scores the map against the ground truth and an OctoMap from the same rays (ogf-eval).
@@ -15,9 +15,15 @@
 #     shared map scored beside each source's map alone (scripts/run-sources.sh).
 #   scripts/run.sh --pcap FILE [--out DIR]
 #     maps a real capture of a static sensor instead: ogf-map --static (fixed pose, offline, the same
-#     ScanMapper as the daemon); no ground truth, so no score.
-# Outputs (default out/): map.ogfs (the daemon's snapshot: ogf-eval reads it, filter::decodeMap inside),
-# map_occupied.ply, png/*.png, accuracy.txt, octomap.bt, logs/, sim/ (capture, odometry, truth).
+#     ScanMapper as the daemon); no ground truth, so the scores are how the map and an OctoMap of the same
+#     returns hold those returns (scripts/run-pcap.sh).
+# Each run takes its own bus and ports: the LCM port 7689+k, the sensor's ports 12368+2k and 18308+2k, the
+# view's 8765+k, for the first k whose ports are free on this host (--lcm-url, --view-port choose them);
+# two runs into one --out DIR refuse to run together.
+# Outputs (default out/), in every mode: the map (map.ogfs, the daemon's snapshot; map.ogfm with --pcap),
+# map_occupied.ply, map.bt (the map as an OctoMap tree), png/*.png, accuracy.txt, nav/ (map.pgm, map.yaml),
+# logs/; the main job and --pcap also octomap.bt (OctoMap's map of the same rays), the simulated modes sim/
+# (capture, odometry, truth). The last line is "outputs: DIR".
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 source "$here/scripts/run-common.sh"
@@ -26,10 +32,8 @@ speed=1
 duration=20
 world=lab
 pcap=
-url="udpm://239.255.76.67:7689?ttl=0"
-data_port=12368      # not 2368: a real sensor on this host keeps its port
-position_port=18308
-view_port=8765
+url=          # default: udpm://239.255.76.67:7689?ttl=0, or the next free port (see pick_run_slot)
+view_port=    # default: 8765, or the next free port
 view_wait=0
 rig=
 robots=
@@ -45,33 +49,33 @@ while [ $# -gt 0 ]; do
     --view-wait) view_wait=$2; shift 2 ;;
     --rig) rig=$2; shift 2 ;;
     --robots) robots=$2; shift 2 ;;
-    -h|--help) sed -n '2,20p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,26p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "run.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
 
-bash "$here/scripts/install-deps.sh"
-bash "$here/scripts/multicast-loopback.sh"
-bash "$here/scripts/build.sh"
-bin=${OGF_BUILD_DIR:-$here/build}/bin
 mkdir -p "$out/logs" "$out/png"
 out=$(cd "$out" && pwd)
+exec 9>"$out/.run.lock"
+if ! flock -n 9; then echo "run.sh: another run.sh is writing $out; give this one its own --out DIR" >&2; exit 1; fi
+bash "$here/scripts/install-deps.sh" --main
+bash "$here/scripts/multicast-loopback.sh"
+bash "$here/scripts/build.sh" --main
+bin=${OGF_BUILD_DIR:-$here/build}/bin
+# One run, one bus and one set of ports, free on this host: two runs side by side (or a run beside a live
+# mapper) never hear each other.
+slot=$(pick_run_slot) || { echo "run.sh: no free LCM/UDP/TCP port slot on this host" >&2; exit 1; }
+url=${url:-"udpm://239.255.76.67:$((7689 + slot))?ttl=0"}
+view_port=${view_port:-$((8765 + slot))}
+data_port=$((12368 + 2 * slot))      # not 2368: a real sensor on this host keeps its port
+position_port=$((18308 + 2 * slot))
 
 if [ -n "$rig" ] || [ -n "$robots" ]; then
   exec bash "$here/scripts/run-sources.sh" ${rig:+--rig "$rig"} ${robots:+--robots "$robots"} --out "$out" \
-    --speed "$speed" --duration "$duration" --world "$world" --lcm-url "$url"
+    --speed "$speed" --duration "$duration" --world "$world" --lcm-url "$url" --data-port "$data_port"
 fi
 
-if [ -n "$pcap" ]; then
-  # A real capture of a sensor that does not move: the pose is fixed at the origin.
-  "$bin/ogf-map" --pcap "$pcap" --static --out "$out/map.ogfm" --export-ply "$out/map_occupied.ply" \
-    --png "$out/png" | tee "$out/map.txt"
-  echo
-  echo "map:        $out/map.ogfm   (ogf map file)"
-  echo "PLY:        $out/map_occupied.ply"
-  echo "PNG:        $out/png/occupancy.png $out/png/entropy.png"
-  exit 0
-fi
+if [ -n "$pcap" ]; then exec bash "$here/scripts/run-pcap.sh" --pcap "$pcap" --out "$out"; fi
 
 pids=()
 cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }
@@ -128,18 +132,7 @@ cp "$out/state/snapshot.ogfs" "$out/map.ogfs"
 echo "== scoring the map against the ground truth and an OctoMap of the same rays"
 "$bin/ogf-eval" --map "$out/map.ogfs" --truth "$out/sim" --png "$out/png" --export-ply "$out/map_occupied.ply" \
   --write-octomap "$out/octomap.bt" --nav | tee "$out/accuracy.txt"
-echo "== the 2-D navigation grid for a planner (map_server's map.pgm and map.yaml)"
-if ! "$bin/ogf-map" --from-map "$out/map.ogfs" --export-nav "$out/nav" >"$out/logs/nav.log" 2>&1; then
-  echo "run.sh: ogf-map --export-nav failed (see $out/logs/nav.log)" >&2; exit 1
-fi
-grep -m1 -o '[^ ]*/nav: map.pgm.*' "$out/logs/nav.log"
-
-echo
-echo "map:        $out/map.ogfs        (the mapper's final snapshot; the live state stays in $out/state)"
-echo "PLY:        $out/map_occupied.ply (occupied cells)"
-echo "PNG:        $out/png/ (truth, ogf/octomap classes and errors, occupancy, entropy; the walls' band, chosen from the truth)"
-echo "accuracy:   $out/accuracy.txt"
-echo "OctoMap:    $out/octomap.bt"
-echo "nav grid:   $out/nav/map.pgm $out/nav/map.yaml (2-D grid of the band 0.25 to 1.5 m above the floor, for nav2/map_server)"
-echo "logs:       $out/logs/ (sim, mapper, driver, map-client, view); replay summary $out/replay.txt"
+finish_run "$bin" "$out" "$out/map.ogfs"
+echo "sim:        $out/sim/ (capture, odometry, ground truth); replay summary $out/replay.txt"
 echo "browser:    $bin/ogf-view --map $out/map.ogfs   (then open http://127.0.0.1:$view_port/)"
+echo "outputs:    $out"
