@@ -37,15 +37,24 @@ def test_the_page_has_both_examples():
     assert set(doc_blocks()) == {"plot-slice", "follow-grid"}
 
 
+def test_the_page_runs_its_examples_with_debians_python():
+    # Debian's numpy and matplotlib are /usr/bin/python3's: a bare `python3` may be another interpreter.
+    text = (SOURCE_DIR / "docs" / "python.md").read_text()
+    commands = re.findall(r"PYTHONPATH=build/python (\S+)", text)
+    assert commands, "docs/python.md says nowhere how to run the examples"
+    assert all(c.rstrip("`.,;)") == "/usr/bin/python3" for c in commands), commands
+
+
 def test_plot_slice_example_draws_the_main_jobs_map_to_a_png(lab_map, tmp_path):
     pytest.importorskip("matplotlib", reason="python3-matplotlib is not installed")
     (tmp_path / "out").mkdir()
     (tmp_path / "out" / "map.ogfs").write_bytes(lab_map["map"].read_bytes())
     out = run_block(doc_blocks()["plot-slice"], tmp_path)
-    assert "wrote slice.png" in out
+    assert "wrote out/slice.png" in out
     occupied = int(re.search(r"occupied: (\d+)", out).group(1))
     assert occupied > 100
-    png = tmp_path / "slice.png"
+    png = tmp_path / "out" / "slice.png"
+    assert not (tmp_path / "slice.png").exists(), "the example writes into the folder it runs in, not out/"
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     import matplotlib.image
     pixels = matplotlib.image.imread(str(png))
