@@ -30,6 +30,13 @@ bool InputWatch::silent(std::optional<std::int64_t> last, std::int64_t utime) co
   return utime - std::max(last.value_or(start_), start_) > silence_us_;
 }
 
+bool InputWatch::missing(std::optional<std::int64_t> last, std::int64_t other_last, std::int64_t utime) const {
+  // Never arrived: missing once silence_s has passed since the start. Arrived before: missing only when the
+  // other stream went on for silence_s after its last message, not when both stop a moment apart (a replay
+  // that ends, a robot that shuts down).
+  return last ? silent(last, other_last) : silent(last, utime);
+}
+
 std::int64_t InputWatch::silentFor(std::int64_t utime) const {
   std::optional<std::int64_t> missing;
   if (state_ == InputState::kWaitingForPoses)
@@ -52,11 +59,9 @@ std::optional<InputWatch::Change> InputWatch::observe(std::int64_t utime) {
       next = InputState::kWaitingForScans;
   } else if (scans && poses) {
     next = InputState::kOk;
-  } else if (scans && silent(last_pose_, *last_scan_)) {
-    // The scans went on for silence_s after the last pose: not both inputs stopping a moment apart, as a
-    // replay that ends or a robot that shuts down stops them.
+  } else if (scans && missing(last_pose_, *last_scan_, utime)) {
     next = InputState::kWaitingForPoses;
-  } else if (poses && silent(last_scan_, *last_pose_)) {
+  } else if (poses && missing(last_scan_, *last_pose_, utime)) {
     next = InputState::kWaitingForScans;
   } else if (!scans && !poses) {
     next = InputState::kNone;

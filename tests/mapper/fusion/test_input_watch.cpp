@@ -69,6 +69,16 @@ TEST(InputWatch, BothStoppingAMomentApartIsNoInputNotAMissingPose) {
   EXPECT_EQ(changes[0].previous, InputState::kOk);
 }
 
+TEST(InputWatch, AScanStreamThatNeverCameIsMissingEvenWhenThePosesStopSoonAfter) {
+  // Poses for 2 s, then none; no scan ever: the scans are what is missing, from the end of the grace on.
+  InputWatch w(InputWatchConfig{}, kStart);
+  auto changes = run(w, kStart, kStart + 2 * kS, false, true);
+  const auto rest = run(w, kStart + 2 * kS, kStart + 4 * kS, false, false);
+  changes.insert(changes.end(), rest.begin(), rest.end());
+  ASSERT_FALSE(changes.empty());
+  EXPECT_EQ(changes[0].state, InputState::kWaitingForScans);
+}
+
 TEST(InputWatch, NothingAtAllIsReportedOnceWhenTheStartsGraceEnds) {
   InputWatch w(InputWatchConfig{}, kStart);
   const auto changes = run(w, kStart, kStart + 20 * kS, false, false);

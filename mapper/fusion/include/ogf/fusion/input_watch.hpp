@@ -3,9 +3,9 @@
 // queue or the filter; InputWatch tells the states apart so the daemon can say which input is missing,
 // once per change, and put the state in its status. A stream arrives while its last message is at most
 // silence_s old; it is silent once nothing came for silence_s, the start counting as a message, so that
-// the first message of one stream is not taken for the other's absence. One stream is missing only when
-// the other went on arriving for silence_s after it fell silent: two streams that stop within silence_s of
-// each other (a replay that ends) have both stopped, not one. Pure: times come in as arguments.
+// the first message of one stream is not taken for the other's absence. A stream that arrived before is
+// missing only when the other went on arriving for silence_s after it fell silent: two streams that stop
+// within silence_s of each other (a replay that ends) have both stopped, not one. Pure: times come in as arguments.
 #pragma once
 
 #include <cstdint>
@@ -59,6 +59,8 @@ class InputWatch {
   }
   bool arriving(std::optional<std::int64_t> last, std::int64_t utime) const;
   bool silent(std::optional<std::int64_t> last, std::int64_t utime) const;
+  // The stream whose last message was `last` is missing while the other, last heard at other_last, arrives.
+  bool missing(std::optional<std::int64_t> last, std::int64_t other_last, std::int64_t utime) const;
 
   InputWatchConfig config_;
   std::int64_t silence_us_;
