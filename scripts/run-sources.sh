@@ -38,7 +38,7 @@ while [ $# -gt 0 ]; do
     --lcm-url) url=$2; shift 2 ;;
     --data-port) data_port=$2; shift 2 ;;
     --hold-scans) hold_scans=$2; shift 2 ;;
-    -h|--help) sed -n '2,15p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,17p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "run-sources.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
