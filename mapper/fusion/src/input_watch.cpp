@@ -30,7 +30,8 @@ bool InputWatch::silent(std::optional<std::int64_t> last, std::int64_t utime) co
   return utime - std::max(last.value_or(start_), start_) > silence_us_;
 }
 
-bool InputWatch::missing(std::optional<std::int64_t> last, std::int64_t other_last, std::int64_t utime) const {
+bool InputWatch::missing(std::optional<std::int64_t> last, std::int64_t other_last,
+                         std::int64_t utime) const {
   // Never arrived: missing once silence_s has passed since the start. Arrived before: missing only when the
   // other stream went on for silence_s after its last message, not when both stop a moment apart (a replay
   // that ends, a robot that shuts down).

@@ -23,8 +23,6 @@ bool meetsAlong(double lo, double hi, std::int32_t k) { return lo < k + 1.0 && h
 // The open interval (lo, hi) holds all of [k, k + 1).
 bool holdsAlong(double lo, double hi, std::int32_t k) { return lo < k && hi >= k + 1.0; }
 
-std::int32_t lastKey(double hi) { return static_cast<std::int32_t>(std::floor(hi)); }
-
 // The cell's footprint with its upper faces moved in: corners (x, y) in cells.
 std::array<std::array<double, 2>, 4> footprintCorners(const CellKey& key) {
   const double x0 = key.x;
@@ -126,7 +124,8 @@ CellOverlap CellClassifier::classify(const CellKey& key) const {
           hi = std::max(hi, d);
         }
         const double mid = centre_[0] * axis[0] + centre_[1] * axis[1];
-        const double reach = half_[0] * std::abs(c * axis[0] + s * axis[1]) + half_[1] * std::abs(-s * axis[0] + c * axis[1]);
+        const double reach =
+            half_[0] * std::abs(c * axis[0] + s * axis[1]) + half_[1] * std::abs(-s * axis[0] + c * axis[1]);
         if (hi < mid - reach || lo > mid + reach) return CellOverlap::None;
       }
       return CellOverlap::Surface;
@@ -185,9 +184,10 @@ std::optional<std::pair<CellKey, CellKey>> CellClassifier::keyRange() const {
       return std::nullopt;
     }
   }
-  const auto first = [](double v) { return static_cast<std::int32_t>(std::floor(v)); };
-  return std::make_pair(CellKey{first(lo[0]), first(lo[1]), first(lo[2])},
-                        CellKey{lastKey(hi[0]), lastKey(hi[1]), lastKey(hi[2])});
+  // The cell holding each end (a face on a boundary belongs to the cell above it).
+  const auto cellOf = [](double v) { return static_cast<std::int32_t>(std::floor(v)); };
+  return std::make_pair(CellKey{cellOf(lo[0]), cellOf(lo[1]), cellOf(lo[2])},
+                        CellKey{cellOf(hi[0]), cellOf(hi[1]), cellOf(hi[2])});
 }
 
 }  // namespace ogf::sim
