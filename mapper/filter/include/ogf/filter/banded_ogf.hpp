@@ -5,22 +5,19 @@
 // variance, the covariances rebuilt from the prior (FilterConfig::covariance).
 //
 // Determinism: a batch is applied in a fixed order (colour of its block in a 2×2×2 checkerboard, block key,
-// position in the block). Blocks of one colour are more than 2R apart, touch disjoint state and run in parallel; the map
-// is bit-identical for any thread count. The stages that prepare a scan-sized batch (grouping it by block,
-// dropping the clamped free measurements, placing it in order) share their work among the threads too,
-// each thread on its own part, the parts joined in order.
+// position in the block). Blocks of one colour are more than 2R apart, touch disjoint state and run in
+// parallel; the map is bit-identical for any thread count. The stages that prepare a scan-sized batch
+// (grouping it by block, dropping the clamped free measurements, placing it in order) share their work among
+// the threads too, each thread on its own part, the parts joined in order.
 #pragma once
-
-#include <ogf/core/cell_key.hpp>
-#include <ogf/core/huge_pages.hpp>
 
 #include <array>
 #include <bit>
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <ogf/core/cell_key.hpp>
 #include <span>
-#include <utility>
 #include <vector>
 
 #include "ogf/filter/band_kernel.hpp"
@@ -66,6 +63,9 @@ class BandedOgf {
  public:
   // Error when the configuration does not validate (the message names the field).
   static Result<BandedOgf> create(const FilterConfig& config);
+  BandedOgf(BandedOgf&&) noexcept;
+  BandedOgf& operator=(BandedOgf&&) noexcept;
+  ~BandedOgf();
 
   // Applies a batch of measurements (one per cell, as a scan's measurement set is) in the deterministic
   // order above, then reports to `sink` (if any) every cell whose class or quantised probability changed.
@@ -86,7 +86,8 @@ class BandedOgf {
   // blocks held outside the map (paged out) count with their hashes in `heldElsewhere`, and a block's hash
   // is kept until an update writes the block: a checksum after a scan rehashes only what the scan reached.
   std::uint64_t checksum(const BlockHashSum& heldElsewhere = {}) const;
-  // Hash of one block's key, stored values and marks (0 when it is not allocated), and their sum over the map.
+  // Hash of one block's key, stored values and marks (0 when it is not allocated), and their sum over the
+  // map.
   std::uint64_t blockHash(const CellKey& blockKey) const;
   BlockHashSum blockHashSum() const;
 
@@ -170,8 +171,6 @@ class BandedOgf {
     return compact() ? priorVariance_ * decodeVarianceRatio(static_cast<std::uint16_t>(stored))
                      : std::bit_cast<float>(stored);
   }
-  // The number of `blockKey` in scratch_.touched, looked up in the map the first time in a batch.
-  std::uint32_t lookUp(const CellKey& blockKey);
   // restoreBlock's checks of a block about to be restored with `values` floats (of `expected`) and marks.
   Status checkRestorable(const CellKey& blockKey, std::size_t values, std::size_t expected,
                          std::size_t marks) const;
@@ -181,144 +180,31 @@ class BandedOgf {
   // New blocks, on all filter threads when there are many (kParallelBlocksMin): the first write to a fresh
   // page is a fault, most of what allocating a first scan's blocks costs.
   void initialiseBlocks(std::span<Block* const> blocks);
-  // A block the batch looks up: its key, the block (null while it does not exist) and, with a change sink,
-  // which of its cells the updates can change (bit per position).
-  struct TouchedBlock {
-    CellKey key;
-    Block* block = nullptr;
-    bool written = false;  // obtained for the updates (BlockStorage::obtain: allocated, hash forgotten)
-    bool fresh = false;    // allocated by the batch, initialised after all its blocks are (initialiseBlocks)
-    std::array<std::uint64_t, 8> cells{};
-  };
-  // A z layer of a touched block with cells the updates can change (compact storage's change detection).
-  struct TouchedLayer {
-    std::uint32_t touched = 0;  // in Batch::touched
-    std::uint32_t layer = 0;
-    std::uint64_t cells = 0;  // bit per position in the layer
-  };
-  // The changes a thread found while the calling one reports to the sink, kept for it in order: at most a
-  // share of a scan's changes, 24 bytes each (a first 0.1 m street scan changes 3.4 M cells), in huge pages.
-  struct alignas(64) ChangeBuffer : ChangeSink {
-    std::vector<CellChange, HugePageAllocator<CellChange>> changes;
-    void cellChanged(const CellChange& change) override { changes.push_back(change); }
-    void cellsChanged(std::span<const CellChange> some) override {
-      changes.insert(changes.end(), some.begin(), some.end());
-    }
-  };
-  // A thread's share of dropClampedFree: how many of its range it kept, and the drops per group. The
-  // shares of a stage are written by their threads side by side: a cache line each.
-  struct alignas(64) DropPart {
-    std::size_t kept = 0;
-    std::size_t dropped = 0;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> groupDrops;
-  };
-  // A thread's share of groupInParallel: the runs that start in its part of the batch, their blocks as
-  // found in the map and whether they hold a measurement to accept; then where its accepted measurements
-  // start, how many it kept and what it counted.
-  struct alignas(64) RunPart {
-    std::vector<std::size_t> starts;
-    std::vector<Block*> blocks;
-    std::vector<std::uint8_t> acceptable;
-    std::size_t from = 0;
-    std::size_t kept = 0;
-    UpdateStats counts;
-  };
-  // Reused from batch to batch: the batch's blocks, per measurement its group and code (position << 1 | y),
-  // the codes in the order of application, per group the data of its 3×3×3 neighbourhood of blocks; every
-  // block looked up, numbered (the map's table is searched once per block and batch, not once per group
-  // that neighbours it) and per group and neighbour the block's number.
-  struct Batch {
-    BlockKeyTable blocks;
-    std::vector<std::size_t> runs;  // where each run of measurements in one block starts; the batch's end
-    std::vector<std::uint32_t> groupOf;
-    std::vector<std::uint16_t> codes;
-    std::vector<std::uint16_t> sorted;
-    std::vector<float*> neighbourhoods;
-    BlockKeyTable touchedIndex;
-    std::vector<TouchedBlock> touched;
-    std::vector<std::uint32_t> groupTouched;
-    std::vector<std::uint32_t> touchedOrder;
-    std::vector<float> meansBefore;  // banded storage: of each touched cell before the batch, its mean
-    std::vector<std::uint32_t> variancesBefore;  // and its stored variance (storedVarianceAt)
-    // Compact storage: the touched layers in block key order, and their 64 means and codes before the batch.
-    std::vector<TouchedLayer> touchedLayers;
-    std::vector<float> layerMeansBefore;
-    std::vector<std::uint16_t> layerCodesBefore;
-    std::vector<std::array<std::uint64_t, 8>> occupiedReach;  // dropClampedFree's per-group cells
-    std::vector<std::array<std::uint64_t, 3>> alongX;  // a group's layers dilated along x, per set of dx
-    std::vector<std::uint32_t> around;
-    std::vector<DropPart> dropParts;
-    std::vector<RunPart> runParts;  // groupInParallel's, per thread, and per run its block and group
-    std::vector<Block*> runBlocks;
-    std::vector<std::uint8_t> runAcceptable;
-    std::vector<std::uint32_t> runGroups;
-    // Whether each group's measurements are consecutive in groupOf and codes, the groups in the order they
-    // were made (a batch whose blocks came in one run each), and where each group's measurements start.
-    bool groupsInRuns = false;
-    std::vector<std::size_t> groupFrom;
-    std::vector<ChangeBuffer> keptChanges;  // reportChanges': per thread after the first, its changes
-    // obtainNeighbourhoods': the blocks it allocated, and the groups whose own block is one of them (their
-    // occupied measurements are marked once the block is initialised).
-    std::vector<Block*> freshBlocks;
-    std::vector<std::uint32_t> freshOwnGroups;
-  };
-  // Removes from the batch (counted as skipped) the free measurements that applyMeasurement would skip
-  // whatever the order: z above the free clamp before the batch, and no occupied measurement of the batch
-  // within the cell's stencil. In compact storage with a non-negative prior, free updates only lower a
-  // cell's mean and variance, so its z only grows: the map is the same, bit for bit, without the
-  // locate, prefetch and z of each (most of a scan's free measurements once the map has seen a place).
-  void dropClampedFree(std::span<Group> groups, UpdateStats& stats);
-  // The measurements of consecutive groups (`groups`, their neighbourhoods from `neighbourhoods`, 27 per
-  // group), in order, on one thread. The stencil records of the measurement kPrefetchAhead places ahead
-  // are found then (locate_, into `ring`: kRingSlots slots of band_.cells pointers) and asked of
-  // the CPU: a colour pass over a scan-sized map (several MB) finds many of them out of cache, above all
-  // the cells one z layer ahead, which no earlier measurement of the block has touched. The kernel takes
-  // the same pointers, so the records are found once: the update alone takes about half the time it takes
-  // when the kernel searches the records itself without prefetch (docs/performance.md).
-  void applyRun(std::span<const Group> groups, std::span<const std::uint16_t> codes,
-                float* const* neighbourhoods, std::span<float*> ring, UpdateStats& stats);
-  bool applyMeasurement(float* const* records, int y);
-  // OccupiedPriority::kMap: whether a free measurement of the cell with this mark is held back (and the
-  // mark counted on, or released); and the marks of a group's occupied measurements.
-  bool holdBackFree(std::uint8_t& mark) const;
-  // Compact storage: lists the touched layers of work.touched in work.touchedOrder and copies their means
-  // and codes (the change detection's state before the batch).
-  void copyTouchedLayers(Batch& work);
-  // Starts loading the touched layers of the block whose first touched layer is work.touchedLayers[e].
-  void prefetchTouchedLayers(const Batch& work, std::size_t e, std::size_t end) const;
-  static void markOccupied(Block& block, std::span<const std::uint16_t> codes);
-  // A group's codes in the order of application (Batch::sorted).
-  std::span<const std::uint16_t> codesOf(const Group& g) const;
-  static constexpr unsigned kOwnBlock = 13;  // (0, 0, 0) in the 3×3×3 neighbourhood's numbering
-  static constexpr std::size_t kPrefetchAhead = 4;
-  // prefetchRunsAhead asks for the table slot, the header and the marks of the block this many runs ahead;
-  // dropClampedFree for the mean and code of the measurement kDropAhead places ahead.
-  static constexpr std::size_t kRunSlotAhead = 8;
-  static constexpr std::size_t kRunHeaderAhead = 4;
-  static constexpr std::size_t kRunMarksAhead = 2;
-  static_assert(kRunMarksAhead < kRunHeaderAhead && kRunHeaderAhead < kRunSlotAhead);
-  static constexpr std::size_t kMinRunForPrefetch = 8;  // measurements per run, on average
-  static constexpr std::size_t kDropAhead = 96;
+  bool prioritisesOccupied() const { return config_.occupiedPriority == OccupiedPriority::kMap; }
+  // Whether grouping the batch reads the blocks it has (their marks, or the means dropClampedFree tests).
+  bool readsBlocks() const { return prioritisesOccupied() || dropsClampedFree_; }
   // Measurements in a batch for groupByBlock, dropClampedFree and orderGroups to share out among the threads.
   static constexpr std::size_t kParallelBatchMin = 16384;
   static constexpr std::size_t kParallelLayersMin = 1024;  // touched layers, for the change detection
   static constexpr std::size_t kParallelBlocksMin = 256;   // new blocks, for their initialisation
-  // obtainNeighbourhoods': table slots, then look-ups and headers, this many groups ahead.
-  static constexpr std::size_t kGroupSlotAhead = 16;
-  static constexpr std::size_t kGroupLookAhead = 6;
-  static constexpr std::size_t kRingSlots = 8;  // a power of two above kPrefetchAhead
-  static constexpr std::size_t kParallelGroups = 16;  // groups a filter thread takes at a time
-  static_assert(std::has_single_bit(kRingSlots) && kRingSlots > kPrefetchAhead);
 
-  // update()'s stages, in order (each says what it does where it is defined).
-  bool prioritisesOccupied() const { return config_.occupiedPriority == OccupiedPriority::kMap; }
-  // Whether grouping the batch reads the blocks it has (their marks, or the means dropClampedFree tests).
-  bool readsBlocks() const { return prioritisesOccupied() || dropsClampedFree_; }
+  // update()'s stages, in order, a source file each (src/banded_batch.hpp lists them; each function says
+  // what it does where it is defined). The state a batch carries from stage to stage and each stage's
+  // scratch are defined there too.
+  struct TouchedBlock;
+  struct Batch;
+  struct Scratch;
+  // The number of `blockKey` in Batch::touched, looked up in the map the first time in a batch.
+  std::uint32_t lookUp(const CellKey& blockKey);
+  // 1. batch_grouping.cpp
   std::vector<Group> groupByBlock(std::span<const Measurement> batch, UpdateStats& stats);
   void findRuns(std::span<const Measurement> batch);
   void prefetchRunsAhead(std::span<const Measurement> batch, std::size_t r,
-                         std::array<const Block*, kRunHeaderAhead>& foundAhead) const;
+                         std::span<const Block*> foundAhead) const;
   bool acceptable(const Measurement& m) const;
+  // OccupiedPriority::kMap: whether a free measurement of the cell with this mark is held back (and the
+  // mark counted on, or released).
+  bool holdBackFree(std::uint8_t& mark) const;
   void acceptRun(std::span<const Measurement> batch, std::size_t i, std::size_t end, std::uint32_t g,
                  Group& group, std::size_t& next, UpdateStats& stats);
   Group makeGroup(const CellKey& block, Block* existing) const;
@@ -327,23 +213,53 @@ class BandedOgf {
   void closeUp(std::size_t from, std::size_t count, std::size_t to);
   void groupRun(std::span<const Measurement> batch, std::size_t r, std::vector<Group>& groups,
                 std::size_t& accepted, UpdateStats& stats);
+  // free_clamp_drop.cpp: removes from the batch (counted as skipped) the free measurements that
+  // applyMeasurement would skip whatever the order: z above the free clamp before the batch, and no
+  // occupied measurement of the batch within the cell's stencil. In compact storage with a non-negative
+  // prior, free updates only lower a cell's mean and variance, so its z only grows: the map is the same,
+  // bit for bit, without the locate, prefetch and z of each (most of a scan's free measurements once the
+  // map has seen a place).
+  void dropClampedFree(std::span<Group> groups, UpdateStats& stats);
+  // 2. batch_order.cpp
   std::vector<Group> orderGroups(std::vector<Group>& groups);
+  // 3. block_neighbourhoods.cpp
   void obtainNeighbourhoods(std::span<const Group> sorted, UpdateStats& stats);
   void findNeighbourhoods(std::span<const Group> sorted);
+  // A group's codes in the order of application (Batch::sorted).
+  std::span<const std::uint16_t> codesOf(const Group& g) const;
+  // The marks of a group's occupied measurements (OccupiedPriority::kMap).
+  static void markOccupied(Block& block, std::span<const std::uint16_t> codes);
+  // 4. and 6. change_detection.cpp
   void recordChangeableCells(std::span<const Group> sorted);
   void markStencilReach(const Group& g, const std::uint32_t* touchedOfGroup,
                         std::array<std::array<std::uint64_t, 8>, 27>& reached);
   // Banded storage: copies the means and stored variances of the touched cells (the change detection's
   // state before the batch).
-  void copyTouchedCells(Batch& work) const;
-  void applyColours(std::span<const Group> sorted, UpdateStats& stats);
-  void applyColourInParallel(std::span<const Group> sorted, std::size_t g0, std::size_t g1,
-                             UpdateStats& stats);
+  void copyTouchedCells();
+  // Compact storage: lists the touched layers of Batch::touched in Batch::touchedOrder and copies their
+  // means and codes (the change detection's state before the batch).
+  void copyTouchedLayers();
+  // Starts loading the touched layers of the block whose first touched layer is ChangeScratch's [e].
+  void prefetchTouchedLayers(std::size_t e, std::size_t end) const;
   struct ChangeChunk;
   void reportChanges(ChangeSink& sink);
   void collectLayerChanges(ChangeChunk& chunk, ChangeSink& sink, std::size_t e0, std::size_t e1) const;
   void collectCellChanges(ChangeChunk& chunk, ChangeSink& sink);
   void flushChanges(ChangeChunk& chunk, ChangeSink& sink) const;
+  // 5. measurement_apply.cpp
+  void applyColours(std::span<const Group> sorted, UpdateStats& stats);
+  void applyColourInParallel(std::span<const Group> sorted, std::size_t g0, std::size_t g1,
+                             UpdateStats& stats);
+  // The measurements of consecutive groups (`groups`, their neighbourhoods from `neighbourhoods`, 27 per
+  // group), in order, on one thread. The stencil records of a measurement a few places ahead are found
+  // then (locate_, into `ring`: slots of band_.cells pointers) and asked of the CPU: a colour pass over a
+  // scan-sized map (several MB) finds many of them out of cache, above all the cells one z layer ahead,
+  // which no earlier measurement of the block has touched. The kernel takes the same pointers, so the
+  // records are found once: the update alone takes about half the time it takes when the kernel searches
+  // the records itself without prefetch (docs/performance.md).
+  void applyRun(std::span<const Group> groups, std::span<const std::uint16_t> codes,
+                float* const* neighbourhoods, std::span<float*> ring, UpdateStats& stats);
+  bool applyMeasurement(float* const* records, int y);
 
   FilterConfig config_;
   PriorCovariance prior_;
@@ -354,10 +270,10 @@ class BandedOgf {
   float varianceFloor_ = 0.0F;
   // Compact storage: 1/√(1 + s) of each variance code's s, as applyMeasurement computes it.
   std::vector<double> inverseScales_;
-  void derivePolicyState();  // clampZ_, freeClampZ_ and published_ from config_
-  PublishedStateRule published_;  // class and quantised probability for the ChangeSink
-  double clampZ_ = 0.0;      // for occupied measurements; +inf: never
-  double freeClampZ_ = 0.0;  // for free ones
+  void derivePolicyState();                   // clampZ_, freeClampZ_ and published_ from config_
+  PublishedStateRule published_;              // class and quantised probability for the ChangeSink
+  double clampZ_ = 0.0;                       // for occupied measurements; +inf: never
+  double freeClampZ_ = 0.0;                   // for free ones
   std::vector<std::uint32_t> neighbourMask_;  // per position in a block: neighbouring blocks reached
   // The stencil as rows along x, for the change detection's dilation: each (dy, dz) of its offsets with
   // the index of its set of dx in stencilRowSets_ (bit dx + 8 per dx).
@@ -368,16 +284,15 @@ class BandedOgf {
   };
   std::vector<StencilRow> stencilRows_;
   std::vector<std::uint32_t> stencilRowSets_;
-  BandTables band_;                           // where the stencil cells and their pairs are
-  BandLocate locate_ = nullptr;               // the records of a measurement's stencil cells, prefetched
-  BandKernel kernel_ = nullptr;               // eq. (5) in the band (compiled for common stencils)
-  LayerChanges layerChanges_ = nullptr;       // the change detection's comparison of a layer
+  BandTables band_;                      // where the stencil cells and their pairs are
+  BandLocate locate_ = nullptr;          // the records of a measurement's stencil cells, prefetched
+  BandKernel kernel_ = nullptr;          // eq. (5) in the band (compiled for common stencils)
+  LayerChanges layerChanges_ = nullptr;  // the change detection's comparison of a layer
   const InverseMillsTable* lambda_ = &inverseMillsTable();  // λ(z) of eq. (5), tabulated
   bool parallelSafe_ = false;
   bool dropsClampedFree_ = false;  // compact storage, Σ0 ≥ 0 in the stencil: dropClampedFree applies
   bool skipsClampedEarly_ = true;
-  Batch scratch_;
-  std::vector<float*> ring_;  // applyRun's records on the calling thread
+  std::unique_ptr<Scratch> scratch_;
   // config_.threads threads (null while that is 1), started at the first update that shares its work.
   WorkerPool* pool();
   // body(begin, end) over [0, n): on the calling thread alone unless `worthSharing` (and threads above 1),
