@@ -33,7 +33,7 @@ DriverApp::DriverApp(transport::DaemonLoop& loop, lcm::LCM& lcm, DriverConfig co
   stream_.setScanSink([this](const velodyne::Scan& scan) { onScan(scan); });
 }
 
-std::optional<velodyne::Error> DriverApp::start() {
+std::optional<ogf::Error> DriverApp::start() {
   const auto data_port = static_cast<std::uint16_t>(config_.data_port);
   const auto position_port = static_cast<std::uint16_t>(config_.position_port);
   auto handler = [this](const driver_sources::UdpDatagram& d) { onDatagram(d); };

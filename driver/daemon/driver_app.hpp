@@ -30,7 +30,7 @@ class DriverApp {
   DriverApp(transport::DaemonLoop& loop, lcm::LCM& lcm, DriverConfig config, velodyne::PacketStream stream);
 
   // Opens the source and starts the status timer; an error names the source.
-  std::optional<velodyne::Error> start();
+  std::optional<ogf::Error> start();
   // Publishes the scan in progress and a last status (end of a capture file, or shutdown).
   void finish();
 

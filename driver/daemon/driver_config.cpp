@@ -13,9 +13,9 @@
 namespace ogf::driver {
 namespace {
 
-velodyne::Error at(const std::string& path, const YAML::Node& node, const std::string& key,
+ogf::Error at(const std::string& path, const YAML::Node& node, const std::string& key,
                    const std::string& what) {
-  return velodyne::Error::configuration(path + ":" + std::to_string(node.Mark().line + 1) + ": " + key + ": " + what);
+  return ogf::Error::configuration(path + ":" + std::to_string(node.Mark().line + 1) + ": " + key + ": " + what);
 }
 
 }  // namespace
@@ -32,23 +32,23 @@ const char* sourceName(SourceKind kind) {
   return "udp";
 }
 
-velodyne::Result<DriverConfig> loadDriverConfig(const std::string& path, DriverConfig config) {
+ogf::Result<DriverConfig> loadDriverConfig(const std::string& path, DriverConfig config) {
   std::ifstream in(path);
-  if (!in) return velodyne::Error::configuration(path + ": cannot read the configuration file");
+  if (!in) return ogf::Error::configuration(path + ": cannot read the configuration file");
   std::ostringstream text;
   text << in.rdbuf();  // an empty file gives "", an empty configuration
   return parseDriverConfig(text.str(), path, std::move(config));
 }
 
-velodyne::Result<DriverConfig> parseDriverConfig(const std::string& yaml, const std::string& path, DriverConfig c) {
+ogf::Result<DriverConfig> parseDriverConfig(const std::string& yaml, const std::string& path, DriverConfig c) {
   YAML::Node root;
   try {
     root = YAML::Load(yaml);
   } catch (const YAML::Exception& e) {
-    return velodyne::Error::configuration(path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+    return ogf::Error::configuration(path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
   if (root.IsNull()) return c;
-  if (!root.IsMap()) return velodyne::Error::configuration(path + ": not a YAML mapping");
+  if (!root.IsMap()) return ogf::Error::configuration(path + ": not a YAML mapping");
   using Setter = std::function<void(const YAML::Node&)>;
   std::string source;
   const std::map<std::string, Setter> setters = {
@@ -99,45 +99,45 @@ velodyne::Result<DriverConfig> parseDriverConfig(const std::string& yaml, const 
   return c;
 }
 
-velodyne::Result<velodyne::StreamConfig> validate(const DriverConfig& c) {
+ogf::Result<velodyne::StreamConfig> validate(const DriverConfig& c) {
   velodyne::StreamConfig s;
   if (c.source == SourceKind::PcapFile && c.pcap_file.empty())
-    return velodyne::Error::configuration("pcap_file: needed by source pcap-file");
+    return ogf::Error::configuration("pcap_file: needed by source pcap-file");
   if (c.source == SourceKind::PcapLive && c.interface.empty())
-    return velodyne::Error::configuration("interface: needed by source pcap-live");
-  if (!(c.speed >= 0.0)) return velodyne::Error::configuration("speed: must be >= 0 (0 = as fast as possible)");
-  if (c.data_port < 1 || c.data_port > 65535) return velodyne::Error::configuration("data_port: not a port number");
+    return ogf::Error::configuration("interface: needed by source pcap-live");
+  if (!(c.speed >= 0.0)) return ogf::Error::configuration("speed: must be >= 0 (0 = as fast as possible)");
+  if (c.data_port < 1 || c.data_port > 65535) return ogf::Error::configuration("data_port: not a port number");
   if (c.position_port < 1 || c.position_port > 65535 || c.position_port == c.data_port)
-    return velodyne::Error::configuration("position_port: not a port number distinct from data_port");
+    return ogf::Error::configuration("position_port: not a port number distinct from data_port");
   std::uint32_t ip = 0;
   if (!c.sensor_address.empty() && !driver_sources::parseIpv4(c.sensor_address, ip))
-    return velodyne::Error::configuration("sensor_address: not an IPv4 address '" + c.sensor_address + "'");
-  if (c.receive_buffer_bytes < 65536) return velodyne::Error::configuration("receive_buffer_bytes: at least 65536");
+    return ogf::Error::configuration("sensor_address: not an IPv4 address '" + c.sensor_address + "'");
+  if (c.receive_buffer_bytes < 65536) return ogf::Error::configuration("receive_buffer_bytes: at least 65536");
   if (c.model != "auto") {
     s.model = velodyne::parseModelName(c.model);
     if (!s.model)
-      return velodyne::Error::configuration("model: '" + c.model +
+      return ogf::Error::configuration("model: '" + c.model +
                              "' is none of auto, VLP-16, VLP-16-HiRes, VLP-32C, HDL-32E");
   }
   if (c.return_mode != "auto") {
     s.return_mode = velodyne::parseReturnModeName(c.return_mode);
     if (!s.return_mode)
-      return velodyne::Error::configuration("return_mode: '" + c.return_mode + "' is none of auto, strongest, last, dual");
+      return ogf::Error::configuration("return_mode: '" + c.return_mode + "' is none of auto, strongest, last, dual");
   }
   if (!c.calibration.empty()) {
     auto calib = velodyne::loadCalibrationFile(c.calibration);
-    if (!calib) return velodyne::Error::configuration("calibration: " + calib.error().message);
+    if (!calib) return ogf::Error::configuration("calibration: " + calib.error().message);
     s.calibration = std::move(*calib);
   }
   if (!(c.min_range_m >= 0.0) || !(c.max_range_m > c.min_range_m))
-    return velodyne::Error::configuration("min_range/max_range: need 0 <= min_range < max_range");
+    return ogf::Error::configuration("min_range/max_range: need 0 <= min_range < max_range");
   s.min_range_m = c.min_range_m;
   s.max_range_m = c.max_range_m;
   if (!(c.cut_angle_deg >= -360.0 && c.cut_angle_deg <= 360.0))
-    return velodyne::Error::configuration("cut_angle: degrees in [-360, 360]");
+    return ogf::Error::configuration("cut_angle: degrees in [-360, 360]");
   s.assembler.cut_angle_deg = c.cut_angle_deg;
   for (const auto* channel : {&c.scan_channel, &c.packets_channel, &c.status_channel})
-    if (channel->empty() || channel->size() > 63) return velodyne::Error::configuration("channel names: 1 to 63 characters");
+    if (channel->empty() || channel->size() > 63) return ogf::Error::configuration("channel names: 1 to 63 characters");
   return s;
 }
 

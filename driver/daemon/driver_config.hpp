@@ -7,7 +7,7 @@
 #include <string>
 
 #include "ogf/velodyne/packet_stream.hpp"
-#include "ogf/velodyne/result.hpp"
+#include "ogf/common/result.hpp"
 
 namespace ogf::driver {
 
@@ -41,12 +41,12 @@ struct DriverConfig {
 };
 
 // Reads the YAML file over `config`; unknown keys and wrong types are errors naming file, line and key.
-velodyne::Result<DriverConfig> loadDriverConfig(const std::string& path, DriverConfig config);
+ogf::Result<DriverConfig> loadDriverConfig(const std::string& path, DriverConfig config);
 // The same from YAML text; `path` only names the source in errors.
-velodyne::Result<DriverConfig> parseDriverConfig(const std::string& yaml, const std::string& path, DriverConfig config);
+ogf::Result<DriverConfig> parseDriverConfig(const std::string& yaml, const std::string& path, DriverConfig config);
 
 // Checks ranges and names, loads the calibration, and builds the decoding configuration.
-velodyne::Result<velodyne::StreamConfig> validate(const DriverConfig& config);
+ogf::Result<velodyne::StreamConfig> validate(const DriverConfig& config);
 
 const char* sourceName(SourceKind kind);
 

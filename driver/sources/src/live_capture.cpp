@@ -15,14 +15,14 @@ LiveCapture::~LiveCapture() {
   pcap_close(handle_);
 }
 
-velodyne::Result<std::unique_ptr<LiveCapture>> LiveCapture::open(boost::asio::io_context& io,
+ogf::Result<std::unique_ptr<LiveCapture>> LiveCapture::open(boost::asio::io_context& io,
                                                                  const std::string& interface,
                                                                  std::uint16_t data_port,
                                                                  std::uint16_t position_port,
                                                                  Handler handler) {
   char error[PCAP_ERRBUF_SIZE] = {};
   pcap* handle = pcap_create(interface.c_str(), error);
-  if (handle == nullptr) return velodyne::Error::io("pcap-live " + interface + ": " + error);
+  if (handle == nullptr) return ogf::Error::io("pcap-live " + interface + ": " + error);
   pcap_set_snaplen(handle, 65535);
   pcap_set_promisc(handle, 0);
   pcap_set_immediate_mode(handle, 1);
@@ -31,7 +31,7 @@ velodyne::Result<std::unique_ptr<LiveCapture>> LiveCapture::open(boost::asio::io
   if (pcap_activate(handle) < 0) {
     std::string why = pcap_geterr(handle);
     pcap_close(handle);
-    return velodyne::Error::io("pcap-live " + interface + ": " + why + " (needs CAP_NET_RAW)");
+    return ogf::Error::io("pcap-live " + interface + ": " + why + " (needs CAP_NET_RAW)");
   }
   const std::string filter = "udp and (dst port " + std::to_string(data_port) + " or dst port " +
                              std::to_string(position_port) + ")";
@@ -41,17 +41,17 @@ velodyne::Result<std::unique_ptr<LiveCapture>> LiveCapture::open(boost::asio::io
     std::string why = pcap_geterr(handle);
     pcap_freecode(&program);
     pcap_close(handle);
-    return velodyne::Error::io("pcap-live " + interface + ": filter '" + filter + "': " + why);
+    return ogf::Error::io("pcap-live " + interface + ": filter '" + filter + "': " + why);
   }
   pcap_freecode(&program);
   if (pcap_setnonblock(handle, 1, error) != 0) {
     pcap_close(handle);
-    return velodyne::Error::io("pcap-live " + interface + ": " + error);
+    return ogf::Error::io("pcap-live " + interface + ": " + error);
   }
   const int fd = pcap_get_selectable_fd(handle);
   if (fd < 0) {
     pcap_close(handle);
-    return velodyne::Error::io("pcap-live " + interface + ": no selectable descriptor");
+    return ogf::Error::io("pcap-live " + interface + ": no selectable descriptor");
   }
   std::unique_ptr<LiveCapture> capture(new LiveCapture(io, handle, ::dup(fd), std::move(handler)));
   capture->arm();

@@ -11,24 +11,24 @@ PcapFileReader::PcapFileReader(pcap* handle, std::string name) : handle_(handle)
 
 PcapFileReader::~PcapFileReader() { pcap_close(handle_); }
 
-velodyne::Result<std::unique_ptr<PcapFileReader>> PcapFileReader::open(const std::filesystem::path& path) {
+ogf::Result<std::unique_ptr<PcapFileReader>> PcapFileReader::open(const std::filesystem::path& path) {
   char error[PCAP_ERRBUF_SIZE] = {};
   pcap* handle = pcap_open_offline_with_tstamp_precision(path.c_str(), PCAP_TSTAMP_PRECISION_MICRO, error);
   if (handle == nullptr) {
     // libpcap names the file itself when it cannot open it ("<path>: No such file or directory").
     const std::string why = error;
-    if (why.rfind(path.string() + ":", 0) == 0) return velodyne::Error::io(why);
-    return velodyne::Error::io(path.string() + ": " + why);
+    if (why.rfind(path.string() + ":", 0) == 0) return ogf::Error::io(why);
+    return ogf::Error::io(path.string() + ": " + why);
   }
   return std::unique_ptr<PcapFileReader>(new PcapFileReader(handle, path.string()));
 }
 
-velodyne::Result<std::unique_ptr<PcapFileReader>> PcapFileReader::open(std::FILE* stream, std::string name) {
+ogf::Result<std::unique_ptr<PcapFileReader>> PcapFileReader::open(std::FILE* stream, std::string name) {
   char error[PCAP_ERRBUF_SIZE] = {};
   pcap* handle = pcap_fopen_offline_with_tstamp_precision(stream, PCAP_TSTAMP_PRECISION_MICRO, error);
   if (handle == nullptr) {
     std::fclose(stream);
-    return velodyne::Error::io(name + ": " + error);
+    return ogf::Error::io(name + ": " + error);
   }
   return std::unique_ptr<PcapFileReader>(new PcapFileReader(handle, std::move(name)));
 }

@@ -30,17 +30,17 @@ UdpReceiver::~UdpReceiver() {
   socket_.close(ec);
 }
 
-velodyne::Result<std::unique_ptr<UdpReceiver>> UdpReceiver::open(boost::asio::io_context& io,
+ogf::Result<std::unique_ptr<UdpReceiver>> UdpReceiver::open(boost::asio::io_context& io,
                                                                  const UdpReceiverConfig& config,
                                                                  Handler handler) {
   std::unique_ptr<UdpReceiver> r(new UdpReceiver(io, std::move(handler)));
   boost::system::error_code ec;
   const auto address = boost::asio::ip::make_address(config.bind_address, ec);
-  if (ec) return velodyne::Error::configuration("bind address '" + config.bind_address + "': " + ec.message());
+  if (ec) return ogf::Error::configuration("bind address '" + config.bind_address + "': " + ec.message());
   const boost::asio::ip::udp::endpoint endpoint(address, config.port);
   const std::string where = config.bind_address + ":" + std::to_string(config.port);
   r->socket_.open(endpoint.protocol(), ec);
-  if (ec) return velodyne::Error::io("udp " + where + ": " + ec.message());
+  if (ec) return ogf::Error::io("udp " + where + ": " + ec.message());
   r->socket_.set_option(boost::asio::socket_base::reuse_address(true), ec);
   r->socket_.set_option(boost::asio::socket_base::receive_buffer_size(config.receive_buffer_bytes), ec);
   boost::asio::socket_base::receive_buffer_size granted;
@@ -53,7 +53,7 @@ velodyne::Result<std::unique_ptr<UdpReceiver>> UdpReceiver::open(boost::asio::io
   ::setsockopt(r->socket_.native_handle(), SOL_SOCKET, SO_TIMESTAMP, &on, sizeof(on));
   ::setsockopt(r->socket_.native_handle(), SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof(on));
   r->socket_.bind(endpoint, ec);
-  if (ec) return velodyne::Error::io("udp " + where + ": bind: " + ec.message());
+  if (ec) return ogf::Error::io("udp " + where + ": bind: " + ec.message());
   r->socket_.non_blocking(true, ec);
   r->port_ = r->socket_.local_endpoint(ec).port();
   r->arm();

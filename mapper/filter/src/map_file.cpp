@@ -1,12 +1,8 @@
-// Map file codec and atomic writing.
+// Map file codec; saving writes the file atomically (ogf/common/atomic_file.hpp).
 #include "ogf/filter/map_file.hpp"
-
-#include <fcntl.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <bit>
-#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -141,19 +137,6 @@ bool readHeaderFields(Reader& r, Header& h) {
          r.get(h.blockSide, "block side") && r.get(h.floatsPerCell, "floats per cell") &&
          r.get(h.cellsPerBlock, "cells per block") && r.get(h.blockCount, "block count") &&
          r.get(h.payloadChecksum, "payload checksum");
-}
-
-Status syncDirectory(const std::filesystem::path& dir) {
-  const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) {
-    return Error::system(dir.string() + ": cannot open directory to sync");
-  }
-  const int rc = ::fsync(fd);
-  ::close(fd);
-  if (rc != 0) {
-    return Error::system(dir.string() + ": fsync of the directory failed");
-  }
-  return okStatus();
 }
 
 }  // namespace
@@ -314,31 +297,7 @@ Result<BandedOgf> decodeMap(std::span<const std::uint8_t> bytes, std::string_vie
 
 Status saveMapFile(const BandedOgf& map, const std::filesystem::path& path) {
   const std::vector<std::uint8_t> bytes = encodeMap(map);
-  std::filesystem::path tmp = path;
-  tmp += ".tmp-" + std::to_string(::getpid());
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) {
-    return Error::system(tmp.string() + ": cannot create");
-  }
-  if (const std::size_t done = writeAll(fd, std::as_bytes(std::span(bytes))); done != bytes.size()) {
-    const int why = errno;
-    ::close(fd);
-    ::unlink(tmp.c_str());
-    return Error::system(tmp.string() + ": write failed at offset " + std::to_string(done), why);
-  }
-  if (::fsync(fd) != 0) {
-    const int why = errno;
-    ::close(fd);
-    ::unlink(tmp.c_str());
-    return Error::system(tmp.string() + ": fsync failed", why);
-  }
-  ::close(fd);
-  if (::rename(tmp.c_str(), path.c_str()) != 0) {
-    const int why = errno;
-    ::unlink(tmp.c_str());
-    return Error::system(path.string() + ": rename from " + tmp.string() + " failed", why);
-  }
-  return syncDirectory(path.parent_path());
+  return writeFileAtomically(path, std::as_bytes(std::span(bytes)));
 }
 
 Result<BandedOgf> loadMapFile(const std::filesystem::path& path, int threads) {

@@ -84,7 +84,7 @@ void BM_FirstMeasurement(benchmark::State& state) {
     state.PauseTiming();
     skipped += stats.skipped;
     bytesPerCell = static_cast<double>(map->memoryBytes()) / static_cast<double>(map->allocatedCells());
-    map = ogf::filter::Error{};  // free outside the timing
+    map = ogf::Error{};  // free outside the timing
     state.ResumeTiming();
   }
   state.counters["bytes_per_cell"] = bytesPerCell;

@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <string>
 
-#include "ogf/tools/crc32.hpp"
 #include "ogf/tools/png_writer.hpp"
 #include "ogf/tools/zlib_stream.hpp"
 
@@ -20,8 +19,7 @@ std::span<const std::uint8_t> bytesOf(const char* s) {
   return {reinterpret_cast<const std::uint8_t*>(s), std::char_traits<char>::length(s)};
 }
 
-TEST(PngWriter, Crc32AndAdler32MatchTheirCheckValues) {
-  EXPECT_EQ(crc32(bytesOf("123456789")), 0xCBF43926U);
+TEST(PngWriter, Adler32MatchesItsCheckValue) {
   EXPECT_EQ(adler32(bytesOf("Wikipedia")), 0x11E60398U);
 }
 

@@ -5,7 +5,8 @@
 #include <cstring>
 #include <fstream>
 
-#include "ogf/tools/crc32.hpp"
+#include <ogf/common/crc32.hpp>
+
 #include "ogf/tools/zlib_stream.hpp"
 
 namespace ogf::tools {
@@ -25,7 +26,7 @@ void putChunk(std::vector<std::uint8_t>& out, const char (&type)[5], const std::
   }
   out.insert(out.end(), data.begin(), data.end());
   // The CRC covers the chunk type and data, not the length.
-  putBigEndian32(out, crc32(std::span<const std::uint8_t>(out.data() + typeAt, 4 + data.size())));
+  putBigEndian32(out, ogf::crc32(out.data() + typeAt, 4 + data.size()));
 }
 
 }  // namespace

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "ogf/velodyne/model.hpp"
-#include "ogf/velodyne/result.hpp"
+#include "ogf/common/result.hpp"
 
 namespace ogf::velodyne {
 

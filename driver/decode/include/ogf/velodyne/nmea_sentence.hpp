@@ -7,7 +7,7 @@
 #include <optional>
 #include <string_view>
 
-#include "ogf/velodyne/result.hpp"
+#include "ogf/common/result.hpp"
 
 namespace ogf::velodyne {
 

@@ -12,7 +12,7 @@
 
 #include "ogf/velodyne/calibration.hpp"
 #include "ogf/velodyne/model.hpp"
-#include "ogf/velodyne/result.hpp"
+#include "ogf/common/result.hpp"
 #include "ogf/velodyne/wire_format.hpp"
 
 namespace ogf::velodyne {

@@ -9,7 +9,7 @@
 #include <string_view>
 
 #include "ogf/velodyne/nmea_sentence.hpp"
-#include "ogf/velodyne/result.hpp"
+#include "ogf/common/result.hpp"
 
 namespace ogf::velodyne {
 

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "ogf/driver_sources/link_layer.hpp"
-#include "ogf/velodyne/result.hpp"
+#include "ogf/common/result.hpp"
 
 struct pcap;
 struct pcap_pkthdr;
@@ -22,7 +22,7 @@ class LiveCapture {
   using Handler = std::function<void(FrameKind kind, const UdpDatagram& datagram)>;
 
   // Opens `interface` with a kernel filter for UDP to `data_port` or `position_port`.
-  static velodyne::Result<std::unique_ptr<LiveCapture>> open(boost::asio::io_context& io,
+  static ogf::Result<std::unique_ptr<LiveCapture>> open(boost::asio::io_context& io,
                                                              const std::string& interface,
                                                              std::uint16_t data_port,
                                                              std::uint16_t position_port, Handler handler);

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "ogf/driver_sources/link_layer.hpp"
-#include "ogf/velodyne/result.hpp"
+#include "ogf/common/result.hpp"
 
 struct pcap;
 
@@ -31,9 +31,9 @@ struct PcapRecord {
 
 class PcapFileReader {
  public:
-  static velodyne::Result<std::unique_ptr<PcapFileReader>> open(const std::filesystem::path& path);
+  static ogf::Result<std::unique_ptr<PcapFileReader>> open(const std::filesystem::path& path);
   // Reads from an open stream (tests and fuzzing use fmemopen); the reader closes it.
-  static velodyne::Result<std::unique_ptr<PcapFileReader>> open(std::FILE* stream, std::string name);
+  static ogf::Result<std::unique_ptr<PcapFileReader>> open(std::FILE* stream, std::string name);
   ~PcapFileReader();
   PcapFileReader(const PcapFileReader&) = delete;
   PcapFileReader& operator=(const PcapFileReader&) = delete;

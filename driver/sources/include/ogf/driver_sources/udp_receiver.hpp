@@ -13,7 +13,7 @@
 #include <string>
 
 #include "ogf/driver_sources/udp_datagram.hpp"
-#include "ogf/velodyne/result.hpp"
+#include "ogf/common/result.hpp"
 
 namespace ogf::driver_sources {
 
@@ -28,7 +28,7 @@ class UdpReceiver {
   using Handler = std::function<void(const UdpDatagram&)>;
 
   // Binds and starts receiving; fails with the address and the system's reason.
-  static velodyne::Result<std::unique_ptr<UdpReceiver>> open(boost::asio::io_context& io,
+  static ogf::Result<std::unique_ptr<UdpReceiver>> open(boost::asio::io_context& io,
                                                              const UdpReceiverConfig& config,
                                                              Handler handler);
   ~UdpReceiver();

@@ -30,7 +30,7 @@
 #include "ogf/filter/layer_changes.hpp"
 #include "ogf/filter/measurement.hpp"
 #include "ogf/filter/published_state.hpp"
-#include "ogf/filter/result.hpp"
+#include "ogf/common/result.hpp"
 #include "ogf/filter/stencil.hpp"
 #include "ogf/filter/variance_code.hpp"
 #include "ogf/filter/worker_pool.hpp"

@@ -8,7 +8,7 @@
 
 #include <span>
 
-#include "ogf/filter/result.hpp"
+#include "ogf/common/result.hpp"
 
 namespace ogf::filter {
 

@@ -8,7 +8,7 @@
 #include <string_view>
 
 #include "ogf/filter/kernel.hpp"
-#include "ogf/filter/result.hpp"
+#include "ogf/common/result.hpp"
 
 namespace ogf::filter {
 

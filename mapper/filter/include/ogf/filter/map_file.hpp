@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "ogf/filter/banded_ogf.hpp"
-#include "ogf/filter/result.hpp"
+#include "ogf/common/result.hpp"
 
 namespace ogf::filter {
 

@@ -9,7 +9,7 @@
 #include <cstdint>
 
 #include "ogf/filter/banded_ogf.hpp"
-#include "ogf/filter/result.hpp"
+#include "ogf/common/result.hpp"
 
 namespace ogf::filter {
 

@@ -38,34 +38,43 @@ inline void syncParentDirectory(const std::filesystem::path& path) {
   }
 }
 
+// Writes `bytes` to `path` through a temporary file beside it (`path` + ".tmp-" + the process id, so two
+// processes writing one path never share it), fsync'd, renamed over `path`, then the directory fsync'd.
+// Errors name the file (and the temporary one) and, for a write, the offset it stopped at; the temporary
+// file is removed. An error from the directory's fsync comes after the rename: `path` then holds the new
+// bytes, not yet durably.
 inline Status writeFileAtomically(const std::filesystem::path& path, std::span<const std::byte> bytes) {
+  std::filesystem::path tmp = path;
+  tmp += ".tmp-" + std::to_string(::getpid());
   // Of the errno's kind: a full disk or quota is a resource error, the rest I/O.
-  const auto fail = [&](const std::string& what) {
+  const auto fail = [&](const std::string& what, bool removeTmp) {
     const int e = errno;
+    if (removeTmp) ::unlink(tmp.c_str());
     return Error::system(path.string() + ": " + what, e);
   };
-  const std::filesystem::path tmp = path.string() + ".tmp";
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) return fail("cannot create " + tmp.string());
-  if (writeAll(fd, bytes) != bytes.size()) {
-    auto err = fail("write failed");
+  if (fd < 0) return fail("cannot create " + tmp.string(), false);
+  if (const std::size_t done = writeAll(fd, bytes); done != bytes.size()) {
+    auto err = fail("write failed at offset " + std::to_string(done), true);
     ::close(fd);
-    ::unlink(tmp.c_str());
     return err;
   }
   if (::fsync(fd) != 0) {
-    auto err = fail("fsync failed");
+    auto err = fail("fsync failed", true);
     ::close(fd);
-    ::unlink(tmp.c_str());
     return err;
   }
   ::close(fd);
   if (::rename(tmp.c_str(), path.c_str()) != 0) {
-    auto err = fail("rename failed");
-    ::unlink(tmp.c_str());
-    return err;
+    return fail("rename from " + tmp.string() + " failed", true);
   }
-  syncParentDirectory(path);
+  const auto dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd < 0) return Error::system(dir.string() + ": cannot open the directory to sync it", errno);
+  const int rc = ::fsync(dfd);
+  const int why = errno;
+  ::close(dfd);
+  if (rc != 0) return Error::system(dir.string() + ": fsync of the directory failed", why);
   return okStatus();
 }
 

@@ -9,7 +9,7 @@
 
 #include "ogf/sim/lidar_simulator.hpp"
 #include "ogf/sim/nmea.hpp"
-#include "ogf/sim/result.hpp"
+#include "ogf/common/result.hpp"
 
 namespace ogf::sim {
 

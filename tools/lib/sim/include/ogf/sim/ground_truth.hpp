@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "ogf/sim/result.hpp"
+#include "ogf/common/result.hpp"
 #include "ogf/sim/world.hpp"
 
 namespace ogf::sim {

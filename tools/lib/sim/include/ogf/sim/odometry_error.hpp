@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "ogf/sim/result.hpp"
+#include "ogf/common/result.hpp"
 #include "ogf/sim/trajectory.hpp"
 
 namespace ogf::sim {

@@ -10,7 +10,7 @@
 #include <span>
 #include <string>
 
-#include "ogf/sim/result.hpp"
+#include "ogf/common/result.hpp"
 
 namespace ogf::sim {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "ogf/sim/odometry_error.hpp"
-#include "ogf/sim/result.hpp"
+#include "ogf/common/result.hpp"
 
 namespace ogf::sim {
 

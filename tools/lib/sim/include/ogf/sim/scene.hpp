@@ -30,7 +30,7 @@
 #include <string_view>
 #include <vector>
 
-#include "ogf/sim/result.hpp"
+#include "ogf/common/result.hpp"
 #include "ogf/sim/trajectory.hpp"
 #include "ogf/sim/world.hpp"
 

@@ -16,7 +16,7 @@
 #include "ogf/sim/capture_writer.hpp"
 #include "ogf/sim/ground_truth.hpp"
 #include "ogf/sim/odometry_error.hpp"
-#include "ogf/sim/result.hpp"
+#include "ogf/common/result.hpp"
 #include "ogf/sim/scene.hpp"
 #include "ogf/sim/lidar_simulator.hpp"
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "ogf/sim/result.hpp"
+#include "ogf/common/result.hpp"
 
 namespace ogf::sim {
 
