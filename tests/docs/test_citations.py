@@ -89,6 +89,17 @@ class CheckerReportsWhatIsMissing(unittest.TestCase):
             ],
         )
 
+    def test_change_log_may_name_removed_files_but_its_links_must_resolve(self):
+        found = self.problems_for(
+            "CHANGELOG.md",
+            "- `lib/include/ogf/lib/gone.hpp` is removed; see [the guide](docs/guide.md), [gone](docs/gone.md)\n",
+        )
+        self.assertEqual(found, ["links to docs/gone.md, which is not in the tree"])
+        self.assertEqual(
+            self.problems_for("docs/notes.md", "- `lib/include/ogf/lib/gone.hpp` is removed\n"),
+            ["cites lib/include/ogf/lib/gone.hpp, which is not in the tree"],
+        )
+
     def test_existing_files_sections_and_other_projects_files_pass(self):
         text = (
             "// docs/guide.md §3 and §3.2; real_header.hpp, ogf/lib/real_header.hpp,\n"
