@@ -399,8 +399,6 @@ TEST_F(MapperDaemonTest, KillNineWhileRegionsArePagedOutAndInResumesExactlyTheAc
   EXPECT_GT(pages, 0u) << "the snapshots must have named pages";
 }
 
-}  // namespace
-
 TEST_F(MapperDaemonTest, ScanMatchingCorrectsDriftingOdometryAndPublishesTheCorrectedPoses) {
   const std::string url = ogf::testing::loopbackUdpmUrl(33);
   std::ofstream(dir_ / "mapper.yaml") << "status_interval_s: 0.1\npose_correction: {mode: scan-match}\n";
@@ -538,3 +536,5 @@ TEST_F(MapperDaemonTest, MapServicesAnswerQueriesAndCommandsWhileTheDaemonMaps) 
   EXPECT_EQ(out.find("occupied 0 free 0"), std::string::npos) << out;
   EXPECT_TRUE(mapper.stop());
 }
+
+}  // namespace

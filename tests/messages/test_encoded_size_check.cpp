@@ -14,7 +14,7 @@ namespace {
 using ogf::messages::EncodedSizeCheck;
 
 template <class M>
-std::vector<std::uint8_t> encode(const M& m) {
+std::vector<std::uint8_t> encodedBytes(const M& m) {
   std::vector<std::uint8_t> b(static_cast<std::size_t>(m.getEncodedSize()));
   m.encode(b.data(), 0, static_cast<int>(b.size()));
   return b;
@@ -54,13 +54,13 @@ ogf::lidar_scan_t scan(int n) {
 
 TEST(EncodedSizeCheck, AcceptsEveryRealScanSize) {
   for (int n : {0, 1, 7, 1000, 30000}) {
-    const auto b = encode(scan(n));
+    const auto b = encodedBytes(scan(n));
     EXPECT_FALSE(EncodedSizeCheck<ogf::lidar_scan_t>::check(b.data(), b.size())) << n;
   }
 }
 
 TEST(EncodedSizeCheck, RefusesScansClaimingMorePointsThanTheyCarry) {
-  auto b = encode(scan(77));
+  auto b = encodedBytes(scan(77));
   const std::size_t at = countOffset(b, 77, 8);
   ASSERT_LT(at, b.size());
   for (std::int32_t claim : {78, 10'000'000, 2'147'483'647, -1, -2'000'000'000}) {
@@ -81,7 +81,7 @@ TEST(EncodedSizeCheck, RefusesAbsurdDeltaPacketAndCovarianceCounts) {
   d.probability = {1, 2, 3, 4, 5};
   d.cell_class = {1, 0, -1, 0, 1};
   d.variance = {1, 1, 1, 1, 1};
-  auto bd = encode(d);
+  auto bd = encodedBytes(d);
   EXPECT_FALSE(EncodedSizeCheck<ogf::map_delta_t>::check(bd.data(), bd.size()));
   patch(bd, countOffset(bd, 5, 8), 1 << 30);
   EXPECT_TRUE(EncodedSizeCheck<ogf::map_delta_t>::check(bd.data(), bd.size()));
@@ -94,7 +94,7 @@ TEST(EncodedSizeCheck, RefusesAbsurdDeltaPacketAndCovarianceCounts) {
   p.length = {3, 3};
   p.num_bytes = 6;
   p.data = {1, 2, 3, 4, 5, 6};
-  auto bp = encode(p);
+  auto bp = encodedBytes(p);
   EXPECT_FALSE(EncodedSizeCheck<ogf::velodyne_packets_t>::check(bp.data(), bp.size()));
   auto bad_bytes = bp;
   patch(bad_bytes, countOffset(bad_bytes, 6, 8), 1'000'000'000);
@@ -108,7 +108,7 @@ TEST(EncodedSizeCheck, RefusesAbsurdDeltaPacketAndCovarianceCounts) {
   o.child_frame_id = "base_link";
   o.num_covariance = 36;
   o.covariance.assign(36, 0.5);
-  auto bo = encode(o);
+  auto bo = encodedBytes(o);
   EXPECT_FALSE(EncodedSizeCheck<ogf::odometry_t>::check(bo.data(), bo.size()));
   patch(bo, countOffset(bo, 36, 8), 100'000'000);
   EXPECT_TRUE(EncodedSizeCheck<ogf::odometry_t>::check(bo.data(), bo.size()));
@@ -125,7 +125,7 @@ TEST(EncodedSizeCheck, RefusesNavGridTileAndColumnCountsBeyondTheBytes) {
   g.num_columns = 12;
   g.cost.assign(12, 1);
   g.column_class.assign(12, 1);
-  const auto good = encode(g);
+  const auto good = encodedBytes(g);
   EXPECT_FALSE(EncodedSizeCheck<ogf::nav_grid_t>::check(good.data(), good.size()));
   for (const std::int32_t claim : {1 << 30, std::numeric_limits<std::int32_t>::max(), -1}) {
     auto tiles = good;
@@ -147,7 +147,7 @@ TEST(DecodeMessage, DecodesAValidBufferAndRefusesAbsurdCountsAndTrailingBytes) {
   o.child_frame_id = "base_link";
   o.num_covariance = 36;
   o.covariance.assign(36, 0.25);
-  auto b = encode(o);
+  auto b = encodedBytes(o);
   ogf::odometry_t out{};
   EXPECT_FALSE(ogf::messages::decodeMessage(b.data(), b.size(), out));
   EXPECT_EQ(out.covariance.size(), 36u);

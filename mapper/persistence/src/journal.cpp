@@ -9,6 +9,7 @@
 #include <cstring>
 #include <limits>
 
+#include "ogf/common/atomic_file.hpp"
 #include "ogf/common/crc32.hpp"
 #include "ogf/common/little_endian.hpp"
 #include "ogf/common/read_file.hpp"
@@ -17,8 +18,8 @@
 namespace ogf::persistence {
 namespace {
 
-constexpr char kMagic[8] = {'O', 'G', 'F', 'J', 'R', 'N', 'L', '1'};
-constexpr std::uint32_t kVersion = 2;
+constexpr char kJournalMagic[8] = {'O', 'G', 'F', 'J', 'R', 'N', 'L', '1'};
+constexpr std::uint32_t kJournalVersion = 2;
 constexpr std::uint32_t kFixedVersion = 1;  // still read: every record's measurements in 13 bytes
 constexpr std::uint32_t kFixedRecordMagic = 0x4352524A;  // "JRRC"
 constexpr std::uint32_t kCodedRecordMagic2 = 0x3243524A;  // "JRC2": still read; coding version 2
@@ -30,16 +31,6 @@ constexpr std::size_t kMeasurementSize = 13;
 // A record holds one scan's measurement set; 2^24 is far above any (a VLP-16 scan at 0.1 m makes ~1 M).
 constexpr std::uint32_t kMaxMeasurements = 1U << 24;
 
-template <class T>
-void put(std::vector<std::byte>& out, T v) {
-  putLittleEndian(out, v);
-}
-
-template <class T>
-T get(const std::byte* p) {
-  return getLittleEndian<T>(p);
-}
-
 Error systemError(const std::filesystem::path& path, const std::string& what) {
   const int e = errno;
   return Error::system(path.string() + ": " + what, e);
@@ -47,24 +38,16 @@ Error systemError(const std::filesystem::path& path, const std::string& what) {
 
 std::vector<std::byte> header(std::int64_t map_id, std::int64_t base_seq) {
   std::vector<std::byte> h;
-  for (char c : kMagic) h.push_back(static_cast<std::byte>(c));
-  put<std::uint32_t>(h, kVersion);
-  put<std::int64_t>(h, map_id);
-  put<std::int64_t>(h, base_seq);
-  put<std::uint32_t>(h, crc32(h.data(), h.size()));
+  for (char c : kJournalMagic) h.push_back(static_cast<std::byte>(c));
+  putLittleEndian<std::uint32_t>(h, kJournalVersion);
+  putLittleEndian<std::int64_t>(h, map_id);
+  putLittleEndian<std::int64_t>(h, base_seq);
+  putLittleEndian<std::uint32_t>(h, crc32(h.data(), h.size()));
   return h;
 }
 
-Status writeAll(int fd, const std::filesystem::path& path, const std::vector<std::byte>& bytes) {
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      return systemError(path, "write failed");
-    }
-    done += static_cast<std::size_t>(n);
-  }
+Status writeWhole(int fd, const std::filesystem::path& path, const std::vector<std::byte>& bytes) {
+  if (writeAll(fd, bytes) != bytes.size()) return systemError(path, "write failed");
   return okStatus();
 }
 
@@ -86,23 +69,23 @@ struct RecordAt {
 RecordAt recordAt(const std::byte* data, std::size_t size, std::size_t off, JournalRecord& rec) {
   if (size - off < kFixedRecordFixed + 4) return {0, "record header truncated"};
   const std::byte* r = data + off;
-  const auto magic = get<std::uint32_t>(r);
+  const auto magic = getLittleEndian<std::uint32_t>(r);
   if (!isRecordMagic(magic)) return {0, "bad record magic"};
-  const auto n = get<std::uint32_t>(r + 4);
+  const auto n = getLittleEndian<std::uint32_t>(r + 4);
   if (n > kMaxMeasurements) return {0, "absurd measurement count " + std::to_string(n)};
   const bool coded = magic != kFixedRecordMagic;
   std::size_t len = kFixedRecordFixed + static_cast<std::size_t>(n) * kMeasurementSize + 4;
   if (coded) {
     if (size - off < kCodedRecordFixed + 4) return {0, "record header truncated"};
-    const auto coding = get<std::uint32_t>(r + kFixedRecordFixed);
+    const auto coding = getLittleEndian<std::uint32_t>(r + kFixedRecordFixed);
     if (coding > static_cast<std::size_t>(n) * kMaxCodedMeasurement)
       return {0, "absurd coding length " + std::to_string(coding) + " for " + std::to_string(n) + " measurements"};
     len = kCodedRecordFixed + coding + 4;
   }
   if (size - off < len) return {0, "record truncated"};
-  if (get<std::uint32_t>(r + len - 4) != crc32(r, len - 4)) return {0, "record checksum mismatch"};
-  rec.seq = get<std::int64_t>(r + 8);
-  rec.utime = get<std::int64_t>(r + 16);
+  if (getLittleEndian<std::uint32_t>(r + len - 4) != crc32(r, len - 4)) return {0, "record checksum mismatch"};
+  rec.seq = getLittleEndian<std::int64_t>(r + 8);
+  rec.utime = getLittleEndian<std::int64_t>(r + 16);
   rec.offset = off;
   if (coded) {
     const CodingVersion version = magic == kCodedRecordMagic2 ? CodingVersion::k2 : CodingVersion::k3;
@@ -114,16 +97,18 @@ RecordAt recordAt(const std::byte* data, std::size_t size, std::size_t off, Jour
   rec.measurements.resize(n);
   const std::byte* m = r + kFixedRecordFixed;
   for (std::uint32_t i = 0; i < n; ++i, m += kMeasurementSize) {
-    rec.measurements[i] = Measurement{{get<std::int32_t>(m), get<std::int32_t>(m + 4), get<std::int32_t>(m + 8)},
-                                      get<std::int8_t>(m + 12)};
+    const CellKey key{getLittleEndian<std::int32_t>(m), getLittleEndian<std::int32_t>(m + 4),
+                      getLittleEndian<std::int32_t>(m + 8)};
+    rec.measurements[i] = Measurement{key, getLittleEndian<std::int8_t>(m + 12)};
   }
   return {len, ""};
 }
 
 std::string headerDamage(const std::byte* data) {
-  if (std::memcmp(data, kMagic, sizeof(kMagic)) != 0) return "not an ogf journal (bad magic)";
-  if (get<std::uint32_t>(data + kHeaderSize - 4) != crc32(data, kHeaderSize - 4)) return "journal header checksum mismatch";
-  if (const auto v = get<std::uint32_t>(data + 8); v != kVersion && v != kFixedVersion)
+  if (std::memcmp(data, kJournalMagic, sizeof(kJournalMagic)) != 0) return "not an ogf journal (bad magic)";
+  if (getLittleEndian<std::uint32_t>(data + kHeaderSize - 4) != crc32(data, kHeaderSize - 4))
+    return "journal header checksum mismatch";
+  if (const auto v = getLittleEndian<std::uint32_t>(data + 8); v != kJournalVersion && v != kFixedVersion)
     return "unsupported journal version " + std::to_string(v);
   return "";
 }
@@ -140,8 +125,8 @@ Result<JournalContents> readJournal(const std::filesystem::path& path) {
   JournalContents out;
   out.header_damage = headerDamage(data);
   if (out.header_damage.empty()) {
-    out.map_id = get<std::int64_t>(data + 12);
-    out.base_seq = get<std::int64_t>(data + 20);
+    out.map_id = getLittleEndian<std::int64_t>(data + 12);
+    out.base_seq = getLittleEndian<std::int64_t>(data + 20);
   }
   // Records follow each other; a stretch that is not a whole record (or whose sequence does not increase)
   // is skipped up to the next whole record, whose magic and checksum make a false match implausible.
@@ -165,7 +150,7 @@ Result<JournalContents> readJournal(const std::filesystem::path& path) {
         next = size;
         break;
       }
-      if (!isRecordMagic(get<std::uint32_t>(data + next))) continue;
+      if (!isRecordMagic(getLittleEndian<std::uint32_t>(data + next))) continue;
       const RecordAt candidate = recordAt(data, size, next, rec);
       if (candidate.length != 0 && rec.seq > last_seq) break;
     }
@@ -187,7 +172,7 @@ Result<JournalWriter> JournalWriter::create(const std::filesystem::path& path, s
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) return systemError(path, "cannot create journal");
   const auto h = header(map_id, base_seq);
-  if (auto st = writeAll(fd, path, h); !st) {
+  if (auto st = writeWhole(fd, path, h); !st) {
     ::close(fd);
     return st.error();
   }
@@ -254,18 +239,18 @@ Status JournalWriter::append(std::int64_t seq, std::int64_t utime, std::span<con
   if (measurements.size() > kMaxMeasurements)
     return Error::resource(path_.string() + ": record of " + std::to_string(measurements.size()) + " measurements is too large");
   const std::size_t start = pending_.size();
-  put<std::uint32_t>(pending_, kCodedRecordMagic);
-  put<std::uint32_t>(pending_, static_cast<std::uint32_t>(measurements.size()));
-  put<std::int64_t>(pending_, seq);
-  put<std::int64_t>(pending_, utime);
-  put<std::uint32_t>(pending_, 0);  // the coding's length, known once it is written
+  putLittleEndian<std::uint32_t>(pending_, kCodedRecordMagic);
+  putLittleEndian<std::uint32_t>(pending_, static_cast<std::uint32_t>(measurements.size()));
+  putLittleEndian<std::int64_t>(pending_, seq);
+  putLittleEndian<std::int64_t>(pending_, utime);
+  putLittleEndian<std::uint32_t>(pending_, 0);  // the coding's length, known once it is written
   const std::size_t coding = pending_.size();
   encodeMeasurements(measurements, pending_);
   const auto length = static_cast<std::uint32_t>(pending_.size() - coding);
   std::vector<std::byte> field;
-  put<std::uint32_t>(field, length);
+  putLittleEndian<std::uint32_t>(field, length);
   std::copy(field.begin(), field.end(), pending_.begin() + static_cast<std::ptrdiff_t>(coding - 4));
-  put<std::uint32_t>(pending_, crc32(pending_.data() + start, pending_.size() - start));
+  putLittleEndian<std::uint32_t>(pending_, crc32(pending_.data() + start, pending_.size() - start));
   last_seq_ = seq;
   return okStatus();
 }
@@ -273,7 +258,7 @@ Status JournalWriter::append(std::int64_t seq, std::int64_t utime, std::span<con
 Status JournalWriter::flush() {
   if (pending_.empty()) return okStatus();
   if (fd_ < 0) return Error::internal(path_.string() + ": journal is closed");
-  if (auto st = writeAll(fd_, path_, pending_); !st) {
+  if (auto st = writeWhole(fd_, path_, pending_); !st) {
     // A partial write (disk full) must not leave half a record: cut back to the last whole one so a
     // later flush (which retries the whole buffer) continues a readable journal.
     if (::ftruncate(fd_, static_cast<off_t>(size_)) == 0) ::lseek(fd_, static_cast<off_t>(size_), SEEK_SET);

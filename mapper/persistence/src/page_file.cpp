@@ -12,8 +12,8 @@ namespace {
 
 static_assert(std::endian::native == std::endian::little, "pages store floats as the host holds them");
 
-constexpr char kMagic[8] = {'O', 'G', 'F', 'P', 'A', 'G', 'E', '1'};
-constexpr std::uint32_t kVersion = 2;
+constexpr char kPageMagic[8] = {'O', 'G', 'F', 'P', 'A', 'G', 'E', '1'};
+constexpr std::uint32_t kPageVersion = 2;
 constexpr std::size_t kPublishedCellBytes = 12 + 2 + 1 + 4;
 constexpr std::size_t kHeader = 8 + 4 + 3 * 4 + 3 * 4;
 constexpr std::size_t kTrailer = 8;
@@ -30,8 +30,8 @@ std::uint64_t pageChecksum(std::span<const std::byte> bytes) {
 std::vector<std::byte> encodePage(const Page& page) {
   std::vector<std::byte> out;
   out.reserve(kHeader + page.blocks.size() * (12 + page.floats_per_block * sizeof(float) + page.cells_per_block) + kTrailer);
-  for (char c : kMagic) out.push_back(static_cast<std::byte>(c));
-  putLittleEndian<std::uint32_t>(out, kVersion);
+  for (char c : kPageMagic) out.push_back(static_cast<std::byte>(c));
+  putLittleEndian<std::uint32_t>(out, kPageVersion);
   putLittleEndian<std::int32_t>(out, page.region.x);
   putLittleEndian<std::int32_t>(out, page.region.y);
   putLittleEndian<std::int32_t>(out, page.region.z);
@@ -66,9 +66,9 @@ Result<Page> decodePage(std::span<const std::byte> bytes, const std::string& sou
   };
   if (bytes.size() < kHeader + kTrailer)
     return fail(0, "page truncated (" + std::to_string(bytes.size()) + " bytes)");
-  if (std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) return fail(0, "not an ogf page (bad magic)");
+  if (std::memcmp(bytes.data(), kPageMagic, sizeof kPageMagic) != 0) return fail(0, "not an ogf page (bad magic)");
   const auto version = getLittleEndian<std::uint32_t>(bytes.data() + 8);
-  if (version != 1 && version != kVersion) return fail(8, "unsupported page version " + std::to_string(version));
+  if (version != 1 && version != kPageVersion) return fail(8, "unsupported page version " + std::to_string(version));
   const std::size_t checksumAt = bytes.size() - kTrailer;
   if (getLittleEndian<std::uint64_t>(bytes.data() + checksumAt) != pageChecksum(bytes.first(checksumAt)))
     return fail(checksumAt, "page checksum mismatch (truncated or corrupt)");

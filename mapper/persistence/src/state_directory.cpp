@@ -13,21 +13,11 @@
 namespace ogf::persistence {
 namespace {
 
-constexpr char kMagic[8] = {'O', 'G', 'F', 'S', 'N', 'A', 'P', '1'};
+constexpr char kSnapshotMagic[8] = {'O', 'G', 'F', 'S', 'N', 'A', 'P', '1'};
 // Version 2 adds the pages that hold the rest of the map; a snapshot without pages is written as version 1.
-constexpr std::uint32_t kVersion = 1;
-constexpr std::uint32_t kVersionWithPages = 2;
+constexpr std::uint32_t kSnapshotVersion = 1;
+constexpr std::uint32_t kSnapshotVersionWithPages = 2;
 constexpr std::size_t kFixed = 8 + 4 + 8 + 8 + 8;
-
-template <class T>
-void put(std::vector<std::byte>& out, T v) {
-  putLittleEndian(out, v);
-}
-
-template <class T>
-T get(const std::byte* p) {
-  return getLittleEndian<T>(p);
-}
 
 }  // namespace
 
@@ -35,21 +25,21 @@ std::vector<std::byte> encodeSnapshot(std::int64_t map_id, std::int64_t seq, std
                                       std::span<const std::string> pages) {
   std::vector<std::byte> out;
   out.reserve(kFixed + map_bytes.size() + 4);
-  for (char c : kMagic) out.push_back(static_cast<std::byte>(c));
-  put<std::uint32_t>(out, pages.empty() ? kVersion : kVersionWithPages);
-  put<std::int64_t>(out, map_id);
-  put<std::int64_t>(out, seq);
-  put<std::uint64_t>(out, map_bytes.size());
+  for (char c : kSnapshotMagic) out.push_back(static_cast<std::byte>(c));
+  putLittleEndian<std::uint32_t>(out, pages.empty() ? kSnapshotVersion : kSnapshotVersionWithPages);
+  putLittleEndian<std::int64_t>(out, map_id);
+  putLittleEndian<std::int64_t>(out, seq);
+  putLittleEndian<std::uint64_t>(out, map_bytes.size());
   const auto* map = reinterpret_cast<const std::byte*>(map_bytes.data());
   out.insert(out.end(), map, map + map_bytes.size());
   if (!pages.empty()) {
-    put<std::uint32_t>(out, static_cast<std::uint32_t>(pages.size()));
+    putLittleEndian<std::uint32_t>(out, static_cast<std::uint32_t>(pages.size()));
     for (const std::string& name : pages) {
-      put<std::uint16_t>(out, static_cast<std::uint16_t>(name.size()));
+      putLittleEndian<std::uint16_t>(out, static_cast<std::uint16_t>(name.size()));
       for (char c : name) out.push_back(static_cast<std::byte>(c));
     }
   }
-  put<std::uint32_t>(out, crc32(out.data(), out.size()));
+  putLittleEndian<std::uint32_t>(out, crc32(out.data(), out.size()));
   return out;
 }
 
@@ -58,30 +48,31 @@ Result<Snapshot> decodeSnapshot(std::span<const std::byte> bytes, const std::str
     return Error::inputDamaged(source + ": offset " + std::to_string(offset) + ": " + what);
   };
   if (bytes.size() < kFixed + 4) return fail(0, "snapshot truncated (" + std::to_string(bytes.size()) + " bytes)");
-  if (std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) return fail(0, "not an ogf snapshot (bad magic)");
-  const auto version = get<std::uint32_t>(bytes.data() + 8);
-  if (version != kVersion && version != kVersionWithPages)
+  if (std::memcmp(bytes.data(), kSnapshotMagic, sizeof(kSnapshotMagic)) != 0)
+    return fail(0, "not an ogf snapshot (bad magic)");
+  const auto version = getLittleEndian<std::uint32_t>(bytes.data() + 8);
+  if (version != kSnapshotVersion && version != kSnapshotVersionWithPages)
     return fail(8, "unsupported snapshot version " + std::to_string(version));
   const std::size_t crcAt = bytes.size() - 4;
-  const auto n = get<std::uint64_t>(bytes.data() + 28);
-  if (version == kVersion ? n != crcAt - kFixed : n > crcAt - kFixed)
+  const auto n = getLittleEndian<std::uint64_t>(bytes.data() + 28);
+  if (version == kSnapshotVersion ? n != crcAt - kFixed : n > crcAt - kFixed)
     return fail(28, "map length " + std::to_string(n) + " does not match the file (" + std::to_string(crcAt - kFixed) +
                         " bytes follow): truncated or corrupt");
-  if (get<std::uint32_t>(bytes.data() + crcAt) != crc32(bytes.data(), crcAt))
+  if (getLittleEndian<std::uint32_t>(bytes.data() + crcAt) != crc32(bytes.data(), crcAt))
     return fail(crcAt, "snapshot checksum mismatch");
   Snapshot s;
-  s.map_id = get<std::int64_t>(bytes.data() + 12);
-  s.seq = get<std::int64_t>(bytes.data() + 20);
+  s.map_id = getLittleEndian<std::int64_t>(bytes.data() + 12);
+  s.seq = getLittleEndian<std::int64_t>(bytes.data() + 20);
   s.map_bytes.resize(n);
   std::memcpy(s.map_bytes.data(), bytes.data() + kFixed, n);
-  if (version == kVersionWithPages) {
+  if (version == kSnapshotVersionWithPages) {
     std::size_t at = kFixed + n;
     if (crcAt - at < 4) return fail(at, "page count: snapshot truncated");
-    const auto count = get<std::uint32_t>(bytes.data() + at);
+    const auto count = getLittleEndian<std::uint32_t>(bytes.data() + at);
     at += 4;
     for (std::uint32_t i = 0; i < count; ++i) {
       if (crcAt - at < 2) return fail(at, "page name " + std::to_string(i) + ": snapshot truncated");
-      const auto len = get<std::uint16_t>(bytes.data() + at);
+      const auto len = getLittleEndian<std::uint16_t>(bytes.data() + at);
       at += 2;
       if (crcAt - at < len) return fail(at, "page name " + std::to_string(i) + ": snapshot truncated");
       std::string name(reinterpret_cast<const char*>(bytes.data() + at), len);

@@ -16,11 +16,11 @@ namespace {
 
 using namespace ogf::delta;
 
-std::int8_t classOf(double p) {
+std::int8_t budgetClassOf(double p) {
   return p > 0.65 ? ogf::map_delta_t::CLASS_OCCUPIED : (p < 0.35 ? ogf::map_delta_t::CLASS_FREE : ogf::map_delta_t::CLASS_UNKNOWN);
 }
 
-PublishedCell cellAt(int x, int y, double p) { return {{x, y, 0}, quantiseProbability(p), classOf(p), 0.5f}; }
+PublishedCell cellAt(int x, int y, double p) { return {{x, y, 0}, quantiseProbability(p), budgetClassOf(p), 0.5f}; }
 
 std::vector<PublishedCell> cellsIn(const std::vector<ogf::map_delta_t>& msgs) {
   std::vector<PublishedCell> out;

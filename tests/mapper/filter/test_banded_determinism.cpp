@@ -256,7 +256,7 @@ ScanTrace traceScans(FilterConfig config, int threads, BatchShape shape) {
 void expectSameTrace(const ScanTrace& a, const ScanTrace& b, int threads) {
   ASSERT_EQ(a.checksums.size(), b.checksums.size());
   for (std::size_t scan = 0; scan < a.checksums.size(); ++scan) {
-    SCOPED_TRACE(testing::Message() << "threads " << threads << ", scan " << scan);
+    SCOPED_TRACE(::testing::Message() << "threads " << threads << ", scan " << scan);
     EXPECT_EQ(a.checksums[scan], b.checksums[scan]);
     EXPECT_EQ(a.stats[scan].applied, b.stats[scan].applied);
     EXPECT_EQ(a.stats[scan].skipped, b.stats[scan].skipped);

@@ -8,8 +8,8 @@
 namespace ogf::fusion {
 namespace {
 
-constexpr std::int64_t kS = 1'000'000;
-constexpr std::int64_t kStart = 100 * kS;
+constexpr std::int64_t kSecondUs = 1'000'000;
+constexpr std::int64_t kStart = 100 * kSecondUs;
 
 // Feeds scans at 10 Hz and/or poses at 100 Hz from `from` to `to` (steady µs), observing every 10 ms;
 // returns the changes reported.
@@ -26,15 +26,15 @@ std::vector<InputWatch::Change> run(InputWatch& w, std::int64_t from, std::int64
 
 TEST(InputWatch, ScansWithoutPosesAreReportedOnceAfterTheSilenceAndTheRecoveryOnce) {
   InputWatch w(InputWatchConfig{}, kStart);
-  auto changes = run(w, kStart, kStart + 2 * kS, true, false);
+  auto changes = run(w, kStart, kStart + 2 * kSecondUs, true, false);
   EXPECT_TRUE(changes.empty()) << "within the silence the poses may still come";
   EXPECT_EQ(w.state(), InputState::kNone);
-  changes = run(w, kStart + 2 * kS, kStart + 10 * kS, true, false);
+  changes = run(w, kStart + 2 * kSecondUs, kStart + 10 * kSecondUs, true, false);
   ASSERT_EQ(changes.size(), 1U);
   EXPECT_EQ(changes[0].state, InputState::kWaitingForPoses);
   EXPECT_EQ(changes[0].previous, InputState::kNone);
-  EXPECT_GT(w.silentFor(kStart + 10 * kS), 3 * kS);
-  changes = run(w, kStart + 10 * kS, kStart + 12 * kS, true, true);
+  EXPECT_GT(w.silentFor(kStart + 10 * kSecondUs), 3 * kSecondUs);
+  changes = run(w, kStart + 10 * kSecondUs, kStart + 12 * kSecondUs, true, true);
   ASSERT_EQ(changes.size(), 1U);
   EXPECT_EQ(changes[0].state, InputState::kOk);
   EXPECT_EQ(changes[0].previous, InputState::kWaitingForPoses);
@@ -42,14 +42,14 @@ TEST(InputWatch, ScansWithoutPosesAreReportedOnceAfterTheSilenceAndTheRecoveryOn
 
 TEST(InputWatch, PosesWithoutScansAreWaitingForScansAndBothStoppedIsNoInput) {
   InputWatch w(InputWatchConfig{}, kStart);
-  auto changes = run(w, kStart, kStart + 2 * kS, true, true);
+  auto changes = run(w, kStart, kStart + 2 * kSecondUs, true, true);
   ASSERT_EQ(changes.size(), 1U);
   EXPECT_EQ(changes[0].state, InputState::kOk);
-  changes = run(w, kStart + 2 * kS, kStart + 8 * kS, false, true);
+  changes = run(w, kStart + 2 * kSecondUs, kStart + 8 * kSecondUs, false, true);
   ASSERT_EQ(changes.size(), 1U);
   EXPECT_EQ(changes[0].state, InputState::kWaitingForScans);
-  EXPECT_EQ(*w.sinceScan(kStart + 8 * kS), 8 * kS - (2 * kS - 100'000));
-  changes = run(w, kStart + 8 * kS, kStart + 14 * kS, false, false);
+  EXPECT_EQ(*w.sinceScan(kStart + 8 * kSecondUs), 8 * kSecondUs - (2 * kSecondUs - 100'000));
+  changes = run(w, kStart + 8 * kSecondUs, kStart + 14 * kSecondUs, false, false);
   ASSERT_EQ(changes.size(), 1U);
   EXPECT_EQ(changes[0].state, InputState::kNone);
   EXPECT_EQ(w.state(), InputState::kNone);
@@ -58,11 +58,11 @@ TEST(InputWatch, PosesWithoutScansAreWaitingForScansAndBothStoppedIsNoInput) {
 TEST(InputWatch, BothStoppingAMomentApartIsNoInputNotAMissingPose) {
   // A replay ends: the poses stop, the driver's last scan follows 0.8 s later.
   InputWatch w(InputWatchConfig{}, kStart);
-  auto changes = run(w, kStart, kStart + 5 * kS, true, true);
+  auto changes = run(w, kStart, kStart + 5 * kSecondUs, true, true);
   ASSERT_EQ(changes.size(), 1U);
   EXPECT_EQ(changes[0].state, InputState::kOk);
-  changes = run(w, kStart + 5 * kS, kStart + 5 * kS + 900'000, true, false);
-  const auto rest = run(w, kStart + 5 * kS + 900'000, kStart + 12 * kS, false, false);
+  changes = run(w, kStart + 5 * kSecondUs, kStart + 5 * kSecondUs + 900'000, true, false);
+  const auto rest = run(w, kStart + 5 * kSecondUs + 900'000, kStart + 12 * kSecondUs, false, false);
   changes.insert(changes.end(), rest.begin(), rest.end());
   ASSERT_EQ(changes.size(), 1U);
   EXPECT_EQ(changes[0].state, InputState::kNone);
@@ -72,8 +72,8 @@ TEST(InputWatch, BothStoppingAMomentApartIsNoInputNotAMissingPose) {
 TEST(InputWatch, AScanStreamThatNeverCameIsMissingEvenWhenThePosesStopSoonAfter) {
   // Poses for 2 s, then none; no scan ever: the scans are what is missing, from the end of the grace on.
   InputWatch w(InputWatchConfig{}, kStart);
-  auto changes = run(w, kStart, kStart + 2 * kS, false, true);
-  const auto rest = run(w, kStart + 2 * kS, kStart + 4 * kS, false, false);
+  auto changes = run(w, kStart, kStart + 2 * kSecondUs, false, true);
+  const auto rest = run(w, kStart + 2 * kSecondUs, kStart + 4 * kSecondUs, false, false);
   changes.insert(changes.end(), rest.begin(), rest.end());
   ASSERT_FALSE(changes.empty());
   EXPECT_EQ(changes[0].state, InputState::kWaitingForScans);
@@ -81,20 +81,20 @@ TEST(InputWatch, AScanStreamThatNeverCameIsMissingEvenWhenThePosesStopSoonAfter)
 
 TEST(InputWatch, NothingAtAllIsReportedOnceWhenTheStartsGraceEnds) {
   InputWatch w(InputWatchConfig{}, kStart);
-  const auto changes = run(w, kStart, kStart + 20 * kS, false, false);
+  const auto changes = run(w, kStart, kStart + 20 * kSecondUs, false, false);
   ASSERT_EQ(changes.size(), 1U);
   EXPECT_EQ(changes[0].state, InputState::kNone);
   EXPECT_EQ(changes[0].previous, InputState::kNone);
-  EXPECT_FALSE(w.sinceScan(kStart + 20 * kS).has_value());
-  EXPECT_FALSE(w.sincePose(kStart + 20 * kS).has_value());
+  EXPECT_FALSE(w.sinceScan(kStart + 20 * kSecondUs).has_value());
+  EXPECT_FALSE(w.sincePose(kStart + 20 * kSecondUs).has_value());
 }
 
 TEST(InputWatch, WithAFixedPoseScansAloneAreOkAndTheirAbsenceIsWaitingForScans) {
   InputWatch w(InputWatchConfig{3.0, false}, kStart);
-  auto changes = run(w, kStart, kStart + 5 * kS, true, false);
+  auto changes = run(w, kStart, kStart + 5 * kSecondUs, true, false);
   ASSERT_EQ(changes.size(), 1U);
   EXPECT_EQ(changes[0].state, InputState::kOk);
-  changes = run(w, kStart + 5 * kS, kStart + 10 * kS, false, true);
+  changes = run(w, kStart + 5 * kSecondUs, kStart + 10 * kSecondUs, false, true);
   ASSERT_EQ(changes.size(), 1U);
   EXPECT_EQ(changes[0].state, InputState::kWaitingForScans) << "poses are not an input with a fixed pose";
 }

@@ -9,7 +9,7 @@
 namespace ogf::fusion {
 namespace {
 
-PendingScansConfig config(double wait_s = 0.2, std::size_t scans = 4, std::size_t points = 1000) {
+PendingScansConfig pendingConfig(double wait_s = 0.2, std::size_t scans = 4, std::size_t points = 1000) {
   PendingScansConfig c;
   c.max_pose_wait_s = wait_s;
   c.max_pending_scans = scans;
@@ -30,7 +30,7 @@ ScanSpan scan(std::int64_t begin, std::size_t points = 100) { return {begin, beg
 const PoseBuffer kNoPoses{PoseBufferConfig{}};
 
 TEST(PendingScans, ScanLeavesOnlyOnceItsWholeSpanIsCovered) {
-  PendingScans<int> pending(config());
+  PendingScans<int> pending(pendingConfig());
   ASSERT_EQ(pending.push(scan(1'000'000), 7, kNoPoses, 0), PushOutcome::kQueued);
   EXPECT_FALSE(pending.popReady(posesUntil(900'000, 1'050'000), 10'000)) << "half covered: wait";
   EXPECT_EQ(pending.size(), 1U);
@@ -42,7 +42,7 @@ TEST(PendingScans, ScanLeavesOnlyOnceItsWholeSpanIsCovered) {
 }
 
 TEST(PendingScans, ScanWaitingLongerThanMaxWaitIsDroppedAndCounted) {
-  PendingScans<int> pending(config(0.2));
+  PendingScans<int> pending(pendingConfig(0.2));
   ASSERT_EQ(pending.push(scan(1'000'000), 1, kNoPoses, 5'000'000), PushOutcome::kQueued);
   const PoseBuffer poses = posesUntil(900'000, 1'050'000);
   EXPECT_FALSE(pending.popReady(poses, 5'200'000)) << "exactly max wait: still waiting";
@@ -53,7 +53,7 @@ TEST(PendingScans, ScanWaitingLongerThanMaxWaitIsDroppedAndCounted) {
 }
 
 TEST(PendingScans, ScanOlderThanTheOldestPoseIsDroppedAtOnce) {
-  PendingScans<int> pending(config());
+  PendingScans<int> pending(pendingConfig());
   ASSERT_EQ(pending.push(scan(1'000'000), 1, kNoPoses, 0), PushOutcome::kQueued);
   ASSERT_EQ(pending.push(scan(2'000'000), 2, kNoPoses, 0), PushOutcome::kQueued);
   const auto ready = pending.popReady(posesUntil(1'500'000, 2'200'000), 0);
@@ -63,7 +63,7 @@ TEST(PendingScans, ScanOlderThanTheOldestPoseIsDroppedAtOnce) {
 }
 
 TEST(PendingScans, ScansLeaveInArrivalOrder) {
-  PendingScans<int> pending(config());
+  PendingScans<int> pending(pendingConfig());
   ASSERT_EQ(pending.push(scan(1'000'000), 1, kNoPoses, 0), PushOutcome::kQueued);
   ASSERT_EQ(pending.push(scan(1'100'000), 2, kNoPoses, 0), PushOutcome::kQueued);
   const PoseBuffer poses = posesUntil(900'000, 1'300'000);
@@ -73,7 +73,7 @@ TEST(PendingScans, ScansLeaveInArrivalOrder) {
 }
 
 TEST(PendingScans, FullQueueDropsTheOldestWholeScanAsBehindWhenItsPosesHadArrived) {
-  PendingScans<std::shared_ptr<int>> pending(config(1.0, 3, 1000));
+  PendingScans<std::shared_ptr<int>> pending(pendingConfig(1.0, 3, 1000));
   const PoseBuffer poses = posesUntil(0, 2'000'000);
   auto first = std::make_shared<int>(0);
   ASSERT_EQ(pending.push(scan(1'000'000), first, poses, 0), PushOutcome::kQueued);
@@ -89,12 +89,12 @@ TEST(PendingScans, FullQueueDropsTheOldestWholeScanAsBehindWhenItsPosesHadArrive
 
 // Scans arrive and no odometry does: the queue fills and every scan pushed out was waiting for its poses.
 TEST(PendingScans, AScanPushedOutWhileItsPosesHaveNotArrivedIsDroppedForWantOfAPoseNotBehind) {
-  PendingScans<int> pending(config(1.0, 3, 1000));
+  PendingScans<int> pending(pendingConfig(1.0, 3, 1000));
   for (int i = 0; i < 10; ++i) ASSERT_EQ(pending.push(scan(1'000'000 + i * 100'000), i, kNoPoses, 0), PushOutcome::kQueued);
   EXPECT_EQ(pending.counts().scans_dropped_no_pose, 7);
   EXPECT_EQ(pending.counts().scans_dropped_behind, 0);
   // Odometry that stops before the scans: the scans beyond its newest pose are still waiting for it.
-  PendingScans<int> lagging(config(1.0, 3, 1000));
+  PendingScans<int> lagging(pendingConfig(1.0, 3, 1000));
   const PoseBuffer poses = posesUntil(0, 1'250'000);
   for (int i = 0; i < 6; ++i) ASSERT_EQ(lagging.push(scan(1'000'000 + i * 100'000), i, poses, 0), PushOutcome::kQueued);
   EXPECT_EQ(lagging.counts().scans_dropped_behind, 2) << "scans 0 and 1 were covered: the mapper was behind";
@@ -102,7 +102,7 @@ TEST(PendingScans, AScanPushedOutWhileItsPosesHaveNotArrivedIsDroppedForWantOfAP
 }
 
 TEST(PendingScans, PopOldestTakesTheScansInArrivalOrderWithoutPoses) {
-  PendingScans<int> pending(config());
+  PendingScans<int> pending(pendingConfig());
   ASSERT_EQ(pending.push(scan(1'000'000, 300), 1, kNoPoses, 0), PushOutcome::kQueued);
   ASSERT_EQ(pending.push(scan(1'100'000, 200), 2, kNoPoses, 0), PushOutcome::kQueued);
   EXPECT_EQ(pending.popOldest()->payload, 1);
@@ -116,7 +116,7 @@ TEST(PendingScans, PopOldestTakesTheScansInArrivalOrderWithoutPoses) {
 // A sensor whose pose is fixed waits for no odometry: a scan pushed out of a full queue could have been
 // mapped, so the mapper was behind, by scans and by points alike.
 TEST(PendingScans, WithAFixedPoseAScanPushedOutIsDroppedBehindNotForWantOfAPose) {
-  PendingScans<int> pending(config(1.0, 3, 1000));
+  PendingScans<int> pending(pendingConfig(1.0, 3, 1000));
   for (int i = 0; i < 10; ++i) {
     ASSERT_EQ(pending.pushFixedPose(scan(1'000'000 + i * 100'000), i, 0), PushOutcome::kQueued);
   }
@@ -132,7 +132,7 @@ TEST(PendingScans, WithAFixedPoseAScanPushedOutIsDroppedBehindNotForWantOfAPose)
 }
 
 TEST(PendingScans, PointBoundDropsOldestScansUntilTheNewOneFits) {
-  PendingScans<int> pending(config(1.0, 10, 1000));
+  PendingScans<int> pending(pendingConfig(1.0, 10, 1000));
   const PoseBuffer poses = posesUntil(0, 2'000'000);
   ASSERT_EQ(pending.push(scan(1'000'000, 400), 1, poses, 0), PushOutcome::kQueued);
   ASSERT_EQ(pending.push(scan(1'100'000, 400), 2, poses, 0), PushOutcome::kQueued);
@@ -145,7 +145,7 @@ TEST(PendingScans, PointBoundDropsOldestScansUntilTheNewOneFits) {
 }
 
 TEST(PendingScans, LateAndMalformedScansAreRefusedAndCounted) {
-  PendingScans<int> pending(config());
+  PendingScans<int> pending(pendingConfig());
   ASSERT_EQ(pending.push(scan(2'000'000), 1, kNoPoses, 0), PushOutcome::kQueued);
   EXPECT_EQ(pending.push(scan(1'000'000), 2, kNoPoses, 0), PushOutcome::kLate);
   EXPECT_EQ(pending.push(scan(2'000'000), 3, kNoPoses, 0), PushOutcome::kLate) << "a duplicate is late too";
@@ -157,7 +157,7 @@ TEST(PendingScans, LateAndMalformedScansAreRefusedAndCounted) {
 }
 
 TEST(PendingScans, AScanSpanningAPoseJumpIsDroppedAndCountedAndTheNextIsMapped) {
-  PendingScans<int> pending(config());
+  PendingScans<int> pending(pendingConfig());
   PoseBuffer poses(PoseBufferConfig{});
   for (std::int64_t t = 900'000; t <= 1'300'000; t += 10'000) {
     const double x = t < 1'050'000 ? 0.0 : 1000.0;  // 1 km between 1.04 s and 1.05 s
@@ -173,7 +173,7 @@ TEST(PendingScans, AScanSpanningAPoseJumpIsDroppedAndCountedAndTheNextIsMapped) 
 }
 
 TEST(PendingScans, AfterAClockRestartAnEarlierScanIsNotLate) {
-  PendingScans<int> pending(config());
+  PendingScans<int> pending(pendingConfig());
   ASSERT_EQ(pending.push(scan(5'000'000), 1, kNoPoses, 0), PushOutcome::kQueued);
   EXPECT_EQ(pending.push(scan(1'000'000), 2, kNoPoses, 0), PushOutcome::kLate);
   pending.restartClock();

@@ -9,11 +9,11 @@
 namespace ogf::navigation {
 namespace {
 
-constexpr double kRes = 0.1;
+constexpr double kStreamRes = 0.1;
 
 class NavStreamTest : public ::testing::Test {
  protected:
-  NavStreamTest() : projection_(std::move(NavProjection::create(kRes, NavBand{}).value())) {}
+  NavStreamTest() : projection_(std::move(NavProjection::create(kStreamRes, NavBand{}).value())) {}
 
   // Random cells over `spread` columns each side of the origin, then the tiles that changed.
   std::vector<TileKey> scan(int cells = 2000, int spread = 100) {
@@ -53,7 +53,7 @@ TEST_F(NavStreamTest, AKeyframeThenUpdatesRebuildTheGridToTheMappersChecksum) {
   EXPECT_EQ(theirs.width, mine.width);
   EXPECT_EQ(theirs.cost, mine.cost);
   EXPECT_EQ(theirs.column_class, mine.column_class);
-  EXPECT_DOUBLE_EQ(theirs.resolution, kRes);
+  EXPECT_DOUBLE_EQ(theirs.resolution, kStreamRes);
   EXPECT_DOUBLE_EQ(theirs.band.max_height, NavBand{}.max_height);
 }
 

@@ -18,6 +18,7 @@
 #include "ogf/map_io/offline_mapping.hpp"
 #include "ogf/map_io/topdown_png.hpp"
 #include "scratch_dir.hpp"
+#include "support/file_text.hpp"
 #include "synthetic_scan.hpp"
 #include "wall_mapping.hpp"
 
@@ -27,19 +28,12 @@ using namespace ogf;
 
 map_formats::MapCells wallMap() { return map_formats::collectCells(ogf::testing::wallMapping().mapper().filter()); }
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 TEST(CellCsv, HeaderIsExactAndEveryAllocatedCellIsARowAtItsCentre) {
   ogf::testing::ScratchDir dir;
   const auto cells = wallMap();
   ASSERT_GT(cells.occupiedCount(), 0u);
   ASSERT_TRUE(map_formats::writeCellCsv(cells, dir / "m.csv").ok());
-  std::istringstream in(slurp(dir / "m.csv"));
+  std::istringstream in(ogf::testing::fileText(dir / "m.csv"));
   std::string line;
   std::getline(in, line);
   EXPECT_EQ(line, "x,y,z,p,class,variance");
@@ -70,7 +64,7 @@ TEST(OccupiedPly, HeaderParsesAndVertexCountEqualsOccupiedCells) {
   ogf::testing::ScratchDir dir;
   const auto cells = wallMap();
   ASSERT_TRUE(map_formats::writeOccupiedPly(cells, dir / "m.ply").ok());
-  const std::string bytes = slurp(dir / "m.ply");
+  const std::string bytes = ogf::testing::fileText(dir / "m.ply");
   const std::size_t end = bytes.find("end_header\n");
   ASSERT_NE(end, std::string::npos);
   std::istringstream header(bytes.substr(0, end));
@@ -137,7 +131,7 @@ TEST(TopDownPng, BothViewsAreWrittenAsPngsOfTheMapExtent) {
   EXPECT_GE(size->width, 20);
   EXPECT_GE(size->height, 20);
   for (const char* name : {"occupancy.png", "entropy.png"}) {
-    const std::string bytes = slurp(dir / "png" / name);
+    const std::string bytes = ogf::testing::fileText(dir / "png" / name);
     ASSERT_GE(bytes.size(), 24u) << name;
     EXPECT_EQ(bytes.substr(1, 3), "PNG") << name;
     // IHDR: width and height, big-endian, at bytes 16 and 20. The long side is at least 800 pixels.

@@ -8,6 +8,7 @@
 
 #include "ogf/map_formats/nav_map_files.hpp"
 #include "scratch_dir.hpp"
+#include "support/file_text.hpp"
 
 namespace {
 
@@ -27,13 +28,6 @@ nav::NavGrid handGrid() {
   return g;
 }
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 TEST(NavMapFiles, ThePgmRunsFromNorthToSouthAndTheYamlPlacesItsLowerLeftCorner) {
   ogf::testing::ScratchDir dir;
   auto files = map_formats::writeNavMap(handGrid(), dir / "nav", map_formats::NavImageMode::kTrinary);
@@ -41,14 +35,14 @@ TEST(NavMapFiles, ThePgmRunsFromNorthToSouthAndTheYamlPlacesItsLowerLeftCorner) 
   EXPECT_EQ(files->free, 1u);
   EXPECT_EQ(files->occupied, 4u);
   EXPECT_EQ(files->unknown, 1u);
-  const std::string pgm = slurp(dir / "nav" / "map.pgm");
+  const std::string pgm = ogf::testing::fileText(dir / "nav" / "map.pgm");
   ASSERT_EQ(pgm.rfind("P5\n", 0), 0u);
   const auto body = pgm.substr(pgm.size() - 6);
   EXPECT_NE(pgm.find("\n3 2\n255\n"), std::string::npos);
   // First the north row (all occupied), then the south row: free, occupied, unknown.
   const std::string want{'\0', '\0', '\0', static_cast<char>(254), '\0', static_cast<char>(205)};
   EXPECT_EQ(body, want);
-  const std::string yaml = slurp(dir / "nav" / "map.yaml");
+  const std::string yaml = ogf::testing::fileText(dir / "nav" / "map.yaml");
   EXPECT_NE(yaml.find("image: map.pgm\n"), std::string::npos) << yaml;
   EXPECT_NE(yaml.find("mode: trinary\n"), std::string::npos) << yaml;
   EXPECT_NE(yaml.find("resolution: 0.1\n"), std::string::npos) << yaml;

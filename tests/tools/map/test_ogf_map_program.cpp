@@ -27,17 +27,11 @@
 #include "ogf/map_io/pcd_file.hpp"
 #include "run_program.hpp"
 #include "scratch_dir.hpp"
+#include "support/file_text.hpp"
 #include "support/shared_data.hpp"
 #include "synthetic_scan.hpp"
 
 namespace {
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream out;
-  out << in.rdbuf();
-  return out.str();
-}
 
 using namespace ogf;
 using ogf::testing::runProgram;
@@ -422,7 +416,7 @@ TEST(OgfMapProgram, AMapMadeBeforeIsExportedWithoutMapping) {
                               dir.path());
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.stdout_text.find("map file cells "), std::string::npos) << run.stdout_text;
-  EXPECT_EQ(slurp(dir / "again.csv"), slurp(dir / "m.csv"));
+  EXPECT_EQ(ogf::testing::fileText(dir / "again.csv"), ogf::testing::fileText(dir / "m.csv"));
   const auto cloud = ogf::map_io::readPcdFile(dir / "m.pcd");
   ASSERT_TRUE(cloud.ok()) << cloud.error().message;
   const auto [header, rows] = readCsv(dir / "m.csv");

@@ -88,21 +88,21 @@ Status forEachRecord(std::span<const std::uint8_t> bytes, Record record) {
   return okStatus();
 }
 
+}  // namespace
+
 // One message to visit from a held unit: where its record's content lies in the unit's bytes.
-struct Entry {
+struct HeldEntry {
   std::uint64_t log_time;
   std::size_t content;
   std::size_t size;
 };
-
-}  // namespace
 
 // A unit read and decoded, whose messages wait their turn.
 struct HeldUnit {
   std::uint64_t offset = 0;  // the unit's, for the order of equal times
   bool chunk = true;
   std::vector<std::uint8_t> bytes;
-  std::vector<Entry> entries;  // in log-time order
+  std::vector<HeldEntry> entries;  // in log-time order
   std::size_t next = 0;
 };
 
@@ -514,8 +514,8 @@ Status McapReader::forEachMessage(const std::set<std::uint16_t>& channel_ids, co
 
   // The held units, the one whose next message comes first on top: by log time, then file order.
   const auto later = [](const HeldUnit* a, const HeldUnit* b) {
-    const Entry& x = a->entries[a->next];
-    const Entry& y = b->entries[b->next];
+    const HeldEntry& x = a->entries[a->next];
+    const HeldEntry& y = b->entries[b->next];
     if (x.log_time != y.log_time) return x.log_time > y.log_time;
     if (a->offset != b->offset) return a->offset > b->offset;
     return x.content > y.content;
@@ -528,7 +528,7 @@ Status McapReader::forEachMessage(const std::set<std::uint16_t>& channel_ids, co
   const auto emitNext = [&] {
     HeldUnit* u = heap.top();
     heap.pop();
-    const Entry& e = u->entries[u->next++];
+    const HeldEntry& e = u->entries[u->next++];
     const auto content = std::span<const std::uint8_t>(u->bytes).subspan(e.content, e.size);
     std::span<const std::uint8_t> data;
     const auto m = parseMessage(content, &data);
@@ -600,7 +600,7 @@ Status McapReader::forEachMessage(const std::set<std::uint16_t>& channel_ids, co
     }
     if (h->entries.empty()) continue;
     std::stable_sort(h->entries.begin(), h->entries.end(),
-                     [](const Entry& a, const Entry& b) { return a.log_time < b.log_time; });
+                     [](const HeldEntry& a, const HeldEntry& b) { return a.log_time < b.log_time; });
     held_bytes += h->bytes.size();
     heap.push(h.get());
     held.emplace(h.get(), std::move(h));

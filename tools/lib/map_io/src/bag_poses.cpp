@@ -13,7 +13,7 @@ using namespace ogf::rosbag;  // NOLINT(google-build-using-namespace): the bag's
 
 namespace {
 
-constexpr std::size_t kMaxProblems = 20;
+constexpr std::size_t kMaxPoseProblems = 20;
 
 std::string_view withoutSlash(std::string_view frame) {
   return frame.starts_with('/') ? frame.substr(1) : frame;
@@ -67,7 +67,7 @@ Result<BagPoses> readBagPoses(const rosbag::Rosbag2Storage& bag, const BagPoseSo
   out.child_frame = is_tf ? std::string(withoutSlash(source.body_frame)) : std::string();
   const auto skip = [&](const BagMessage& m, const std::string& why) {
     ++out.skipped;
-    if (out.problems.size() < kMaxProblems)
+    if (out.problems.size() < kMaxPoseProblems)
       out.problems.push_back(
           fmt::format("{}: {} on {}: {}; skipped", m.file->string(), m.where(), source.topic, why));
   };
@@ -100,7 +100,7 @@ Result<BagPoses> readBagPoses(const rosbag::Rosbag2Storage& bag, const BagPoseSo
       },
       [&](const std::string& damage) {
         ++out.skipped;
-        if (out.problems.size() < kMaxProblems) out.problems.push_back(damage);
+        if (out.problems.size() < kMaxPoseProblems) out.problems.push_back(damage);
       });
   if (!st) return st.error();
   std::stable_sort(out.poses.begin(), out.poses.end(),

@@ -15,12 +15,12 @@
 namespace ogf::map_io {
 namespace {
 
-constexpr std::size_t kMaxProblems = 50;  // messages kept; the count is exact
+constexpr std::size_t kMaxOdometryProblems = 50;  // messages kept; the count is exact
 constexpr std::array<std::uint8_t, 4> kLcmSync = {0xED, 0xA1, 0xDA, 0x01};
 
 void addProblem(OdometryFile& out, std::string message) {
   ++out.skipped;
-  if (out.problems.size() < kMaxProblems) out.problems.push_back(std::move(message));
+  if (out.problems.size() < kMaxOdometryProblems) out.problems.push_back(std::move(message));
 }
 
 }  // namespace

@@ -6,10 +6,11 @@
 #include <limits>
 #include <numbers>
 
+#include "units.hpp"
+
 namespace ogf::sim {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // The slanted tests' cell: upper faces this far in (in cells), standing for the open upper faces.
 constexpr double kOpenFace = 1e-9;
 
@@ -72,8 +73,8 @@ CellClassifier::CellClassifier(const Shape& shape, double resolution) {
     if (std::abs(std::abs(hs.normal[a]) - 1.0) < 1e-12) {
       // {±u_a <= offset}: an interval along a, unbounded along the other two axes.
       kind_ = Kind::AxisBox;
-      lo_ = {-kInf, -kInf, -kInf};
-      hi_ = {kInf, kInf, kInf};
+      lo_ = {-kInfinity, -kInfinity, -kInfinity};
+      hi_ = {kInfinity, kInfinity, kInfinity};
       const double bound = snapToBoundary(hs.offset / r);
       if (hs.normal[a] > 0) {
         hi_[static_cast<std::size_t>(a)] = bound;
@@ -116,8 +117,8 @@ CellOverlap CellClassifier::classify(const CellKey& key) const {
       // Separating axes of two rectangles in the plane: the cell's x and y, the box's two yawed axes.
       const std::array<std::array<double, 2>, 4> axes = {{{1, 0}, {0, 1}, {c, s}, {-s, c}}};
       for (const auto& axis : axes) {
-        double lo = kInf;
-        double hi = -kInf;
+        double lo = kInfinity;
+        double hi = -kInfinity;
         for (const auto& p : corners) {
           const double d = p[0] * axis[0] + p[1] * axis[1];
           lo = std::min(lo, d);
@@ -147,8 +148,8 @@ CellOverlap CellClassifier::classify(const CellKey& key) const {
       return all_inside ? CellOverlap::Inside : CellOverlap::Surface;
     }
     case Kind::TiltedHalfSpace: {
-      double lo = kInf;
-      double hi = -kInf;
+      double lo = kInfinity;
+      double hi = -kInfinity;
       for (int i = 0; i < 8; ++i) {
         const double x = key.x + ((i & 1) ? 1.0 - kOpenFace : 0.0);
         const double y = key.y + ((i & 2) ? 1.0 - kOpenFace : 0.0);

@@ -5,10 +5,11 @@
 #include <cmath>
 #include <limits>
 
+#include "units.hpp"
+
 namespace ogf::sim {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // Below this a direction component counts as parallel to a slab.
 constexpr double kParallel = 1e-12;
 
@@ -45,8 +46,8 @@ std::optional<Crossing> intersectBox(const Box& box, const Ray& ray) {
   const Eigen::Vector3d d{c * ray.direction.x() + s * ray.direction.y(),
                           -s * ray.direction.x() + c * ray.direction.y(), ray.direction.z()};
   const Eigen::Vector3d h = 0.5 * box.size;
-  double t0 = -kInf;
-  double t1 = kInf;
+  double t0 = -kInfinity;
+  double t1 = kInfinity;
   int axis = 2;
   double sign = 1.0;
   for (int i = 0; i < 3; ++i) {
@@ -66,8 +67,8 @@ std::optional<Crossing> intersectCylinder(const Cylinder& cyl, const Ray& ray) {
   const double dy = ray.direction.y();
   const double a = dx * dx + dy * dy;
   const double c = ox * ox + oy * oy - cyl.radius * cyl.radius;
-  double t0 = -kInf;
-  double t1 = kInf;
+  double t0 = -kInfinity;
+  double t1 = kInfinity;
   bool side_enters = false;
   if (a < kParallel * kParallel) {
     if (c > 0.0) return std::nullopt;  // a vertical ray outside the circle
@@ -101,11 +102,11 @@ std::optional<Crossing> intersectHalfSpace(const HalfSpace& hs, const Ray& ray) 
   const double no = hs.normal.dot(ray.origin);
   if (std::abs(nd) < kParallel) {
     if (no > hs.offset) return std::nullopt;
-    return Crossing{-kInf, kInf, hs.normal};
+    return Crossing{-kInfinity, kInfinity, hs.normal};
   }
   const double t = (hs.offset - no) / nd;
-  if (nd < 0.0) return Crossing{t, kInf, hs.normal};  // heading into the solid
-  return Crossing{-kInf, t, hs.normal};                // leaving it
+  if (nd < 0.0) return Crossing{t, kInfinity, hs.normal};  // heading into the solid
+  return Crossing{-kInfinity, t, hs.normal};                // leaving it
 }
 
 }  // namespace

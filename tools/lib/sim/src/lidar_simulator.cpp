@@ -8,10 +8,11 @@
 #include "ogf/sim/beam_echoes.hpp"
 #include "ogf/sim/random.hpp"
 
+#include "units.hpp"
+
 namespace ogf::sim {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr std::int64_t kMicrosPerHour = 3600LL * 1000000LL;
 
 // A channel's wire values for one echo: 2 mm distance units (0 = no return, as beyond max range) and the
@@ -33,8 +34,8 @@ LidarSimulator::LidarSimulator(const World& world, const Eigen::Isometry3d& sens
     : world_(world), sensor_to_body_(sensor_to_body), trajectory_(trajectory), config_(config),
       start_utime_(start_utime), model_(lidarModel(config.model)) {
   for (std::size_t i = 0; i < model_.lasers; ++i) {
-    cos_elevation_[i] = std::cos(model_.elevation_deg[i] * kDeg);
-    sin_elevation_[i] = std::sin(model_.elevation_deg[i] * kDeg);
+    cos_elevation_[i] = std::cos(model_.elevation_deg[i] * kRadiansPerDegree);
+    sin_elevation_[i] = std::sin(model_.elevation_deg[i] * kRadiansPerDegree);
   }
 }
 
@@ -75,7 +76,7 @@ vlp16::DataPacket LidarSimulator::dataPacket(std::uint64_t index) const {
       }
       const auto laser = static_cast<std::size_t>(c) % model_.lasers;
       const Eigen::Isometry3d sensor = trajectory_.poseAt(static_cast<double>(t) * 1e-9).isometry() * sensor_to_body_;
-      const double a = az_deg * kDeg;
+      const double a = az_deg * kRadiansPerDegree;
       // Sensor frame of §4.3: x forward, y left, azimuth clockwise seen from above.
       const Eigen::Vector3d local{cos_elevation_[laser] * std::cos(a), -cos_elevation_[laser] * std::sin(a),
                                   sin_elevation_[laser]};

@@ -9,10 +9,10 @@
 #include <set>
 #include <sstream>
 
+#include "units.hpp"
+
 namespace ogf::sim {
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 constexpr const char* kFrontRear = R"(# Two VLP-16s: one low at the front looking ahead, one high at the back turned round and tilted down.
 sensors:
@@ -54,7 +54,7 @@ struct Reader {
     if (n["rpy_deg"]) {
       auto v = vector3(n["rpy_deg"], field + ".rpy_deg");
       if (!v) return v.error();
-      rpy = *v * kDeg;
+      rpy = *v * kRadiansPerDegree;
     }
     Eigen::Isometry3d m = Eigen::Isometry3d::Identity();
     m.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *

@@ -10,10 +10,10 @@
 
 #include "ogf/sim/scene.hpp"
 
+#include "units.hpp"
+
 namespace ogf::sim {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 class Parser {
  public:
@@ -123,7 +123,7 @@ class Parser {
     spec.loop = *loop;
     auto yaw = number(node, "yaw_deg", path, 0.0);
     if (!yaw) return Error::configuration(yaw.error().message);
-    spec.yaw = *yaw * kDeg;
+    spec.yaw = *yaw * kRadiansPerDegree;
     return spec;
   }
 
@@ -152,7 +152,7 @@ class Parser {
       if ((s->array() <= 0.0).any()) return error(node["size"], path + "size", "every side must be positive");
       auto yaw = number(node, "yaw_deg", path, 0.0);
       if (!yaw) return Error::configuration(yaw.error().message);
-      return Solid{Box{*c, *s, *yaw * kDeg}, *material};
+      return Solid{Box{*c, *s, *yaw * kRadiansPerDegree}, *material};
     }
     if (*type == "cylinder") {
       if (auto e = onlyKeys(node, path, {"type", "center", "radius", "z", "material"}, also)) return *e;
@@ -267,7 +267,7 @@ class Parser {
       if (mount["rpy_deg"].IsDefined()) {
         auto v = vector(mount, "rpy_deg", "sensor_mount.", 3, 3);
         if (!v) return Error::configuration(v.error().message);
-        rpy = *v * kDeg;
+        rpy = *v * kRadiansPerDegree;
       }
       scene.sensor_to_body = Eigen::Isometry3d::Identity();
       scene.sensor_to_body.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *

@@ -11,7 +11,7 @@ namespace {
 using frame_bytes::get;
 using frame_bytes::put;
 
-std::size_t frameBytes(std::size_t n) {
+std::size_t cellFrameBytes(std::size_t n) {
   const std::size_t raw = kCellFrameHeaderBytes + n * (4 + 12 + 4 + 2);
   return (raw + 3) & ~std::size_t{3};
 }
@@ -21,7 +21,7 @@ std::size_t frameBytes(std::size_t n) {
 std::vector<std::uint8_t> encodeCellFrame(const OccupiedSlots& slots, std::span<const std::uint32_t> which,
                                           bool full, double resolution) {
   const std::size_t n = which.size();
-  std::vector<std::uint8_t> out(frameBytes(n), 0);
+  std::vector<std::uint8_t> out(cellFrameBytes(n), 0);
   std::uint8_t* p = out.data();
   put<std::uint32_t>(p, kCellFrameMagic);
   put<std::uint32_t>(p + 4, full ? kCellFrameFull : 0u);
@@ -61,7 +61,7 @@ std::optional<DecodedCellFrame> decodeCellFrame(std::span<const std::uint8_t> by
   const std::uint8_t* p = bytes.data();
   if (get<std::uint32_t>(p) != kCellFrameMagic) return std::nullopt;
   const std::size_t n = get<std::uint32_t>(p + 12);
-  if (n > (bytes.size() - kCellFrameHeaderBytes) / 22 || bytes.size() != frameBytes(n)) return std::nullopt;
+  if (n > (bytes.size() - kCellFrameHeaderBytes) / 22 || bytes.size() != cellFrameBytes(n)) return std::nullopt;
   DecodedCellFrame f;
   f.full = (get<std::uint32_t>(p + 4) & kCellFrameFull) != 0;
   f.slot_count = get<std::uint32_t>(p + 8);

@@ -11,12 +11,12 @@ namespace {
 using frame_bytes::get;
 using frame_bytes::put;
 
-std::size_t frameBytes(std::size_t n) { return kNavFrameHeaderBytes + n * (8 + 2 * kNavTileColumns); }
+std::size_t navFrameBytes(std::size_t n) { return kNavFrameHeaderBytes + n * (8 + 2 * kNavTileColumns); }
 
 std::vector<std::uint8_t> encodeNavFrame(std::span<const NavTile> tiles, bool full, double resolution,
                                          double floor_z) {
   const std::size_t n = tiles.size();
-  std::vector<std::uint8_t> out(frameBytes(n), 0);
+  std::vector<std::uint8_t> out(navFrameBytes(n), 0);
   std::uint8_t* p = out.data();
   put<std::uint32_t>(p, kNavFrameMagic);
   put<std::uint32_t>(p + 4, full ? kNavFrameFull : 0u);
@@ -56,7 +56,7 @@ std::optional<DecodedNavFrame> decodeNavFrame(std::span<const std::uint8_t> byte
   if (get<std::uint32_t>(p) != kNavFrameMagic) return std::nullopt;
   if (get<std::uint32_t>(p + 12) != static_cast<std::uint32_t>(navigation::kTileSize)) return std::nullopt;
   const std::size_t n = get<std::uint32_t>(p + 8);
-  if (n > bytes.size() / (8 + 2 * kNavTileColumns) || bytes.size() != frameBytes(n)) return std::nullopt;
+  if (n > bytes.size() / (8 + 2 * kNavTileColumns) || bytes.size() != navFrameBytes(n)) return std::nullopt;
   DecodedNavFrame f;
   f.full = (get<std::uint32_t>(p + 4) & kNavFrameFull) != 0;
   f.resolution = get<float>(p + 16);
