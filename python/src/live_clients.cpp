@@ -25,6 +25,9 @@ namespace {
 using MapFollower = StreamFollower<ogf::map_delta_t, delta::MapReceiver>;
 using NavFollower = StreamFollower<ogf::nav_grid_t, navigation::NavReceiver>;
 
+// The dense grid NavClient.grid() builds at most unless asked for more.
+constexpr std::int64_t kDefaultGridColumns = std::int64_t{1} << 24;
+
 // The map client: the follower and the arrays of the map it rebuilt, made again when messages arrived since.
 struct MapClient {
   MapClient(const std::optional<std::string>& url, const std::string& channel, const std::string& request_channel)
@@ -94,6 +97,12 @@ void defineStreamProperties(Class& cls, Follow follower, const char* what) {
           [follower](Self& self) { return follower(self).withReceiver([](const auto& r) { return r.needsKeyframe(); }); },
           "True while the client waits for a keyframe (at start, after a gap): it asks for one every second.")
       .def_property_readonly(
+          "dropped",
+          [follower](Self& self) { return follower(self).withReceiver([](const auto& r) { return r.dropped(); }); },
+          "Updates and keyframes dropped because the parts waiting to complete held more than their bound (64 MiB "
+          "for the map, 16 MiB for the grid, besides what is applied): anyone on the bus can send parts that never "
+          "complete.")
+      .def_property_readonly(
           "gaps", [follower](Self& self) { return follower(self).withReceiver([](const auto& r) { return r.gaps(); }); },
           "Updates lost on the bus so far (each answered with a keyframe request).")
       .def_property_readonly(
@@ -151,17 +160,22 @@ void defineLiveClients(py::module_& m) {
   nav_client
       .def(
           "grid",
-          [](NavFollower& f) {
+          [](NavFollower& f, std::int64_t max_columns) {
+            if (max_columns < 1 || max_columns > navigation::kMaxDenseColumns)
+              raiseValueError("max_columns must be from 1 to 2^28");
             std::optional<Result<navigation::NavGrid>> grid;
             {
               py::gil_scoped_release unlocked;
-              grid = f.withReceiver([](const navigation::NavReceiver& r) { return r.grid(); });
+              grid = f.withReceiver([&](const navigation::NavReceiver& r) { return r.grid(max_columns); });
             }
             if (!*grid) raiseValueError((*grid).error().message);
             return NavGridView::of(std::move(**grid));
           },
+          py::arg("max_columns") = kDefaultGridColumns,
           "The grid rebuilt so far, as an ogf.NavGrid (empty, width 0, before the first keyframe). ValueError "
-          "when its known columns are too far apart for one dense grid (more than 2^28 columns).")
+          "naming the limit when its known columns span more than max_columns (default 2^24, a square of 410 m "
+          "at 0.1 m, 32 MB; at most 2^28): columns far apart, as a forged message can name, would otherwise "
+          "make a rectangle of gigabytes.")
       .def_property_readonly(
           "checksum",
           [](NavFollower& f) { return f.withReceiver([](const navigation::NavReceiver& r) { return r.checksum(); }); },

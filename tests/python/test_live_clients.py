@@ -165,12 +165,17 @@ def test_nav_client_follows_a_nav_grid_publisher_to_its_checksum(lab_map, loopba
 
 def test_nav_client_refuses_a_dense_grid_of_columns_too_far_apart(loopback_bus):
     """Two known columns 2 000 000 columns apart (as a forged or damaged stream can place them): the client
-    follows them, and grid() raises ValueError saying how far they spread instead of allocating the
-    rectangle (8 * 10^8 columns)."""
+    follows them, and grid() raises ValueError saying how far they spread and the limit (2^24 columns unless
+    max_columns asks for more, up to 2^28) instead of allocating the rectangle (8 * 10^8 columns)."""
     url = loopback_bus(4)
     client = ogf.NavClient(url)
     m = follow_nav_publisher(client, url, "far-apart", "20", "1")
     assert (m.group(4), m.group(5)) == ("0", "0")  # no dense grid on the publisher's side either
     assert client.known_columns == 2
-    with pytest.raises(ValueError, match=r"span 2000001 × 401 columns"):
+    with pytest.raises(ValueError, match=r"span 2000001 × 401 columns, more than the dense grid's limit of 16777216"):
         client.grid()
+    with pytest.raises(ValueError, match=r"limit of 268435456"):
+        client.grid(max_columns=2**28)
+    with pytest.raises(ValueError, match=r"max_columns must be from 1 to 2\^28"):
+        client.grid(max_columns=2**29)
+    assert client.dropped == 0 and client.malformed == 0

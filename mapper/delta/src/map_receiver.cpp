@@ -9,6 +9,8 @@ constexpr std::int32_t kMaxParts = 1 << 16;
 // Sequence numbers count updates from 0; 2^62 is beyond any mapper's life and keeps seq + 1 inside int64
 // (a keyframe claiming INT64_MAX made the next-update lookup overflow; found by fuzz_map_delta_stream).
 constexpr std::int64_t kMaxSeq = std::int64_t{1} << 62;
+// What a held part takes besides its cells: its node in the assembly and the vector's header.
+constexpr std::size_t kPartOverheadBytes = 96;
 
 }  // namespace
 
@@ -20,6 +22,8 @@ bool MapReceiver::wellFormed(const ogf::map_delta_t& m) {
   return m.num_cells >= 0 && m.key_x.size() == n && m.key_y.size() == n && m.key_z.size() == n &&
          m.probability.size() == n && m.cell_class.size() == n && m.variance.size() == n;
 }
+
+std::size_t MapReceiver::appliedBytes() const { return map_.size() * sizeof(PublishedCell); }
 
 void MapReceiver::applyKeyframe(const Sequence::Assembly& a) {
   resolution_ = a.meta;
@@ -47,7 +51,8 @@ MapReceiver::Outcome MapReceiver::accept(const ogf::map_delta_t& m) {
       out.push_back({{m.key_x[i], m.key_y[i], m.key_z[i]}, m.probability[i], m.cell_class[i], m.variance[i]});
     return out;
   };
-  return sequence_.accept(place, m.resolution, cells, *this);
+  const std::size_t bytes = kPartOverheadBytes + m.key_x.size() * sizeof(PublishedCell);
+  return sequence_.accept(place, m.resolution, cells, *this, bytes);
 }
 
 std::string toString(SequenceOutcome o) {
@@ -59,6 +64,7 @@ std::string toString(SequenceOutcome o) {
     case SequenceOutcome::kGap: return "gap";
     case SequenceOutcome::kStale: return "stale";
     case SequenceOutcome::kMalformed: return "malformed";
+    case SequenceOutcome::kDropped: return "dropped";
   }
   return "?";
 }

@@ -15,6 +15,10 @@ constexpr std::int32_t kMaxParts = 1 << 14;
 constexpr std::int64_t kMaxSeq = std::int64_t{1} << 62;
 // Tiles one message may carry: a datagram holds 24; more is not a message the mapper sends.
 constexpr std::int32_t kMaxTilesPerPart = 64;
+// What a tile takes held: its two arrays of kTileSize² values, their headers and its key, in a node.
+constexpr std::size_t kTileBytes = 2 * kTileColumns + 96;
+// What a held part takes besides its tiles.
+constexpr std::size_t kPartOverheadBytes = 96;
 
 bool validColumn(std::int8_t cost, std::int8_t column_class) {
   if (column_class == kClassUnknown) return cost == kUnknownCost;
@@ -48,6 +52,8 @@ bool NavReceiver::wellFormed(const ogf::nav_grid_t& m) {
     if (!validColumn(m.cost[i], m.column_class[i])) return false;
   return true;
 }
+
+std::size_t NavReceiver::appliedBytes() const { return tiles_.size() * kTileBytes; }
 
 void NavReceiver::setTile(const TileKey& key, const TileValues& values) {
   const auto it = tiles_.find(key);
@@ -102,7 +108,7 @@ NavReceiver::Outcome NavReceiver::accept(const ogf::nav_grid_t& m) {
     }
     return out;
   };
-  return sequence_.accept(place, meta, tiles, *this);
+  return sequence_.accept(place, meta, tiles, *this, kPartOverheadBytes + m.tile_x.size() * kTileBytes);
 }
 
 NavColumn NavReceiver::column(const ColumnKey& key) const {
@@ -114,7 +120,9 @@ NavColumn NavReceiver::column(const ColumnKey& key) const {
   return {it->second.cost[slot], it->second.column_class[slot]};
 }
 
-Result<NavGrid> NavReceiver::grid() const { return denseGrid(meta_.resolution, meta_.band, *this); }
+Result<NavGrid> NavReceiver::grid(std::int64_t max_columns) const {
+  return denseGrid(meta_.resolution, meta_.band, *this, max_columns);
+}
 
 std::vector<TileKey> NavReceiver::knownTiles() const {
   std::vector<TileKey> out;

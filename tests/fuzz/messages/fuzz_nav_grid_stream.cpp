@@ -18,7 +18,8 @@
 #include "ogf/navigation/nav_receiver.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  ogf::navigation::NavReceiver receiver(16);
+  // A byte floor of 16 kB: a few tiles already go over it, so the dropping is fuzzed too.
+  ogf::navigation::NavReceiver receiver(16, 16384);
   constexpr std::int64_t kSpan = 64;
   // The fewest columns a dense rectangle over tiles `d` apart holds along that axis: a column at the near
   // edge of each of the two outermost tiles.
@@ -34,6 +35,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       const auto outcome = receiver.accept(m);
       if (outcome == ogf::navigation::NavReceiver::Outcome::kApplied && receiver.appliedSeq() <= before) std::abort();
       if (!receiver.needsKeyframe() && receiver.appliedSeq() < 0) std::abort();
+      // What waits is within its bound after every message.
+      if (receiver.heldBytes() > receiver.heldBytesLimit()) std::abort();
       std::int64_t lo_x = 0, lo_y = 0, hi_x = 0, hi_y = 0;
       const auto held = receiver.knownTiles();
       for (std::size_t t = 0; t < held.size(); ++t) {

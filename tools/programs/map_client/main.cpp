@@ -9,10 +9,12 @@
 //
 // Output: a line per second while running (with --progress) and, at the end,
 //   map_id <id> seq <n> cells <n> published_checksum <hex> mapper_published_checksum <hex>
-//   consistent <yes|no> gaps <n> keyframes <n> malformed <n> messages <n>
+//   consistent <yes|no> gaps <n> keyframes <n> malformed <n> messages <n> dropped <n>
 // and with --nav or --nav-only (the first line only without --nav-only)
 //   nav_map_id <id> nav_seq <n> nav_known_columns <n> nav_checksum <hex> mapper_nav_checksum <hex>
-//   nav_consistent <yes|no> nav_gaps <n> nav_keyframes <n> nav_malformed <n>
+//   nav_consistent <yes|no> nav_gaps <n> nav_keyframes <n> nav_malformed <n> nav_dropped <n>
+// dropped: updates and keyframes whose parts, waiting, went over --max-held-mb (anyone on the bus can send
+// parts that never complete; what they may hold is bounded, delta/update_sequence.hpp).
 #include <CLI/CLI.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <lcm/lcm-cpp.hpp>
@@ -45,13 +47,14 @@ const char* const kDescription =
     "Rebuild the ogf map from OGF_MAP_DELTA and print the checksum of that published map.\n\n"
     "Output at the end: map_id, seq, cells, published_checksum (of the map this client rebuilt), "
     "mapper_published_checksum (the one the mapper stamps on its deltas for the same seq), consistent (yes when "
-    "the two are equal: nothing was missed), gaps, keyframes, malformed, messages.\n"
+    "the two are equal: nothing was missed), gaps, keyframes, malformed, messages, dropped (updates and keyframes "
+    "dropped because the parts waiting went over --max-held-mb).\n"
     "Both checksums cover the published cells (quantised probability, class, variance). The filter_checksum in "
     "OGF_MAPPER_STATUS covers every float the filter stores: a different number, to compare only with another "
     "mapper's filter_checksum or with the checksum ogf-map prints.\n"
     "With --nav (or --nav-only) it also (only) follows the 2-D navigation grid on OGF_NAV_GRID and prints at the "
     "end nav_map_id, nav_seq, nav_known_columns, nav_checksum (of the grid it rebuilt), mapper_nav_checksum (the "
-    "mapper's for the same nav_seq), nav_consistent, nav_gaps, nav_keyframes, nav_malformed.";
+    "mapper's for the same nav_seq), nav_consistent, nav_gaps, nav_keyframes, nav_malformed, nav_dropped.";
 
 struct Options {
   std::string url;
@@ -66,6 +69,7 @@ struct Options {
   double idle_exit_s = 0;
   double keyframe_retry_s = 1.0;
   bool progress = false;
+  std::optional<double> max_held_mb;
   std::string log_level = "info";
 };
 
@@ -88,6 +92,10 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--keyframe-retry", o.keyframe_retry_s, "Seconds between keyframe requests while one is needed")
       ->check(ogf::cli::positive())->capture_default_str();
   app.add_flag("--progress", o.progress, "Print a status line every second");
+  app.add_option("--max-held-mb", o.max_held_mb,
+                 "MB the parts of updates and keyframes waiting to complete may hold besides the map held (default 64 "
+                 "for the map, 16 for the grid); past it the oldest is dropped and counted")
+      ->check(ogf::cli::positive());
   app.add_option("--log-level", o.log_level, "trace, debug, info, warn, error")->capture_default_str();
 }
 
@@ -105,20 +113,22 @@ void printProgress(const ogf::navigation::NavReceiver& r, std::uint64_t messages
 }
 void printSummary(const ogf::delta::MapReceiver& r, std::uint64_t malformed, std::uint64_t messages) {
   std::printf("map_id %lld seq %lld cells %zu published_checksum %016llx mapper_published_checksum %016llx "
-              "consistent %s gaps %llu keyframes %llu malformed %llu messages %llu\n",
+              "consistent %s gaps %llu keyframes %llu malformed %llu messages %llu dropped %llu\n",
               static_cast<long long>(r.mapId().value_or(-1)), static_cast<long long>(r.appliedSeq()), r.map().size(),
               static_cast<unsigned long long>(r.map().checksum()),
               static_cast<unsigned long long>(r.serverChecksum().value_or(0)), r.consistent() ? "yes" : "no",
               static_cast<unsigned long long>(r.gaps()), static_cast<unsigned long long>(r.keyframesApplied()),
-              static_cast<unsigned long long>(malformed), static_cast<unsigned long long>(messages));
+              static_cast<unsigned long long>(malformed), static_cast<unsigned long long>(messages),
+              static_cast<unsigned long long>(r.dropped()));
 }
 void printSummary(const ogf::navigation::NavReceiver& r, std::uint64_t malformed, std::uint64_t) {
   std::printf("nav_map_id %lld nav_seq %lld nav_known_columns %zu nav_checksum %016llx mapper_nav_checksum %016llx "
-              "nav_consistent %s nav_gaps %llu nav_keyframes %llu nav_malformed %llu\n",
+              "nav_consistent %s nav_gaps %llu nav_keyframes %llu nav_malformed %llu nav_dropped %llu\n",
               static_cast<long long>(r.mapId().value_or(-1)), static_cast<long long>(r.appliedSeq()), r.knownColumns(),
               static_cast<unsigned long long>(r.checksum()), static_cast<unsigned long long>(r.serverChecksum().value_or(0)),
               r.consistent() ? "yes" : "no", static_cast<unsigned long long>(r.gaps()),
-              static_cast<unsigned long long>(r.keyframesApplied()), static_cast<unsigned long long>(malformed));
+              static_cast<unsigned long long>(r.keyframesApplied()), static_cast<unsigned long long>(malformed),
+              static_cast<unsigned long long>(r.dropped()));
 }
 std::string holding(const ogf::delta::MapReceiver& r) { return fmt::format("cells {}", r.map().size()); }
 std::string holding(const ogf::navigation::NavReceiver& r) { return fmt::format("known columns {}", r.knownColumns()); }
@@ -148,6 +158,8 @@ class StreamFollower {
 
   StreamFollower(const Options& o, Stream stream, lcm::LCM& lcm, ogf::transport::DaemonLoop& loop)
       : o_(o), stream_(std::move(stream)), lcm_(lcm), loop_(loop),
+        receiver_(Receiver::kDefaultBufferedUpdates,
+                  o.max_held_mb ? static_cast<std::size_t>(*o.max_held_mb * 1e6) : Receiver::kDefaultMinHeldBytes),
         sub_(lcm, stream_.channel,
              [this](const Message& m, const lcm::ReceiveBuffer&, const std::string&) { onMessage(m); },
              [this](const std::string& channel, std::size_t size, std::string_view why) {
@@ -184,6 +196,7 @@ class StreamFollower {
     ++messages_;
     last_message_ = std::chrono::steady_clock::now();
     const bool needed_before = receiver_.needsKeyframe();
+    const auto dropped_before = receiver_.dropped();
     const auto outcome = receiver_.accept(m);
     using Outcome = typename Receiver::Outcome;
     if (outcome == Outcome::kGap) {
@@ -192,7 +205,14 @@ class StreamFollower {
       if (auto n = malformed_log_.allow())
         spdlog::warn("malformed {} message seq {} part {}/{} ignored ({} more)", stream_.name, m.seq, m.part_index,
                      m.part_count, *n);
-    } else if (outcome == Outcome::kKeyframeApplied) {
+    }
+    if (receiver_.dropped() != dropped_before) {
+      if (auto n = dropped_log_.allow())
+        spdlog::warn("the parts of the {} waiting to complete held more than {:.0f} MB besides what is applied "
+                     "(--max-held-mb): dropped the oldest update or keyframe, {} so far ({} more)",
+                     stream_.name, static_cast<double>(receiver_.heldBytesLimit()) / 1e6, receiver_.dropped(), *n);
+    }
+    if (outcome == Outcome::kKeyframeApplied) {
       spdlog::info("{} keyframe applied: map {} seq {} {}", stream_.name, m.map_id, receiver_.appliedSeq(),
                    holding(receiver_));
     }
@@ -214,6 +234,7 @@ class StreamFollower {
   std::chrono::steady_clock::time_point last_progress_ = std::chrono::steady_clock::now();
   const std::string requester_ = ogf::delta::requesterName();
   ogf::transport::LogRateLimiter malformed_log_;
+  ogf::transport::LogRateLimiter dropped_log_;
   ogf::transport::Subscriber<Message> sub_;
 };
 

@@ -335,6 +335,7 @@ class BusFeed {
     auto& receiver = feed_.navReceiver();
     feed_.countNavMessage(true);
     const bool needed_before = receiver.needsKeyframe();
+    const auto dropped_before = receiver.dropped();
     const auto outcome = receiver.accept(m);
     if (outcome == ogf::navigation::NavReceiver::Outcome::kMalformed) {
       if (auto n = malformed_log_.allow())
@@ -342,7 +343,14 @@ class BusFeed {
                      channel, size, m.seq, m.part_index, m.part_count, *n);
     } else if (outcome == ogf::navigation::NavReceiver::Outcome::kGap) {
       spdlog::warn("gap in the navigation grid after seq {}: asking for a keyframe", receiver.appliedSeq());
-    } else if (outcome == ogf::navigation::NavReceiver::Outcome::kKeyframeApplied) {
+    }
+    if (receiver.dropped() != dropped_before) {
+      if (auto n = dropped_log_.allow())
+        spdlog::warn("the navigation grid's parts waiting to complete held more than {:.0f} MB: dropped the oldest "
+                     "update or keyframe, {} so far ({} more)",
+                     static_cast<double>(receiver.heldBytesLimit()) / 1e6, receiver.dropped(), *n);
+    }
+    if (outcome == ogf::navigation::NavReceiver::Outcome::kKeyframeApplied) {
       spdlog::debug("navigation keyframe applied: map {} seq {} known columns {}", receiver.mapId().value_or(-1),
                     receiver.appliedSeq(), receiver.knownColumns());
     }
@@ -354,9 +362,16 @@ class BusFeed {
     auto& receiver = feed_.receiver();
     ++feed_.stream().messages;
     const bool needed_before = receiver.needsKeyframe();
+    const auto dropped_before = receiver.dropped();
     const auto outcome = receiver.accept(m);
     if (outcome == ogf::delta::MapReceiver::Outcome::kGap)
       spdlog::warn("gap in the delta stream after seq {}: asking for a keyframe", receiver.appliedSeq());
+    if (receiver.dropped() != dropped_before) {
+      if (auto n = dropped_log_.allow())
+        spdlog::warn("the delta stream's parts waiting to complete held more than {:.0f} MB: dropped the oldest "
+                     "update or keyframe, {} so far ({} more)",
+                     static_cast<double>(receiver.heldBytesLimit()) / 1e6, receiver.dropped(), *n);
+    }
     if (receiver.keyframesApplied() != keyframes_seen_) {
       keyframes_seen_ = receiver.keyframesApplied();
       const auto cells = receiver.map().sortedCells();
@@ -414,6 +429,7 @@ class BusFeed {
   const std::string requester_ = ogf::delta::requesterName() + ":ogf-view";
   std::uint64_t keyframes_seen_ = 0;
   ogf::transport::LogRateLimiter malformed_log_;
+  ogf::transport::LogRateLimiter dropped_log_;
 };
 
 // Every 1/rate s: what changed goes to the browsers, then the figures; the server's figures in the log

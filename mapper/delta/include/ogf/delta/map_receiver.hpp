@@ -19,11 +19,22 @@ namespace ogf::delta {
 
 class MapReceiver {
  public:
-  // kApplied, kPartial, kBuffered, kKeyframeApplied, kGap, kStale, kMalformed (update_sequence.hpp).
+  // kApplied, kPartial, kBuffered, kKeyframeApplied, kGap, kStale, kMalformed, kDropped
+  // (update_sequence.hpp).
   using Outcome = SequenceOutcome;
 
-  // At most this many complete or partial updates are held while waiting; older ones are discarded.
-  explicit MapReceiver(std::size_t max_buffered_updates = 256) : sequence_(max_buffered_updates) {}
+  // Updates held while waiting for earlier ones, at most.
+  static constexpr std::size_t kDefaultBufferedUpdates = 256;
+
+  // What the parts held waiting may take besides the map held (update_sequence.hpp): 64 MiB, a keyframe of
+  // about 3 M cells to a client that holds nothing yet.
+  static constexpr std::size_t kDefaultMinHeldBytes = std::size_t{64} << 20;
+
+  // At most `max_buffered_updates` complete or partial updates are held while waiting (older ones are
+  // discarded), and their parts hold at most `min_held_bytes` plus what map() holds.
+  explicit MapReceiver(std::size_t max_buffered_updates = kDefaultBufferedUpdates,
+                       std::size_t min_held_bytes = kDefaultMinHeldBytes)
+      : sequence_(max_buffered_updates, min_held_bytes) {}
 
   Outcome accept(const ogf::map_delta_t& msg);
 
@@ -48,6 +59,13 @@ class MapReceiver {
   std::uint64_t gaps() const { return sequence_.gaps(); }
   std::uint64_t keyframesApplied() const { return sequence_.keyframesApplied(); }
   std::uint64_t malformed() const { return sequence_.malformed(); }
+  // Updates and keyframes dropped because the parts held went over their byte bound, and what they hold now.
+  std::uint64_t dropped() const { return sequence_.dropped(); }
+  std::size_t heldBytes() const { return sequence_.heldBytes(); }
+  // What they may hold now: the byte floor plus appliedBytes().
+  std::size_t heldBytesLimit() const { return sequence_.minHeldBytes() + appliedBytes(); }
+  // What map() takes, as the byte bound counts it.
+  std::size_t appliedBytes() const;
 
  private:
   using Sequence = UpdateSequence<std::vector<PublishedCell>, double>;  // a part's cells; the resolution

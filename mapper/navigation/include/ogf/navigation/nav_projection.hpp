@@ -49,7 +49,8 @@ inline constexpr std::int64_t kMaxDenseColumns = std::int64_t{1} << 28;
 // is known. A resource error when the rectangle would hold more than kMaxDenseColumns (known columns far
 // apart, as a forged or damaged message can place them): such a grid is followed tile by tile.
 template <class Tiles>
-Result<NavGrid> denseGrid(double resolution, const NavBand& band, const Tiles& tiles);
+Result<NavGrid> denseGrid(double resolution, const NavBand& band, const Tiles& tiles,
+                          std::int64_t max_columns = kMaxDenseColumns);
 
 // A 3-D cell's state as the projection reads it.
 struct CellState {
@@ -121,7 +122,7 @@ class NavProjection {
 };
 
 template <class Tiles>
-Result<NavGrid> denseGrid(double resolution, const NavBand& band, const Tiles& tiles) {
+Result<NavGrid> denseGrid(double resolution, const NavBand& band, const Tiles& tiles, std::int64_t max_columns) {
   NavGrid g;
   g.resolution = resolution;
   g.band = band;
@@ -146,10 +147,10 @@ Result<NavGrid> denseGrid(double resolution, const NavBand& band, const Tiles& t
   // In 64 bits: columns far apart span more than an int32.
   const std::int64_t width = std::int64_t{hi.x} - lo.x + 1;
   const std::int64_t height = std::int64_t{hi.y} - lo.y + 1;
-  if (width > kMaxDenseColumns / height) {
+  if (width > max_columns / height) {
     return Error::resource("the known columns of the navigation grid span " + std::to_string(width) + " × " +
-                           std::to_string(height) + " columns, more than one dense grid holds (" +
-                           std::to_string(kMaxDenseColumns) + ")");
+                           std::to_string(height) + " columns, more than the dense grid's limit of " +
+                           std::to_string(max_columns));
   }
   g.origin = lo;
   g.width = static_cast<std::int32_t>(width);

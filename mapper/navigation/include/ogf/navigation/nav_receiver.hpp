@@ -23,10 +23,20 @@ namespace ogf::navigation {
 
 class NavReceiver {
  public:
-  // kApplied, kPartial, kBuffered, kKeyframeApplied, kGap, kStale, kMalformed (delta/update_sequence.hpp).
+  // kApplied, kPartial, kBuffered, kKeyframeApplied, kGap, kStale, kMalformed, kDropped
+  // (delta/update_sequence.hpp).
   using Outcome = delta::SequenceOutcome;
 
-  explicit NavReceiver(std::size_t max_buffered_updates = 64) : sequence_(max_buffered_updates) {}
+  // Updates held while waiting for earlier ones, at most.
+  static constexpr std::size_t kDefaultBufferedUpdates = 64;
+
+  // What the parts held waiting may take besides the grid held (delta/update_sequence.hpp): 16 MiB, a
+  // keyframe of about 7 800 tiles (8 M columns) to a client that holds nothing yet.
+  static constexpr std::size_t kDefaultMinHeldBytes = std::size_t{16} << 20;
+
+  explicit NavReceiver(std::size_t max_buffered_updates = kDefaultBufferedUpdates,
+                       std::size_t min_held_bytes = kDefaultMinHeldBytes)
+      : sequence_(max_buffered_updates, min_held_bytes) {}
 
   Outcome accept(const ogf::nav_grid_t& msg);
 
@@ -35,9 +45,9 @@ class NavReceiver {
   std::optional<std::int64_t> mapId() const { return sequence_.mapId(); }
 
   // The grid rebuilt so far (resolution and band from the last update applied): the column, and the dense
-  // rectangle (denseGrid's error when the known columns are too far apart for one).
+  // rectangle (denseGrid's error, naming the limit, when the known columns span more than max_columns).
   NavColumn column(const ColumnKey& key) const;
-  Result<NavGrid> grid() const;
+  Result<NavGrid> grid(std::int64_t max_columns = kMaxDenseColumns) const;
   // The tiles holding at least one known column, sorted, and a tile's kTileSize² values row-major from its
   // south-west column (unknown for a tile not held), as NavProjection gives them: a viewer follows the grid
   // tile by tile without building the dense rectangle, whose size tiles far apart would make unbounded.
@@ -55,6 +65,13 @@ class NavReceiver {
   std::uint64_t gaps() const { return sequence_.gaps(); }
   std::uint64_t keyframesApplied() const { return sequence_.keyframesApplied(); }
   std::uint64_t malformed() const { return sequence_.malformed(); }
+  // Updates and keyframes dropped because the parts held went over their byte bound, and what they hold now.
+  std::uint64_t dropped() const { return sequence_.dropped(); }
+  std::size_t heldBytes() const { return sequence_.heldBytes(); }
+  // What they may hold now: the byte floor plus appliedBytes().
+  std::size_t heldBytesLimit() const { return sequence_.minHeldBytes() + appliedBytes(); }
+  // What the grid held takes, as the byte bound counts it.
+  std::size_t appliedBytes() const;
 
  private:
   struct TileValues {
