@@ -331,6 +331,16 @@ class BusFeed {
     nav_retry_.asked(std::chrono::steady_clock::now());
   }
 
+  // A receiver dropped what waited to complete (the parts went over their byte bound): said at most once a
+  // second, for both streams together.
+  template <class Receiver>
+  void warnDropped(const char* stream, const Receiver& receiver) {
+    if (auto n = dropped_log_.allow())
+      spdlog::warn("the {}'s parts waiting to complete held more than {:.0f} MB: dropped the oldest update or "
+                   "keyframe, {} so far ({} more)",
+                   stream, static_cast<double>(receiver.heldBytesLimit()) / 1e6, receiver.dropped(), *n);
+  }
+
   void onNavGrid(const ogf::nav_grid_t& m, const std::string& channel, std::size_t size) {
     auto& receiver = feed_.navReceiver();
     feed_.countNavMessage(true);
@@ -344,12 +354,7 @@ class BusFeed {
     } else if (outcome == ogf::navigation::NavReceiver::Outcome::kGap) {
       spdlog::warn("gap in the navigation grid after seq {}: asking for a keyframe", receiver.appliedSeq());
     }
-    if (receiver.dropped() != dropped_before) {
-      if (auto n = dropped_log_.allow())
-        spdlog::warn("the navigation grid's parts waiting to complete held more than {:.0f} MB: dropped the oldest "
-                     "update or keyframe, {} so far ({} more)",
-                     static_cast<double>(receiver.heldBytesLimit()) / 1e6, receiver.dropped(), *n);
-    }
+    if (receiver.dropped() != dropped_before) warnDropped("navigation grid", receiver);
     if (outcome == ogf::navigation::NavReceiver::Outcome::kKeyframeApplied) {
       spdlog::debug("navigation keyframe applied: map {} seq {} known columns {}", receiver.mapId().value_or(-1),
                     receiver.appliedSeq(), receiver.knownColumns());
@@ -366,12 +371,7 @@ class BusFeed {
     const auto outcome = receiver.accept(m);
     if (outcome == ogf::delta::MapReceiver::Outcome::kGap)
       spdlog::warn("gap in the delta stream after seq {}: asking for a keyframe", receiver.appliedSeq());
-    if (receiver.dropped() != dropped_before) {
-      if (auto n = dropped_log_.allow())
-        spdlog::warn("the delta stream's parts waiting to complete held more than {:.0f} MB: dropped the oldest "
-                     "update or keyframe, {} so far ({} more)",
-                     static_cast<double>(receiver.heldBytesLimit()) / 1e6, receiver.dropped(), *n);
-    }
+    if (receiver.dropped() != dropped_before) warnDropped("delta stream", receiver);
     if (receiver.keyframesApplied() != keyframes_seen_) {
       keyframes_seen_ = receiver.keyframesApplied();
       const auto cells = receiver.map().sortedCells();

@@ -125,7 +125,8 @@ class UpdateSequence {
   // Assemblies dropped for the byte bound, and the bytes the parts held now hold.
   std::uint64_t dropped() const { return dropped_; }
   std::size_t heldBytes() const { return held_bytes_; }
-  std::size_t minHeldBytes() const { return min_held_bytes_; }
+  // What the parts held may take beside a sink that holds `applied_bytes` applied.
+  std::size_t heldBytesLimit(std::size_t applied_bytes) const { return min_held_bytes_ + applied_bytes; }
 
  private:
   using Table = std::map<std::int64_t, Assembly>;
@@ -165,7 +166,7 @@ class UpdateSequence {
   // Drops the earliest-begun assemblies until the parts held fit their bound; false when the one of `seq` in
   // `table` (the part just taken) was among them.
   bool holdWithin(Table& table, std::int64_t seq, std::size_t applied_bytes) {
-    const std::size_t limit = min_held_bytes_ + applied_bytes;
+    const std::size_t limit = heldBytesLimit(applied_bytes);
     bool kept = true;
     while (held_bytes_ > limit) {
       Table* from = nullptr;

@@ -69,7 +69,7 @@ class NavReceiver {
   std::uint64_t dropped() const { return sequence_.dropped(); }
   std::size_t heldBytes() const { return sequence_.heldBytes(); }
   // What they may hold now: the byte floor plus appliedBytes().
-  std::size_t heldBytesLimit() const { return sequence_.minHeldBytes() + appliedBytes(); }
+  std::size_t heldBytesLimit() const { return sequence_.heldBytesLimit(appliedBytes()); }
   // What the grid held takes, as the byte bound counts it.
   std::size_t appliedBytes() const;
 
