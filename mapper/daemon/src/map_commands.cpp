@@ -119,8 +119,9 @@ std::optional<ExportDirectory> MapServices::exportDestination(const ogf::map_com
     std::lock_guard lk(shared_.mu);
     cells = shared_.stats.cells;
   }
+  const auto all_cells = static_cast<std::uint64_t>(std::max<std::int64_t>(cells, 0));
   const std::uint64_t bound =
-      exportBytesBound(command.format, static_cast<std::uint64_t>(std::max<std::int64_t>(cells, 0)));
+      exportBytesBound(command.format, all_cells, filter::encodedMapBytes(mapper_.filter(), all_cells));
   auto free = dir->freeBytes();
   if (!free) {
     fail(free.error().message);

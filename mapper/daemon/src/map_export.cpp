@@ -44,9 +44,9 @@ Status checkExportName(const std::string& name, const std::string& format) {
   return okStatus();
 }
 
-std::uint64_t exportBytesBound(const std::string& format, std::uint64_t cells) {
-  std::uint64_t per_cell = 48;
-  if (format == "csv") per_cell = 96;
+std::uint64_t exportBytesBound(const std::string& format, std::uint64_t cells, std::uint64_t ogfm_bytes) {
+  if (format == "ogfm") return ogfm_bytes + 64 * 1024;
+  std::uint64_t per_cell = 96;
   if (format == "ply" || format == "pcd") per_cell = 20;
   if (format == "bt") per_cell = 8;
   return cells * per_cell + 64 * 1024;

@@ -152,10 +152,16 @@ bool MapPublisher::publishKeyframe() {
 
 void MapPublisher::keyframeSent(const KeyframeSender::Report& r) {
   persistence_.reportPageDamage(r.damage);
-  spdlog::info("keyframe at seq {}: {} cells ({} from pages) in {} parts; cut in {:.0f} ms, sent in {:.0f} ms{}", r.seq,
-               r.cells, r.page_cells, r.parts, r.cut_ms, r.send_ms,
-               r.missing + r.surplus == 0 ? std::string()
-                                          : fmt::format(" ({} cells missing, {} beyond the count)", r.missing, r.surplus));
+  // Requests can ask for keyframes back to back (any host on the bus may): the log says one of them per
+  // keyframe_log_ period, and how many others went out meanwhile.
+  if (auto more = keyframe_log_.allow()) {
+    spdlog::info("keyframe at seq {}: {} cells ({} from pages) in {} parts; cut in {:.0f} ms, sent in {:.0f} ms{}{}",
+                 r.seq, r.cells, r.page_cells, r.parts, r.cut_ms, r.send_ms,
+                 r.missing + r.surplus == 0
+                     ? std::string()
+                     : fmt::format(" ({} cells missing, {} beyond the count)", r.missing, r.surplus),
+                 *more == 0 ? std::string() : fmt::format(" ({} more keyframes since the last line)", *more));
+  }
   std::int64_t bytes_sent = 0;
   {
     std::lock_guard budget(budget_mu_);

@@ -141,6 +141,12 @@ bool readHeaderFields(Reader& r, Header& h) {
 
 }  // namespace
 
+std::uint64_t encodedMapBytes(const BandedOgf& map, std::uint64_t cells) {
+  const std::uint64_t per_block = map.cellsPerBlock();
+  const std::uint64_t blocks = (cells + per_block - 1) / per_block;
+  return kMapFilePayloadAt + blocks * (3 * sizeof(std::int32_t) + map.floatsPerBlock() * sizeof(float) + per_block);
+}
+
 std::vector<std::uint8_t> encodeMap(const BandedOgf& map) {
   const FilterConfig& c = map.config();
   const std::vector<CellKey> keys = map.blockKeys();
@@ -168,8 +174,7 @@ std::vector<std::uint8_t> encodeMap(const BandedOgf& map) {
   // One buffer of the file's exact size (a large map's file is the largest allocation a save makes): the
   // header with a placeholder checksum, the blocks, then the header again with both checksums.
   Writer out;
-  out.bytes.reserve(kMapFilePayloadAt +
-                    keys.size() * (3 * sizeof(std::int32_t) + map.floatsPerBlock() * sizeof(float) + h.cellsPerBlock));
+  out.bytes.reserve(encodedMapBytes(map, keys.size() * map.cellsPerBlock()));
   writeHeaderFields(out, h);
   out.put(std::uint64_t{0});
   const std::size_t payloadAt = out.bytes.size();

@@ -25,9 +25,9 @@ Status checkExportName(const std::string& name, const std::string& format);
 
 // An upper bound of the bytes an export of a map of `cells` allocated cells writes (free-space check
 // before anything is copied): csv 96 bytes a cell (six numbers as text), ply and pcd 20 (five floats per
-// occupied cell), bt 8 (OctoMap's 2 bits per child and its leaf values), ogfm 48 (the filter's key, mean,
-// variance and bookkeeping per cell), plus 64 KiB of headers.
-std::uint64_t exportBytesBound(const std::string& format, std::uint64_t cells);
+// occupied cell), bt 8 (OctoMap's 2 bits per child and its leaf values), plus 64 KiB of headers; ogfm
+// `ogfm_bytes`, the map file's own size (filter::encodedMapBytes), plus the same 64 KiB.
+std::uint64_t exportBytesBound(const std::string& format, std::uint64_t cells, std::uint64_t ogfm_bytes);
 
 // The export directory, opened without following a link (created, mode 0750, when missing; its parent
 // must exist). Movable, closes on destruction.

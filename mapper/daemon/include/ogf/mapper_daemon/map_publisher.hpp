@@ -24,6 +24,7 @@
 #include "ogf/mapper_daemon/map_persistence.hpp"
 #include "ogf/mapper_daemon/mapper_options.hpp"
 #include "ogf/mapper_daemon/shared_state.hpp"
+#include "ogf/transport/logging.hpp"
 
 namespace ogf::mapper_daemon {
 
@@ -85,6 +86,8 @@ class MapPublisher {
   std::mutex budget_mu_;
   delta::LinkBudget channel_budget_;
   delta::LinkBudget keyframe_budget_;
+  // The keyframe sender's thread's: one log line per period however many keyframes are asked for.
+  transport::LogRateLimiter keyframe_log_{std::chrono::seconds(10)};
   std::unique_ptr<KeyframeSender> keyframe_sender_;
 };
 

@@ -30,6 +30,10 @@ inline constexpr std::size_t kMapFileHeaderChecksumAt = 136;
 inline constexpr std::size_t kMapFilePayloadAt = 144;
 
 std::vector<std::uint8_t> encodeMap(const BandedOgf& map);
+// The bytes encodeMap writes for a map with `map`'s storage holding `cells` allocated cells (whole blocks):
+// the header, then for each block its key, its floats and a mark per cell (with banded covariance 57 bytes
+// a cell, with compact 9).
+std::uint64_t encodedMapBytes(const BandedOgf& map, std::uint64_t cells);
 // `source` names the bytes in error messages (a path, or "<memory>"). `threads` is a runtime setting the
 // file does not carry.
 Result<BandedOgf> decodeMap(std::span<const std::uint8_t> bytes, std::string_view source = "<memory>",
