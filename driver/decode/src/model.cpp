@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cmath>
 #include <string>
 
 #include "ogf/velodyne/wire_format.hpp"
@@ -57,6 +58,13 @@ int laserOfChannel(Model model, int channel) { return traits(model).lasers == 16
 double packetPeriodUs(Model model, ReturnMode mode) {
   const double blocks = mode == ReturnMode::Dual ? wire::kBlocksPerPacket / 2 : wire::kBlocksPerPacket;
   return blocks * traits(model).block_duration_us;
+}
+
+std::optional<std::int64_t> mostPointsPerRevolution(Model model) {
+  if (model == Model::Unknown) return std::nullopt;
+  constexpr double kSlowestRevolutionUs = 60e6 / 300.0;
+  const double packets = kSlowestRevolutionUs / packetPeriodUs(model, ReturnMode::Dual);
+  return static_cast<std::int64_t>(std::ceil(packets)) * wire::kBlocksPerPacket * wire::kChannelsPerBlock;
 }
 
 std::string_view modelName(Model model) { return traits(model).name; }

@@ -45,6 +45,11 @@ int laserOfChannel(Model model, int channel);
 // Nominal time between two data packets (the firing cycle fixes it, not the RPM; docs/wire-format.md §4.4).
 double packetPeriodUs(Model model, ReturnMode mode);
 
+// The most returns one revolution of `model` holds: dual return (two per firing, 384 a packet) at the
+// slowest rate the sensors turn, 300 rpm (manuals: 300-1200 rpm), from the packet rate the firing cycle
+// fixes. VLP-16 about 116 000, HDL-32E about 278 000. nullopt for Unknown.
+std::optional<std::int64_t> mostPointsPerRevolution(Model model);
+
 std::string_view modelName(Model model);
 std::string_view returnModeName(ReturnMode mode);
 std::string_view returnTypeName(ReturnType type);
