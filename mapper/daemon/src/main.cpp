@@ -200,9 +200,24 @@ int main(int argc, char** argv) {
     spdlog::critical("{}", *why);
     return ogf::cli::kExitFailure;
   }
+  // Map services on an instance of their own (its own socket, receive thread and queues); a provider whose
+  // instances do not share one bus (memq) keeps them on the one instance.
+  std::optional<lcm::LCM> service_bus;
+  if (bus.rfind("udpm://", 0) == 0) {
+    service_bus.emplace(bus);
+    if (!service_bus->good()) {
+      spdlog::critical("cannot join the LCM bus {} for the map services", bus);
+      return ogf::cli::kExitFailure;
+    }
+    if (const auto why = ogf::transport::receiveProblem(*service_bus, bus)) {
+      spdlog::critical("map services: {}", *why);
+      return ogf::cli::kExitFailure;
+    }
+  }
   ogf::transport::DaemonLoop loop;
   ogf::transport::LcmAsioBridge bridge(loop.io(), lcm, [&loop] { loop.requestStop(ogf::cli::kExitFailure); });
-  auto daemon = ogf::mapper_daemon::MapperDaemon::create(options, lcm, loop);
+  auto daemon =
+      ogf::mapper_daemon::MapperDaemon::create(options, lcm, service_bus ? &*service_bus : nullptr, loop);
   if (!daemon) {
     spdlog::critical("{}", daemon.error().message);
     return ogf::cli::exitCodeFor(daemon.error());

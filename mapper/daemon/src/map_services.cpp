@@ -1,13 +1,16 @@
 // ogf-mapper's map services (map_services.hpp), their wiring: OGF_MAP_QUERY → OGF_MAP_QUERY_REPLY
 // (answered in map_queries.cpp) and OGF_MAP_COMMAND → OGF_MAP_COMMAND_REPLY (carried out in
-// map_commands.cpp: save a snapshot now, reset the map, export it). Requests are received on the Asio
-// thread, which refuses at once commands that are disabled, unauthenticated or replayed
-// (command_auth.hpp); the rest wait in a queue of at most kMaxWaitingServices and the worker serves them
-// between scans, for at most services.budget_ms_per_scan at a time. Every request gets exactly one reply,
-// a refusal included; refusals are counted by reason in the status.
+// map_commands.cpp: save a snapshot now, reset the map, export it). Requests are received on the service
+// bus's own thread (transport/dispatch_thread.hpp), apart from scans and poses; one longer than the largest
+// request of its kind is refused from its length before it is decoded, and commands that are disabled,
+// unauthenticated or replayed are refused at once. The rest wait in a queue of at most kMaxWaitingServices
+// requests and kMaxWaitingServiceBytes bytes, and the worker serves them between scans, for at most
+// services.budget_ms_per_scan at a time. Every request that decodes gets exactly one reply, a refusal
+// included; refusals are counted by reason in the status.
 #include "ogf/mapper_daemon/map_services.hpp"
 
 #include <ogf/map_command_reply_t.hpp>
+#include <ogf/messages/limits.hpp>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -20,6 +23,11 @@ namespace ogf::mapper_daemon {
 namespace {
 
 constexpr std::size_t kMaxWaitingServices = 32;
+// Eight of the largest queries (10 000 points, 120 kB): what waits is bounded by bytes as well as by count.
+constexpr std::size_t kMaxWaitingServiceBytes = 8 * messages::maxQueryBytes(kMaxQueryPoints);
+// What LCM may hold of a service channel before the service thread takes it: that thread only checks a
+// request's length, decodes and queues it, so a few suffice, and a flood is dropped by LCM, not held.
+constexpr int kServiceQueueCapacity = 16;
 
 // How far a command's utime may be from the mapper's clock (command_auth.hpp's replay rule): wide enough
 // for hosts whose clocks agree to a few seconds (NTP), short enough that a recorded command soon expires.
@@ -59,18 +67,22 @@ void MapServices::onMalformed(const std::string& ch, std::size_t size, std::stri
   if (auto n = log_.allow()) spdlog::warn("map service request on {} ({} bytes) {} ({} more)", ch, size, why, *n);
 }
 
-void MapServices::subscribe() {
+void MapServices::subscribe(lcm::LCM& bus) {
   const auto malformed = [this](const std::string& ch, std::size_t size, std::string_view why) {
     onMalformed(ch, size, why);
   };
   query_sub_ = std::make_unique<transport::Subscriber<ogf::map_query_t>>(
-      lcm_, options_.query_channel,
-      [this](const ogf::map_query_t& q, const lcm::ReceiveBuffer&, const std::string&) { enqueue(q); },
-      malformed);
+      bus, options_.query_channel,
+      [this](const ogf::map_query_t& q, const lcm::ReceiveBuffer& rbuf, const std::string&) {
+        enqueue(q, rbuf.data_size);
+      },
+      malformed, kServiceQueueCapacity, messages::maxQueryBytes(kMaxQueryPoints));
   command_sub_ = std::make_unique<transport::Subscriber<ogf::map_command_t>>(
-      lcm_, options_.command_channel,
-      [this](const ogf::map_command_t& c, const lcm::ReceiveBuffer&, const std::string&) { enqueue(c); },
-      malformed);
+      bus, options_.command_channel,
+      [this](const ogf::map_command_t& c, const lcm::ReceiveBuffer& rbuf, const std::string&) {
+        enqueue(c, rbuf.data_size);
+      },
+      malformed, kServiceQueueCapacity, messages::kMaxCommandBytes);
 }
 
 void MapServices::unsubscribe() {
@@ -142,7 +154,7 @@ void MapServices::refuseQuery(const ogf::map_query_t& query, const std::string& 
   lcm_.publish(replyChannel(options_.query_channel), &reply);
 }
 
-void MapServices::enqueue(Request request) {
+void MapServices::enqueue(Request request, std::size_t bytes) {
   std::optional<std::pair<CommandRefusal, std::string>> refusal;
   {
     std::lock_guard lk(shared_.mu);
@@ -152,13 +164,14 @@ void MapServices::enqueue(Request request) {
         sanitisedForLog(c ? c->requester : std::get<ogf::map_query_t>(request).requester);
     if (c) refusal = authenticate(*c);
     if (!refusal) {
-      if (requests_.size() < kMaxWaitingServices) {
-        requests_.push_back(std::move(request));
+      if (requests_.size() < kMaxWaitingServices && waiting_bytes_ + bytes <= kMaxWaitingServiceBytes) {
+        requests_.push_back({std::move(request), bytes});
+        waiting_bytes_ += bytes;
         shared_.wake();
         return;
       }
-      refusal = std::pair{CommandRefusal::kBusy,
-                          "busy: " + std::to_string(kMaxWaitingServices) + " requests already wait"};
+      refusal = std::pair{CommandRefusal::kBusy, "busy: " + std::to_string(requests_.size()) + " requests of " +
+                                                     std::to_string(waiting_bytes_) + " bytes already wait"};
     }
   }
   if (const auto* q = std::get_if<ogf::map_query_t>(&request)) refuseQuery(*q, refusal->second);
@@ -192,7 +205,8 @@ void MapServices::serve() {
     {
       std::lock_guard lk(shared_.mu);
       if (requests_.empty()) return;
-      request = std::move(requests_.front());
+      request = std::move(requests_.front().request);
+      waiting_bytes_ -= requests_.front().bytes;
       requests_.pop_front();
     }
     if (const auto* q = std::get_if<ogf::map_query_t>(&*request)) answer(*q);

@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <cmath>
 
 #include "map_id.hpp"
 #include "ogf/adapters/message_adapters.hpp"
@@ -38,7 +39,7 @@ MapperOptions withSourceWindow(MapperOptions options, std::size_t sources) {
 }  // namespace
 
 Result<std::unique_ptr<MapperDaemon>> MapperDaemon::create(const MapperOptions& configured, lcm::LCM& lcm,
-                                                           transport::DaemonLoop& loop) {
+                                                           lcm::LCM* service_bus, transport::DaemonLoop& loop) {
   if (auto st = configured.validate(); !st) return st.error();
   auto sources = ScanIntake::prepare(configured);
   if (!sources) return sources.error();
@@ -58,16 +59,19 @@ Result<std::unique_ptr<MapperDaemon>> MapperDaemon::create(const MapperOptions& 
     if (!k) return k.error().within("services.key_file");
     key = *k;
   }
-  std::unique_ptr<MapperDaemon> d(new MapperDaemon(options, lcm, loop, std::move(*mapper), std::move(correction),
-                                                   std::move(key), std::move(*sources)));
+  std::unique_ptr<MapperDaemon> d(new MapperDaemon(options, lcm, service_bus, loop, std::move(*mapper),
+                                                   std::move(correction), std::move(key), std::move(*sources)));
   d->restore();
   return d;
 }
 
-MapperDaemon::MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, transport::DaemonLoop& loop,
-                           pipeline::ScanMapper mapper, std::optional<correction::ScanPoseCorrection> correction,
-                           std::optional<CommandKey> key, ScanIntake::Sources sources)
+MapperDaemon::MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, lcm::LCM* service_bus,
+                           transport::DaemonLoop& loop, pipeline::ScanMapper mapper,
+                           std::optional<correction::ScanPoseCorrection> correction, std::optional<CommandKey> key,
+                           ScanIntake::Sources sources)
     : options_(options),
+      lcm_(lcm),
+      service_bus_(service_bus),
       mapper_(std::move(mapper)),
       correction_(std::move(correction)),
       deltas_({options.map.filter.resolution, newMapId(), ogf::messages::kMaxDeltaCellsPerMessage}),
@@ -97,10 +101,14 @@ void MapperDaemon::restore() {
 void MapperDaemon::start() {
   if (started_) return;
   started_ = true;
+  // Service traffic on its own bus and thread when there is one (udpm), else beside the scans.
+  lcm::LCM& services_on = service_bus_ != nullptr ? *service_bus_ : lcm_;
   intake_.subscribe();
-  services_.subscribe();
-  nav_.subscribe();
+  services_.subscribe(services_on);
+  nav_.subscribe(services_on);
+  intake_.subscribeRequests(services_on);
   intake_.subscribePoses();
+  if (service_bus_ != nullptr) service_dispatch_ = std::make_unique<transport::DispatchThread>(*service_bus_);
   {
     std::lock_guard lk(shared_.mu);
     shared_.worker_heartbeat = steadyUtime();
@@ -120,6 +128,7 @@ void MapperDaemon::stop() {
     shared_.cv.notify_one();
   }
   if (worker_.joinable()) worker_.join();
+  service_dispatch_.reset();  // no service handler runs from here on
   services_.finishExport(true);
   publisher_.stop();
   refreshMapFigures();
@@ -187,6 +196,7 @@ bool MapperDaemon::mapReadyScans(std::unique_lock<std::mutex>& lk) {
     const double ms = msSince(t0);
     lk.lock();
     shared_.worker_heartbeat = steadyUtime();
+    intake_.served(entry->index, std::llround(ms * 1e3));
     if (covered) status_.scanMapped(ms, scan->host_utime_end);
     if (dueBetweenScans()) return true;
   }

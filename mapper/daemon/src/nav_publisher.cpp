@@ -1,6 +1,7 @@
 // ogf-mapper's live navigation grid on LCM (nav_publisher.hpp).
 #include "ogf/mapper_daemon/nav_publisher.hpp"
 
+#include <ogf/messages/limits.hpp>
 #include <spdlog/spdlog.h>
 
 #include <cmath>
@@ -30,7 +31,7 @@ NavPublisher::NavPublisher(const MapperOptions& options, lcm::LCM& lcm, SharedSt
   feed_.emplace(std::move(*feed));
 }
 
-void NavPublisher::subscribe() {
+void NavPublisher::subscribe(lcm::LCM& bus) {
   if (!feed_) {
     spdlog::info("nav: the navigation grid is off (nav.enabled false)");
     return;
@@ -44,10 +45,13 @@ void NavPublisher::subscribe() {
                options_.nav_grid_channel, band.min_height, band.max_height, band.floor_z, layers.lo, layers.hi,
                layers.count(), res, band.freeLayersNeeded(res), options_.nav.update_interval_s,
                options_.nav.keyframe_interval_s, options_.nav_request_channel);
+  // A request only raises a flag, so LCM need hold few of them.
+  constexpr int kRequestQueueCapacity = 16;
   request_sub_ = std::make_unique<transport::Subscriber<ogf::map_request_t>>(
-      lcm_, options_.nav_request_channel,
+      bus, options_.nav_request_channel,
       [this](const ogf::map_request_t&, const lcm::ReceiveBuffer&, const std::string&) { onRequest(); },
-      [this](const std::string& ch, std::size_t size, std::string_view why) { onMalformedRequest(ch, size, why); });
+      [this](const std::string& ch, std::size_t size, std::string_view why) { onMalformedRequest(ch, size, why); },
+      kRequestQueueCapacity, messages::kMaxMapRequestBytes);
 }
 
 void NavPublisher::unsubscribe() { request_sub_.reset(); }

@@ -2,13 +2,24 @@
 // is made of, the choice of the next scan among them, and their sums in the status.
 #include "ogf/mapper_daemon/scan_intake.hpp"
 
+#include <ogf/messages/limits.hpp>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 
 #include "ogf/mapper_daemon/daemon_time.hpp"
+#include "ogf/mapper_daemon/log_text.hpp"
 
 namespace ogf::mapper_daemon {
+namespace {
+
+// The worker's time by which one source may be ahead of the least served ready one and still go first by
+// age (fusion::FairShare): about one large scan, so sources that take alike keep the order of their clocks.
+constexpr std::int64_t kShareSlackUs = 100'000;
+// The most a source can bank while it sends nothing.
+constexpr std::int64_t kShareWindowUs = 1'000'000;
+
+}  // namespace
 
 Result<ScanIntake::Sources> ScanIntake::prepare(const MapperOptions& options) {
   auto resolved = resolveSources(options);
@@ -25,7 +36,7 @@ Result<ScanIntake::Sources> ScanIntake::prepare(const MapperOptions& options) {
 
 ScanIntake::ScanIntake(const MapperOptions& options, lcm::LCM& lcm, SharedState& shared, Sources sources,
                        boost::asio::io_context& io)
-    : options_(options), lcm_(lcm), shared_(shared) {
+    : options_(options), lcm_(lcm), shared_(shared), share_(sources.resolved.size(), kShareSlackUs, kShareWindowUs) {
   const auto& resolved = sources.resolved;
   // With several sources (or robots) every log line says whose it is; one source logs as it always has.
   const bool several_sources = resolved.size() > 1;
@@ -49,10 +60,16 @@ ScanIntake::ScanIntake(const MapperOptions& options, lcm::LCM& lcm, SharedState&
 
 void ScanIntake::subscribe() {
   for (auto& s : sources_) s->subscribe(lcm_);
+}
+
+void ScanIntake::subscribeRequests(lcm::LCM& bus) {
+  // A request only raises a flag, so LCM need hold few of them.
+  constexpr int kRequestQueueCapacity = 16;
   request_sub_ = std::make_unique<transport::Subscriber<ogf::map_request_t>>(
-      lcm_, options_.request_channel,
+      bus, options_.request_channel,
       [this](const ogf::map_request_t& r, const lcm::ReceiveBuffer&, const std::string&) { onRequest(r); },
-      [this](const std::string& ch, std::size_t size, std::string_view why) { onMalformedRequest(ch, size, why); });
+      [this](const std::string& ch, std::size_t size, std::string_view why) { onMalformedRequest(ch, size, why); },
+      kRequestQueueCapacity, messages::kMaxMapRequestBytes);
 }
 
 void ScanIntake::subscribePoses() {
@@ -78,17 +95,14 @@ void ScanIntake::restartInputWatch() {
 }
 
 std::optional<ScanIntake::ReadyScan> ScanIntake::nextScan(std::int64_t now) {
-  SourceIntake* first = nullptr;
-  std::int64_t first_begin = 0;
-  for (auto& s : sources_) {
-    const auto* entry = s->readyFront(now);
-    if (entry != nullptr && (first == nullptr || entry->span.begin_utime < first_begin)) {
-      first = s.get();
-      first_begin = entry->span.begin_utime;
-    }
+  ready_.clear();
+  for (std::size_t i = 0; i < sources_.size(); ++i) {
+    if (const auto* entry = sources_[i]->readyFront(now)) ready_.push_back({i, entry->span.begin_utime});
   }
-  if (first == nullptr) return std::nullopt;
-  return ReadyScan{first, first->popFront()};
+  const auto chosen = share_.choose(ready_);
+  if (!chosen) return std::nullopt;
+  const std::size_t index = ready_[*chosen].source;
+  return ReadyScan{sources_[index].get(), index, sources_[index]->popFront()};
 }
 
 bool ScanIntake::takeKeyframeRequest() {
@@ -127,14 +141,15 @@ void ScanIntake::fillStatus(ogf::mapper_status_t& s) const {
 
 void ScanIntake::fillSums(ogf::mapper_status_t& s) const {
   const auto pc = pendingCounts();
-  std::int64_t malformed = 0, refused = 0, scan_jumps = 0;
+  std::int64_t malformed = 0, refused = 0, scan_jumps = 0, throttled = 0;
   for (const auto& source : sources_) {
     malformed += source->malformedScans();
+    throttled += source->throttledScans();
     refused += source->scansRefusedTime();
     scan_jumps += source->clockJumps();
   }
   s.scans_refused_time = refused;
-  s.scans_in = pc.scans_in + malformed + refused;
+  s.scans_in = pc.scans_in + malformed + refused + throttled;
   s.scans_dropped_behind = pc.scans_dropped_behind;
   s.scans_dropped_no_pose = pc.scans_dropped_no_pose;
   s.scans_late = pc.scans_late;
@@ -174,7 +189,7 @@ void ScanIntake::fillInputs(ogf::mapper_status_t& s) const {
 }
 
 void ScanIntake::onRequest(const ogf::map_request_t& r) {
-  spdlog::debug("keyframe requested by {} (last seq {})", r.requester, r.last_seq);
+  spdlog::debug("keyframe requested by {} (last seq {})", sanitisedForLog(r.requester), r.last_seq);
   std::lock_guard lk(shared_.mu);
   ++requests_;
   keyframe_requested_ = true;

@@ -9,6 +9,7 @@
 #include "ogf/adapters/message_adapters.hpp"
 #include "ogf/driver_messages/scan_message.hpp"
 #include "ogf/mapper_daemon/daemon_time.hpp"
+#include "ogf/velodyne/model.hpp"
 #include "ogf/velodyne/wire_format.hpp"
 #include "time_refusal.hpp"
 
@@ -173,6 +174,23 @@ void SourceIntake::armIdleTimer() {
   });
 }
 
+bool SourceIntake::throttled(const ogf::lidar_scan_t& scan) {
+  const auto model = static_cast<velodyne::Model>(scan.model);
+  // A revolution's returns vary a little with the rate and the cut angle; a quarter more is not a sensor.
+  const auto most = velodyne::mostPointsPerRevolution(model);
+  if (!most || scan.num_points <= *most + *most / 4) return false;
+  {
+    std::lock_guard lk(shared_.mu);
+    ++throttled_scans_;
+    inputs_.scanArrived(steadyUtime());
+  }
+  if (auto n = throttle_log_.allow())
+    spdlog::warn("{}scan seq {} throttled: {} points, more than one revolution of a {} holds ({} at 300 rpm, dual "
+                 "return); a forged or misconfigured sender on {} ({} more)",
+                 label_, scan.seq, scan.num_points, velodyne::modelName(model), *most, source_.channel, *n);
+  return true;
+}
+
 void SourceIntake::onScan(const ogf::lidar_scan_t& scan) {
   if (auto st = adapters::validateScan(scan); !st) {
     {
@@ -184,6 +202,7 @@ void SourceIntake::onScan(const ogf::lidar_scan_t& scan) {
       spdlog::warn("{}scan seq {} rejected: {} ({} more)", label_, scan.seq, st.error().message, *n);
     return;
   }
+  if (throttled(scan)) return;
   auto owned = std::make_shared<const ogf::lidar_scan_t>(scan);
   const fusion::ScanTimeSpan span = fusion::timeSpanOf(adapters::scanPointsOf(*owned, source_.time_base));
   std::lock_guard lk(shared_.mu);
@@ -236,13 +255,14 @@ ogf::source_status_t SourceIntake::status(std::int64_t steady_now) const {
   fillClocks(s.clocks, s.scan_clock, s.clock_offset_us);
   const auto& pc = pending_.counts();
   s.scans_refused_time = clock_.counts().refused();
-  s.scans_in = pc.scans_in + malformed_scans_ + s.scans_refused_time;
+  s.scans_in = pc.scans_in + malformed_scans_ + s.scans_refused_time + throttled_scans_;
   s.scans_mapped = reported_.scans;
   s.scans_dropped_behind = pc.scans_dropped_behind;
   s.scans_dropped_no_pose = pc.scans_dropped_no_pose;
   s.scans_late = pc.scans_late;
   s.scans_rejected = pc.scans_rejected + malformed_scans_;
   s.scans_dropped_pose_jump = pc.scans_dropped_pose_jump;
+  s.scans_throttled = throttled_scans_;
   s.measurements = reported_.measurements;
   s.packets_in = packets_in_;
   s.packets_rejected = packets_rejected_;

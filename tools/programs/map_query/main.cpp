@@ -84,6 +84,7 @@ void printSourcesJson(const ogf::mapper_status_t& m) {
                                      {"scans_mapped", s.scans_mapped},
                                      {"scans_dropped", scansDropped(s)},
                                      {"scans_rejected", s.scans_rejected},
+                                     {"scans_throttled", s.scans_throttled},
                                      {"packets_in", s.packets_in},
                                      {"packets_rejected", s.packets_rejected},
                                      {"poses_in", s.poses_in},

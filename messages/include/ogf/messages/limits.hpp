@@ -21,4 +21,18 @@ inline constexpr std::int32_t kMaxPacketBytes = 1500;
 inline constexpr std::int32_t kMaxDeltaCellsPerMessage = 3300;
 inline constexpr std::size_t kMaxUnfragmentedMessageBytes = 65499;
 
+// Longest string (requester, command, format, name) a map service request may carry. With it a request's
+// largest encoding is known, and a receiver refuses anything longer from its length before decoding it.
+inline constexpr std::size_t kMaxRequestTextBytes = 4096;
+
+// The largest encodings of the service requests: an 8-byte fingerprint, the fields in their .lcm order
+// (a string is a 4-byte length, its bytes and a NUL), strings of kMaxRequestTextBytes, and for a cell query
+// `max_points` points of three floats.
+inline constexpr std::size_t kMaxRequestStringBytes = 4 + kMaxRequestTextBytes + 1;
+inline constexpr std::size_t maxQueryBytes(std::size_t max_points) {
+  return 8 + 8 + 8 + kMaxRequestStringBytes + 1 + 4 + 12 * max_points + 2 * 12;
+}
+inline constexpr std::size_t kMaxCommandBytes = 8 + 8 + 8 + 4 * kMaxRequestStringBytes + 8 + 32;
+inline constexpr std::size_t kMaxMapRequestBytes = 8 + 8 + kMaxRequestStringBytes + 8;
+
 }  // namespace ogf::messages

@@ -26,11 +26,11 @@ inline const char* clocksName(std::int8_t clocks) {
   }
 }
 
-// Scans that arrived and were not mapped for lack of time, pose or order (not counting the rejected,
-// whose content was bad).
+// Scans that arrived and were not mapped for lack of time, pose or order, or throttled (not counting the
+// rejected, whose content was bad).
 inline std::int64_t scansDropped(const source_status_t& s) {
   return s.scans_dropped_behind + s.scans_dropped_no_pose + s.scans_late + s.scans_refused_time +
-         s.scans_dropped_pose_jump;
+         s.scans_dropped_pose_jump + s.scans_throttled;
 }
 
 }  // namespace ogf::messages

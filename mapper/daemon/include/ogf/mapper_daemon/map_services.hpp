@@ -1,8 +1,10 @@
-// ogf-mapper's map services (map_services.cpp, map_queries.cpp, map_commands.cpp): queries on OGF_MAP_QUERY and commands on OGF_MAP_COMMAND
-// (save a snapshot now, reset the map, export it) arrive on the Asio thread, which refuses commands that
-// are disabled, unauthenticated or replayed at once; the rest wait in a bounded queue and are served by the
-// worker between scans for at most services.budget_ms_per_scan each time (a box query in chunks over
-// several turns, an export written on its own thread), so they never hold up mapping.
+// ogf-mapper's map services (map_services.cpp, map_queries.cpp, map_commands.cpp): queries on OGF_MAP_QUERY
+// and commands on OGF_MAP_COMMAND (save a snapshot now, reset the map, export it) arrive on the service
+// bus's thread, never in the queue of scans and poses; requests longer than their kind's largest are refused
+// before decoding, commands that are disabled, unauthenticated or replayed at once; the rest wait in a queue
+// bounded by count and bytes and are served by the worker between scans for at most
+// services.budget_ms_per_scan each time (a box query in chunks over several turns, an export written on its
+// own thread), so they never hold up mapping.
 #pragma once
 
 #include <lcm/lcm-cpp.hpp>
@@ -50,7 +52,9 @@ class MapServices {
   MapServices(const MapServices&) = delete;
   MapServices& operator=(const MapServices&) = delete;
 
-  void subscribe();
+  // Receives the requests on `bus` (the service bus, dispatched on its own thread); replies go out on the
+  // instance the services were made with.
+  void subscribe(lcm::LCM& bus);
   void unsubscribe();
 
   // The worker's. Whether service work waits (a request, or a box being answered); `Locked`: shared.mu held.
@@ -67,7 +71,8 @@ class MapServices {
  private:
   using Request = std::variant<ogf::map_query_t, ogf::map_command_t>;
   enum class CommandRefusal { kUnauthenticated, kReplayed, kBadName, kBusy, kDiskSpace, kOther };
-  void enqueue(Request request);
+  // `bytes`: the request's encoded length, counted against the queue's byte bound.
+  void enqueue(Request request, std::size_t bytes);
   void onMalformed(const std::string& channel, std::size_t size, std::string_view why);
   // Why the command may not be carried out (shared.mu held), nullopt when it may.
   std::optional<std::pair<CommandRefusal, std::string>> authenticate(const ogf::map_command_t& command);
@@ -98,7 +103,12 @@ class MapServices {
   DaemonHooks hooks_;
 
   // Under shared_.mu:
-  std::deque<Request> requests_;
+  struct Waiting {
+    Request request;
+    std::size_t bytes;
+  };
+  std::deque<Waiting> requests_;
+  std::size_t waiting_bytes_ = 0;
   std::int64_t requests_in_ = 0;       // queries and commands received, malformed ones too
   std::int64_t requests_refused_ = 0;  // malformed, beyond the limits, or refused for a full queue
   ReplayGuard replay_guard_;

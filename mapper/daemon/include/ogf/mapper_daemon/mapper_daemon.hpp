@@ -10,7 +10,9 @@
 //
 // MapperDaemon coordinates the parts and runs the worker's loop: ScanIntake (what arrives), MapPersistence
 // (the map on disk), MapPublisher (deltas, corrected poses, keyframes), NavPublisher (the 2-D navigation
-// grid), MapServices (queries and commands) and StatusReport (the status message).
+// grid), MapServices (queries and commands) and StatusReport (the status message). Queries, commands and
+// keyframe requests arrive on a service bus of their own (a second LCM instance, dispatched on its own
+// thread), so no volume of them delays the scans and poses.
 #pragma once
 
 #include <lcm/lcm-cpp.hpp>
@@ -37,16 +39,20 @@
 #include "ogf/mapper_daemon/status_report.hpp"
 #include "ogf/pipeline/scan_mapper.hpp"
 #include "ogf/transport/daemon_loop.hpp"
+#include "ogf/transport/dispatch_thread.hpp"
 
 namespace ogf::mapper_daemon {
 
 class MapperDaemon {
  public:
-  // Builds the map (restoring the state directory when one is configured) and subscribes. Fails only on
-  // an invalid configuration; persistence problems are logged, reported in the status, and mapping goes
-  // on in memory.
+  // Builds the map (restoring the state directory when one is configured). Scans and poses are received
+  // on `lcm` (dispatched by `loop`); queries, commands and keyframe requests on `service_bus`, a second
+  // instance on the same bus that the daemon dispatches on a thread of its own, or with them on `lcm` when
+  // it is null (a provider, such as memq, whose instances do not share a bus). Everything is published on
+  // `lcm`. Fails only on an invalid configuration; persistence problems are logged, reported in the status,
+  // and mapping goes on in memory.
   static Result<std::unique_ptr<MapperDaemon>> create(const MapperOptions& options, lcm::LCM& lcm,
-                                                       transport::DaemonLoop& loop);
+                                                       lcm::LCM* service_bus, transport::DaemonLoop& loop);
   ~MapperDaemon();
   MapperDaemon(const MapperDaemon&) = delete;
   MapperDaemon& operator=(const MapperDaemon&) = delete;
@@ -62,9 +68,9 @@ class MapperDaemon {
  private:
   using ScanPtr = ScanIntake::ScanPtr;
 
-  MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, transport::DaemonLoop& loop, pipeline::ScanMapper mapper,
-               std::optional<correction::ScanPoseCorrection> correction, std::optional<CommandKey> key,
-               ScanIntake::Sources sources);
+  MapperDaemon(const MapperOptions& options, lcm::LCM& lcm, lcm::LCM* service_bus, transport::DaemonLoop& loop,
+               pipeline::ScanMapper mapper, std::optional<correction::ScanPoseCorrection> correction,
+               std::optional<CommandKey> key, ScanIntake::Sources sources);
   void restore();
   void workerLoop();
   // Maps the scans that are ready (shared_.mu held by `lk`); true when it left with scans still ready,
@@ -92,6 +98,8 @@ class MapperDaemon {
   bool staticPose() const { return options_.pose_source == PoseSource::kStatic; }
 
   MapperOptions options_;
+  lcm::LCM& lcm_;
+  lcm::LCM* service_bus_;  // null: services on lcm_
 
   SharedState shared_;
   // Owned by the worker once started.
@@ -108,6 +116,8 @@ class MapperDaemon {
   // After everything its keyframe sender's callbacks use (persistence_, shared_), so it stops first.
   MapPublisher publisher_;
   NavPublisher nav_;
+  // Dispatches service_bus_ from start() to stop(); last, so it stops before anything its handlers use.
+  std::unique_ptr<transport::DispatchThread> service_dispatch_;
   bool started_ = false;
   bool stopped_ = false;
 };

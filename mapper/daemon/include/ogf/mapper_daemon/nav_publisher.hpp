@@ -40,8 +40,9 @@ class NavPublisher {
 
   bool enabled() const { return feed_.has_value(); }
 
-  // Subscribes the request channel and logs the band once; unsubscribe() ends the subscription.
-  void subscribe();
+  // Subscribes the request channel on `bus` (the service bus, whose thread runs the handler) and logs the
+  // band once; unsubscribe() ends the subscription.
+  void subscribe(lcm::LCM& bus);
   void unsubscribe();
 
   // The worker's (shared.mu not held).

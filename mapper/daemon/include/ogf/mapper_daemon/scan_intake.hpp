@@ -1,7 +1,8 @@
-// ogf-mapper's intake: the scans of every source (source_intake.hpp), the odometry of every robot
-// (robot_odometry.hpp) and keyframe requests on OGF_MAP_REQUEST, all received on the Asio thread and held
-// until the worker maps them. The worker takes the oldest of the scans that are ready, whichever source
-// they come from, so a silent or broken source never holds up the others.
+// ogf-mapper's intake: the scans of every source (source_intake.hpp) and the odometry of every robot
+// (robot_odometry.hpp), received on the Asio thread and held until the worker maps them, and keyframe
+// requests on OGF_MAP_REQUEST, received on the service bus's thread. Of the scans that are ready the worker
+// takes the oldest among the sources within their share of its time (fusion/fair_share.hpp), so a silent
+// or broken source never holds up the others, nor one that floods the worker.
 #pragma once
 
 #include <lcm/lcm-cpp.hpp>
@@ -13,6 +14,7 @@
 #include <optional>
 #include <vector>
 
+#include <ogf/fusion/fair_share.hpp>
 #include "ogf/mapper_daemon/mapper_options.hpp"
 #include "ogf/mapper_daemon/robot_odometry.hpp"
 #include "ogf/mapper_daemon/shared_state.hpp"
@@ -28,6 +30,7 @@ class ScanIntake {
   // A scan to map and the source it came from.
   struct ReadyScan {
     SourceIntake* source = nullptr;
+    std::size_t index = 0;  // the source's place in sources()
     SourceIntake::Pending::Entry entry;
   };
 
@@ -45,9 +48,11 @@ class ScanIntake {
   ScanIntake(const ScanIntake&) = delete;
   ScanIntake& operator=(const ScanIntake&) = delete;
 
-  // Subscribes the scan and request channels; subscribePoses() the pose channels.
+  // Subscribes the scan channels; subscribePoses() the pose channels; subscribeRequests() the keyframe
+  // request channel on `bus` (the service bus, whose thread runs onRequest).
   void subscribe();
   void subscribePoses();
+  void subscribeRequests(lcm::LCM& bus);
   void unsubscribe();
 
   // The rest with shared.mu held.
@@ -55,8 +60,11 @@ class ScanIntake {
   // restored (a long journal replay).
   void restartInputWatch();
   // The next scan to map: of the sources' oldest scans that are ready (their poses have arrived; any, with a
-  // static pose), the one that began first; scans that waited too long expire on the way.
+  // static pose), the one that began first among the sources within their share of the worker's time;
+  // scans that waited too long expire on the way.
   std::optional<ReadyScan> nextScan(std::int64_t now);
+  // The worker spent `us` mapping a scan of the source at `index` (its share, fusion::FairShare).
+  void served(std::size_t index, std::int64_t us) { share_.served(index, us); }
   bool keyframeRequested() const { return keyframe_requested_; }
   // Whether a keyframe was requested since the last call.
   bool takeKeyframeRequest();
@@ -82,10 +90,12 @@ class ScanIntake {
   std::vector<std::unique_ptr<SourceIntake>> sources_;
 
   // Under shared_.mu:
+  fusion::FairShare share_;
   bool keyframe_requested_ = false;
   std::int64_t requests_ = 0;            // well-formed keyframe requests
   std::int64_t malformed_requests_ = 0;  // refused by decodeMessage
 
+  std::vector<fusion::FairShare::Candidate> ready_;  // nextScan's, kept to reuse its memory
   std::unique_ptr<transport::Subscriber<ogf::map_request_t>> request_sub_;
   transport::LogRateLimiter bad_request_log_;
 };

@@ -81,7 +81,8 @@ class SourceIntake {
   fusion::InputState inputState() const { return inputs_.state(); }
   const fusion::PendingScansCounts& pendingCounts() const { return pending_.counts(); }
   // Scans received, malformed ones included.
-  std::int64_t scansIn() const { return pending_.counts().scans_in + malformed_scans_; }
+  std::int64_t scansIn() const { return pending_.counts().scans_in + malformed_scans_ + throttled_scans_; }
+  std::int64_t throttledScans() const { return throttled_scans_; }
   std::int64_t malformedScans() const { return malformed_scans_; }
   std::int64_t scansRefusedTime() const { return clock_.counts().refused(); }
   std::int64_t clockJumps() const { return clock_.counts().jumps_followed; }
@@ -91,6 +92,8 @@ class SourceIntake {
 
  private:
   void onScan(const ogf::lidar_scan_t& scan);
+  // Whether the scan is larger than the model it names can send, counted and logged when it is.
+  bool throttled(const ogf::lidar_scan_t& scan);
   void onMalformed(const std::string& channel, std::size_t size, std::string_view why);
   void onPackets(const ogf::velodyne_packets_t& batch);
   // A scan in progress goes out when no packets came for a few scan periods (the stream paused or ended),
@@ -114,6 +117,7 @@ class SourceIntake {
   fusion::InputWatch inputs_;
   bool inputs_were_ok_ = false;  // the inputs have been OK before (a return to OK is said as such)
   std::int64_t malformed_scans_ = 0;
+  std::int64_t throttled_scans_ = 0;
   std::int64_t packets_in_ = 0;
   std::int64_t packets_rejected_ = 0;
   // What the worker has mapped of this source, and what of it the status shows (reportMapped).
@@ -135,6 +139,7 @@ class SourceIntake {
   std::unique_ptr<transport::Subscriber<ogf::lidar_scan_t>> scan_sub_;
   std::unique_ptr<transport::Subscriber<ogf::velodyne_packets_t>> packet_sub_;
   transport::LogRateLimiter bad_scan_log_, bad_time_log_;
+  transport::LogRateLimiter throttle_log_{std::chrono::seconds(10)};
   transport::LogRateLimiter behind_log_{std::chrono::seconds(10)};  // a mapper behind stays behind a while
 };
 
