@@ -75,6 +75,15 @@ TEST(MapFile, LoadedMapKeepsFilteringLikeTheOriginal) {
   }
 }
 
+// encodedMapBytes (what an export's free-space check asks for) is exactly what encodeMap writes.
+TEST(MapFile, EncodedMapBytesIsTheEncodingsSize) {
+  for (const CovarianceStorage storage : {CovarianceStorage::kBanded, CovarianceStorage::kCompact})
+    for (int dims : {2, 3}) {
+      const BandedOgf map = sampleMap(dims, storage);
+      EXPECT_EQ(encodedMapBytes(map, map.allocatedCells()), encodeMap(map).size()) << toString(storage) << " " << dims << "-D";
+    }
+}
+
 // A compact map file holds a mean and a variance per cell: about a ninth of a banded one's blocks.
 TEST(MapFile, CompactFilesHoldMeanAndVarianceOnly) {
   const BandedOgf banded = sampleMap(3, CovarianceStorage::kBanded);
